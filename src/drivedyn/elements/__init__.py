@@ -1,0 +1,37 @@
+"""Element families. Importing this package registers every family in ``REGISTRY``."""
+
+from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
+from drivedyn.elements.base import REGISTRY, ElementSpec, Family, Group, register
+from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver
+from drivedyn.elements.joints import (
+    Cylindrical,
+    Fixed,
+    Hinge,
+    Prismatic,
+    Screw,
+    Spherical,
+    Universal,
+)
+from drivedyn.elements.loads import Force, Torque
+from drivedyn.elements.springs import SpringDamper, TorsionalSpringDamper
+
+__all__ = [
+    "REGISTRY",
+    "Cylindrical",
+    "ElementSpec",
+    "Family",
+    "Fixed",
+    "Force",
+    "Group",
+    "Hinge",
+    "JointDriver",
+    "Prismatic",
+    "Screw",
+    "SpeedDifferenceDriver",
+    "Spherical",
+    "SpringDamper",
+    "Torque",
+    "TorsionalSpringDamper",
+    "Universal",
+    "register",
+]

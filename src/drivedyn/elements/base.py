@@ -1,0 +1,249 @@
+"""The element protocol: groups of elements evaluated by one compiled kernel each.
+
+An element *family* (``Hinge``, ``SpringDamper``, ``RigidBody``...) is a frozen parameter
+record (the spec the user writes) plus a :class:`Family` that turns every spec of that family in
+a model into one :class:`Group`: parameters stored as arrays, local-to-global index maps, and a
+numba kernel evaluated over all elements at once.
+
+Kernel contract (every family's kernel has these trailing arguments, see :data:`COMMON_ARGS`)::
+
+    kernel(<family params...>,
+           lnodes,   # (nel, nnode)   node index of each local node (nn = ground)
+           dofs,     # (nel, nloc)    global equation index of each local dof (-1: none)
+           kmap,     # (nel, nloc*nloc) index into the CSC data array (-1: not stored)
+           eoff,     # (nel,)         offset of the element's internal state in ``es``
+           x, R,     # (nn+1, 3), (nn+1, 3, 3) node positions [m] / rotations (row nn = ground)
+           v, vd,    # (ndof,) velocities / accelerations: per node [xdot (global), Omega (body)]
+           lam,      # (nmult,) multipliers; constraint force sigma = k lam + p Phi
+           es,       # (nstate,) element internal state (committed at step acceptance)
+           tfv,      # (nfun, 4) time functions: value, d/dt, d2/dt2, integral from 0
+           t,        # time [s]
+           Tn,       # (nn+1, 3, 3) tangent operator of each node's rotation increment
+           cM, cC, cK, mode, want,
+           r, rabs,  # (neq,) residual and sum of |contributions| (for scaled convergence)
+           data,     # (nnz,) CSC values of the iteration matrix
+           eout,     # (nel, 4) kinetic energy, potential energy, power input, power dissipated
+           aux)      # (nel, naux) named per-element outputs (forces, gaps, angles...)
+
+Local dofs of an element are ``6 * nnode`` node dofs (per node: 3 translations [m] in the
+global frame, 3 rotations [rad] as right (body-frame) increments) followed by its ``nmult``
+multipliers. A kernel computes, per element, the local residual ``rq`` (generalised forces,
+positive = internal/inertial, so ``r = M vd + f_int - f_ext``), the constraint residual ``rl``,
+and the local matrices ``M = d rq / d vd``, ``C = d rq / d v``, ``K = d rq / d q`` (right
+perturbations) and ``G = d rl / d q``, then calls :func:`scatter_local`.
+
+Modes: ``MODE_DYN`` (time step / statics: ``rl = k Phi``; matrix
+``[cM M + cC C + cK K T, G^T; G T, 0]``), ``MODE_ACC`` (consistent accelerations:
+``rl = k (dPhi/dq . vd + v^T H v + Phi_tt)``, matrix ``[M, G^T; G, 0]``) and ``MODE_VEL``
+(velocity projection: ``rl = k (dPhi/dq . v + Phi_t)``, same matrix).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+from numba import njit
+
+MODE_DYN = 0
+MODE_ACC = 1
+MODE_VEL = 2
+
+
+@njit(cache=True)
+def scatter_local(
+    rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, r, rabs, data
+):
+    """Add one element's local residual and matrices into the global arrays.
+
+    ``rq`` (nd,), ``rl`` (nm,), ``M, C, K`` (nd, nd), ``G`` (nm, nd) with ``nd = 6 nnode``.
+    In ``MODE_DYN`` the K and G columns of each node's rotation dofs are post-multiplied by
+    the node's tangent operator ``Tn`` (Newton corrections are increments of the Lie-algebra
+    step ``h dq``, not right perturbations of the new rotation).
+    """
+    nd = 6 * nnode
+    nm = rl.shape[0]
+    nloc = nd + nm
+    for i in range(nd):
+        gi = dofs[i]
+        if gi >= 0:
+            r[gi] += rq[i]
+            rabs[gi] += abs(rq[i])
+    for i in range(nm):
+        gi = dofs[nd + i]
+        if gi >= 0:
+            r[gi] += rl[i]
+            rabs[gi] += abs(rl[i])
+    if not want:
+        return
+    if mode == MODE_DYN:
+        # K T and G T on rotation columns
+        for a in range(nnode):
+            node = lnodes[a]
+            c0 = 6 * a + 3
+            for i in range(nd):
+                k0 = K[i, c0]
+                k1 = K[i, c0 + 1]
+                k2 = K[i, c0 + 2]
+                for j in range(3):
+                    K[i, c0 + j] = k0 * Tn[node, 0, j] + k1 * Tn[node, 1, j] + k2 * Tn[node, 2, j]
+            for i in range(nm):
+                g0 = G[i, c0]
+                g1 = G[i, c0 + 1]
+                g2 = G[i, c0 + 2]
+                for j in range(3):
+                    G[i, c0 + j] = g0 * Tn[node, 0, j] + g1 * Tn[node, 1, j] + g2 * Tn[node, 2, j]
+        for i in range(nd):
+            for j in range(nd):
+                p = kmap[i * nloc + j]
+                if p >= 0:
+                    data[p] += cM * M[i, j] + cC * C[i, j] + cK * K[i, j]
+    else:
+        for i in range(nd):
+            for j in range(nd):
+                p = kmap[i * nloc + j]
+                if p >= 0:
+                    data[p] += M[i, j]
+    for i in range(nm):
+        for j in range(nd):
+            p = kmap[(nd + i) * nloc + j]
+            if p >= 0:
+                data[p] += G[i, j]
+            p = kmap[j * nloc + nd + i]
+            if p >= 0:
+                data[p] += G[i, j]
+
+
+@dataclass
+class Group:
+    """All elements of one family in a compiled model, evaluated by one kernel call.
+
+    Attributes:
+        family: family name (registry key).
+        names: element names, length ``nel``.
+        kernel: the compiled numba kernel.
+        params: tuple of the family's parameter arrays passed first to the kernel.
+        lnodes: (nel, nnode) node index of each local node (``nn`` means ground).
+        nmult: multipliers per element.
+        dofs: (nel, nloc) global equation indices of the local dofs (-1: none).
+        eoff: (nel,) offset of each element's internal state in ``State.es``.
+        nstate: internal state floats per element.
+        aux_names: names of the per-element outputs written into ``aux``.
+        aux_units: their units.
+        aux_desc: their descriptions.
+        kmap: (nel, nloc*nloc) CSC data index of each local matrix entry (set by compile).
+        commit: optional ``commit(group, state)`` updating internal state after an accepted step.
+        extra: family-specific data (for outputs, sensors and commit).
+    """
+
+    family: str
+    names: list[str]
+    kernel: Callable[..., Any]
+    params: tuple
+    lnodes: np.ndarray
+    nmult: int
+    dofs: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), np.int64))
+    eoff: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    nstate: int = 0
+    aux_names: tuple[str, ...] = ()
+    aux_units: tuple[str, ...] = ()
+    aux_desc: tuple[str, ...] = ()
+    kmap: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), np.int64))
+    commit: Callable[..., None] | None = None
+    extra: dict = field(default_factory=dict)
+    eout: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    aux: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    naux: int = 0  # columns the kernel writes into aux (0: len(aux_names))
+    aux_cols: tuple[int, ...] = ()  # aux column of each exported output (empty: in order)
+    dissipative: bool = False
+    # True if the family's power input is work done on the system (loads, drivers)
+    supplies_power: bool = False
+
+    def outputs(self) -> list[tuple[int, str, str, str]]:
+        """Exported per-element outputs: (aux column, name, unit, description)."""
+        cols = self.aux_cols or tuple(range(len(self.aux_names)))
+        return list(zip(cols, self.aux_names, self.aux_units, self.aux_desc, strict=True))
+
+    @property
+    def nel(self) -> int:
+        return len(self.names)
+
+    @property
+    def nnode(self) -> int:
+        return self.lnodes.shape[1]
+
+    @property
+    def nloc(self) -> int:
+        return 6 * self.nnode + self.nmult
+
+    def allocate(self) -> None:
+        """Allocate the per-element output arrays."""
+        self.eout = np.zeros((self.nel, 4))
+        self.aux = np.zeros((self.nel, max(1, self.naux, len(self.aux_names))))
+
+    def evaluate(self, st, tfv, t, Tn, cM, cC, cK, mode, want, r, rabs, data) -> None:
+        """Run the kernel on state ``st`` (a :class:`drivedyn.model.State`)."""
+        self.kernel(
+            *self.params, self.lnodes, self.dofs, self.kmap, self.eoff,
+            st.x, st.R, st.v, st.vd, st.lam, st.es, tfv, t, Tn,
+            cM, cC, cK, mode, want, r, rabs, data, self.eout, self.aux,
+        )
+
+
+class ElementSpec:
+    """Base class of element parameter records (frozen dataclasses).
+
+    Subclasses set ``family`` (the registry key) and implement ``markers()`` (names of the
+    markers they attach to, used for validation) and ``validate()``.
+    """
+
+    family: ClassVar[str] = ""
+    name: str
+
+    def markers(self) -> tuple[str, ...]:
+        return ()
+
+    def validate(self) -> None:  # pragma: no cover - default accepts
+        return None
+
+
+class Family:
+    """Registry entry: builds a :class:`Group` from all specs of one family.
+
+    ``build(specs, ctx)`` receives the element specs (in model order) and a
+    :class:`drivedyn.model.compile.BuildContext` giving marker frames, multiplier and state
+    allocation and time-function ids. ``tangent_cases()`` returns small
+    ``(spec, perturbation-seed)`` models used by the registry test that checks every
+    family's tangent matrices against finite differences.
+    """
+
+    name: ClassVar[str] = ""
+    spec_types: ClassVar[tuple[type, ...]] = ()
+
+    def build(self, specs: Sequence[Any], ctx: Any) -> Group:
+        raise NotImplementedError
+
+    def tangent_cases(self) -> list[Callable[[], Any]]:
+        """Functions returning ``(Spec, State modifier)`` pairs for the tangent test."""
+        return []
+
+
+REGISTRY: dict[str, Family] = {}
+
+
+def register(family: Family) -> Family:
+    """Add a family to the registry (one line in each element module)."""
+    if family.name in REGISTRY:
+        raise ValueError(f"element family {family.name!r} registered twice")
+    REGISTRY[family.name] = family
+    return family
+
+
+def family_of(spec: Any) -> Family:
+    """Return the registered family of an element spec."""
+    fam = REGISTRY.get(getattr(spec, "family", ""))
+    if fam is None:
+        raise TypeError(f"{type(spec).__name__} is not a registered element type")
+    return fam

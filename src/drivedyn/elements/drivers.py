@@ -1,0 +1,279 @@
+"""Drivers: prescribed motion of joints as rheonomic constraints.
+
+* :class:`JointDriver` prescribes the relative angle of a hinge, cylindrical or screw joint,
+  ``theta - theta0 = f(t)`` (``quantity="angle"``), or its speed, ``theta - theta0 =
+  integral_0^t f`` (``quantity="speed"``, integrated exactly so there is no drift).
+* :class:`SpeedDifferenceDriver` prescribes the difference of the speeds of two joints,
+  ``(theta_1 - theta_1,0) - (theta_2 - theta_2,0) = integral_0^t f``: the test bench's speed
+  control of one output relative to another.
+
+The multiplier is the driving torque: the driver reports ``torque``, the torque it applies on
+body B of the (first) joint about the joint axis [N m], and ``power`` = torque x prescribed
+speed [W], which the energy balance counts as work supplied. Drivers start at t = 0 from the
+angles the joints have in the initial configuration.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements.base import (
+    MODE_ACC,
+    MODE_DYN,
+    ElementSpec,
+    Family,
+    Group,
+    register,
+    scatter_local,
+)
+from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
+from drivedyn.elements.primitives import gather_v, prim_angle, quad_form, unwrap
+from drivedyn.model.spec import ModelError
+
+_ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
+
+
+def _driven_joint(ctx, joint: str, what: str):
+    try:
+        j = ctx.spec.element(joint)
+    except KeyError:
+        raise ModelError(f"{what}: unknown joint {joint!r}") from None
+    if getattr(j, "family", "") not in _ANGLE_JOINTS:
+        raise ModelError(f"{what}: joint {joint!r} is a {type(j).__name__}; a driver needs a "
+                         f"joint with a rotation axis ({', '.join(_ANGLE_JOINTS)})")
+    return j
+
+
+@dataclass(frozen=True)
+class JointDriver(ElementSpec):
+    """Prescribed angle [rad] or speed [rad/s] of a joint as a function of time.
+
+    Attributes:
+        name: unique element name.
+        joint: name of a hinge, cylindrical or screw joint.
+        function: time function (number, :class:`~drivedyn.timefunctions.TimeFunction` or
+            dict) giving the angle increment [rad] or the speed [rad/s].
+        quantity: ``"angle"`` or ``"speed"``.
+        k, p: scaling and penalty of the constraint row (None = automatic).
+    """
+
+    name: str
+    joint: str
+    function: Any = 0.0
+    quantity: str = "speed"
+    k: float | None = None
+    p: float | None = None
+    family: ClassVar[str] = "joint_driver"
+
+    def validate(self) -> None:
+        if self.quantity not in ("angle", "speed"):
+            raise ModelError(f"JointDriver {self.name!r}.quantity: expected 'angle' or 'speed', "
+                             f"got {self.quantity!r}")
+
+
+@dataclass(frozen=True)
+class _DriverView:
+    """The markers of the driven joint seen as a one-row constraint element."""
+
+    name: str
+    marker_a: str
+    marker_b: str
+    k: float | None
+    p: float | None
+
+    def markers(self) -> tuple[str, str]:
+        return (self.marker_a, self.marker_b)
+
+
+class JointDriverFamily(Family):
+    name = "joint_driver"
+
+    def build(self, specs, ctx) -> Group:
+        views, drive = [], []
+        for s in specs:
+            j = _driven_joint(ctx, s.joint, f"JointDriver {s.name!r}")
+            views.append(_DriverView(s.name, j.marker_a, j.marker_b, s.k, s.p))
+            drive.append((ctx.time_function(s.function), 0 if s.quantity == "angle" else 1))
+        g = build_constraint_group(self.name, views, ctx, ((ROW_DRIVE, 0, 0),), True, drive)
+        g.extra["joint"] = [s.joint for s in specs]
+        g.supplies_power = True
+        # outputs: driving torque (column 8 = -sigma of the drive row), angle, power
+        g.aux_cols = (8, 6, 7)
+        g.aux_names = ("torque", "angle", "power")
+        g.aux_units = ("N m", "rad", "W")
+        g.aux_desc = ("torque applied by the driver on body B about the joint axis",
+                      "accumulated joint angle", "power supplied by the driver")
+        return g
+
+    def tangent_cases(self):
+        from drivedyn.elements import _tangent_cases as tc
+
+        return [tc.driver_case]
+
+
+@njit(cache=True)
+def speed_difference_kernel(
+    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = kk.shape[0]
+    nd = 24
+    rq = np.zeros(nd)
+    rl = np.zeros(1)
+    M = np.zeros((nd, nd))
+    C = np.zeros((nd, nd))
+    K = np.zeros((nd, nd))
+    G = np.zeros((1, nd))
+    g1 = np.zeros(12)
+    H1 = np.zeros((12, 12))
+    g2 = np.zeros(12)
+    H2 = np.zeros((12, 12))
+    w1 = np.zeros(12)
+    w2 = np.zeros((12, 12))
+    w3 = np.zeros(12)
+    w4 = np.zeros((12, 12))
+    g = np.zeros(nd)
+    H = np.zeros((nd, nd))
+    vl = np.zeros(nd)
+    al = np.zeros(nd)
+    nd_glob = r.shape[0] - lam.shape[0]
+    for e in range(nel):
+        n = lnodes[e]
+        raw1 = prim_angle(R[n[0]], R[n[1]], RmA1[e, :, 0], RmA1[e, :, 1], RmB1[e, :, 0],
+                          g1, H1, w1, w2, w3, w4)
+        raw2 = prim_angle(R[n[2]], R[n[3]], RmA2[e, :, 0], RmA2[e, :, 1], RmB2[e, :, 0],
+                          g2, H2, w1, w2, w3, w4)
+        th1 = unwrap(raw1, es[eoff[e]])
+        th2 = unwrap(raw2, es[eoff[e] + 1])
+        g[:12] = g1
+        g[12:] = -g2
+        H[:, :] = 0.0
+        H[:12, :12] = H1
+        H[12:, 12:] = -H2
+        f = tfid[e]
+        val = th1 - th2 - c0[e] - tfv[f, 3]
+        phit = -tfv[f, 0]
+        phitt = -tfv[f, 1]
+        k = kk[e]
+        p = pp[e]
+        sig = k * lam[dofs[e, nd] - nd_glob] + p * val
+        for a in range(nd):
+            rq[a] = sig * g[a]
+            G[0, a] = k * g[a]
+        gather_v(v, dofs[e], nd, vl)
+        if mode == MODE_DYN:
+            rl[0] = k * val
+        elif mode == MODE_ACC:
+            gather_v(vd, dofs[e], nd, al)
+            s = 0.0
+            for a in range(nd):
+                s += g[a] * al[a]
+            rl[0] = k * (s + quad_form(H, vl) + phitt)
+        else:
+            s = 0.0
+            for a in range(nd):
+                s += g[a] * vl[a]
+            rl[0] = k * (s + phit)
+        if want:
+            for a in range(nd):
+                for b in range(nd):
+                    K[a, b] = sig * H[a, b] + p * g[a] * g[b]
+        scatter_local(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn,
+                      cM, cC, cK, mode, want, r, rabs, data)
+        aux[e, 0] = -sig
+        aux[e, 1] = th1
+        aux[e, 2] = th2
+        aux[e, 3] = sig * phit
+        eout[e, 0] = 0.0
+        eout[e, 1] = 0.0
+        eout[e, 2] = sig * phit
+        eout[e, 3] = 0.0
+
+
+def _commit_two_angles(group: Group, state) -> None:
+    state.es[group.eoff] = group.aux[:, 1]
+    state.es[group.eoff + 1] = group.aux[:, 2]
+
+
+@dataclass(frozen=True)
+class SpeedDifferenceDriver(ElementSpec):
+    """Prescribed speed difference ``omega_1 - omega_2 = f(t)`` [rad/s] of two joints.
+
+    Attributes:
+        name: unique element name.
+        joint_1, joint_2: hinge, cylindrical or screw joints.
+        function: time function of the speed difference [rad/s].
+        k, p: scaling and penalty (None = automatic).
+    """
+
+    name: str
+    joint_1: str
+    joint_2: str
+    function: Any = 0.0
+    k: float | None = None
+    p: float | None = None
+    family: ClassVar[str] = "speed_difference_driver"
+
+
+class SpeedDifferenceDriverFamily(Family):
+    name = "speed_difference_driver"
+
+    def build(self, specs, ctx) -> Group:
+        nel = len(specs)
+        Rm = np.zeros((4, nel, 3, 3))
+        kk = np.zeros(nel)
+        pp = np.zeros(nel)
+        c0 = np.zeros(nel)
+        tfid = np.zeros(nel, np.int64)
+        lnodes = np.zeros((nel, 4), np.int64)
+        dofs = np.zeros((nel, 25), np.int64)
+        eoff = np.zeros(nel, np.int64)
+        for e, s in enumerate(specs):
+            what = f"SpeedDifferenceDriver {s.name!r}"
+            ths = []
+            for jj, jn in enumerate((s.joint_1, s.joint_2)):
+                j = _driven_joint(ctx, jn, what)
+                nA, _, Rm[2 * jj, e] = ctx.marker(j.marker_a, what)
+                nB, _, Rm[2 * jj + 1, e] = ctx.marker(j.marker_b, what)
+                lnodes[e, 2 * jj] = nA
+                lnodes[e, 2 * jj + 1] = nB
+                ths.append(relative_angle(ctx.R0[nA], ctx.R0[nB], Rm[2 * jj, e],
+                                          Rm[2 * jj + 1, e]))
+            kk[e], pp[e] = ctx.scaling(s.k, s.p, True)
+            c0[e] = ths[0] - ths[1]
+            eoff[e] = ctx.alloc_state(ths)
+            tfid[e] = ctx.time_function(s.function)
+            m0 = ctx.alloc_mult(1, f"speed_difference_driver {s.name}", [kk[e]])
+            dofs[e] = ctx.local_dofs(list(lnodes[e]), m0, 1)
+        return Group(
+            family=self.name,
+            names=[s.name for s in specs],
+            kernel=speed_difference_kernel,
+            params=(Rm[0], Rm[1], Rm[2], Rm[3], kk, pp, c0, tfid),
+            lnodes=lnodes,
+            nmult=1,
+            dofs=dofs,
+            eoff=eoff,
+            nstate=2,
+            aux_names=("torque", "angle_1", "angle_2", "power"),
+            aux_units=("N m", "rad", "rad", "W"),
+            aux_desc=("torque applied on body B of joint 1 about its axis (minus that on joint 2)",
+                      "accumulated angle of joint 1", "accumulated angle of joint 2",
+                      "power supplied by the driver"),
+            commit=_commit_two_angles,
+            supplies_power=True,
+        )
+
+    def tangent_cases(self):
+        from drivedyn.elements import _tangent_cases as tc
+
+        return [tc.speed_difference_case]
+
+
+register(JointDriverFamily())
+register(SpeedDifferenceDriverFamily())

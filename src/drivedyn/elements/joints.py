@@ -1,0 +1,409 @@
+"""Joints between two markers, by the augmented Lagrangian (families per joint type).
+
+Every joint is a set of scalar constraint rows ``Phi_i(q) = 0`` built from three primitives
+(:mod:`drivedyn.elements.primitives`) on the frames of marker A (axes ``a1, a2, a3``) and
+marker B (axes ``b1, b2, b3``), with ``d = x_mB - x_mA``:
+
+============  ==================================================  ==================
+joint         rows                                                free motion
+============  ==================================================  ==================
+Spherical     d.a1, d.a2, d.a3                                     3 rotations
+Fixed         d.a1, d.a2, d.a3, a2.b3, a3.b1, a1.b2                none
+Hinge         d.a1, d.a2, d.a3, a3.b1, a3.b2                       rotation about a3
+Cylindrical   d.a1, d.a2, a3.b1, a3.b2                             rotation and slide along a3
+Prismatic     d.a1, d.a2, a3.b1, a3.b2, a1.b2                      slide along a3
+Screw         Cylindrical + d.a3 - pitch theta / (2 pi) - c0        coupled screw motion
+Universal     d.a1, d.a2, d.a3, a1.b2                              about a1 and b2
+============  ==================================================  ==================
+
+The joint axis is the z axis of marker A (the markers must be assembled: B's axes as the
+row list requires, e.g. b3 along a3 for a hinge). ``theta`` is the rotation of B relative to A
+about a3, accumulated over revolutions (kept in the State).
+
+Augmented Lagrangian (seeds, eqs. 2-3): each row adds ``g (k lam + p Phi)`` to the
+residual and the equation ``k Phi = 0``; ``k`` (scaling) and ``p`` (penalty) are per row,
+settable per joint, with automatic defaults (see :func:`drivedyn.model.compile.compile_model`).
+Reactions are reported as the force and torque the joint applies on body B at marker B,
+in the global frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements.base import (
+    MODE_ACC,
+    MODE_DYN,
+    ElementSpec,
+    Family,
+    Group,
+    register,
+    scatter_local,
+)
+from drivedyn.elements.primitives import (
+    gather_v,
+    matvec,
+    prim_angle,
+    prim_axial,
+    prim_dot,
+    quad_form,
+    unwrap,
+)
+from drivedyn.model.spec import ModelError
+
+ROW_AXIAL = 0  # d . a_i
+ROW_DOT = 1  # a_i . b_j
+ROW_SCREW = 2  # d . a3 - pitch/(2 pi) theta - c0
+ROW_DRIVE = 3  # theta - theta0 - f(t)   (or the integral of f for a speed driver)
+
+JOINT_AUX = ("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z",
+             "angle", "power")
+
+
+@njit(cache=True)
+def constraint_kernel(
+    rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = pA.shape[0]
+    nr = rtype.shape[0]
+    rq = np.zeros(12)
+    rl = np.zeros(nr)
+    M = np.zeros((12, 12))
+    C = np.zeros((12, 12))
+    K = np.zeros((12, 12))
+    G = np.zeros((nr, 12))
+    g = np.zeros(12)
+    H = np.zeros((12, 12))
+    gth = np.zeros(12)
+    Hth = np.zeros((12, 12))
+    w1 = np.zeros(12)
+    w2 = np.zeros((12, 12))
+    w3 = np.zeros(12)
+    w4 = np.zeros((12, 12))
+    vl = np.zeros(12)
+    al = np.zeros(12)
+    two_pi = 2.0 * np.pi
+    for e in range(nel):
+        nA = lnodes[e, 0]
+        nB = lnodes[e, 1]
+        xA = x[nA]
+        xB = x[nB]
+        RA = R[nA]
+        RB = R[nB]
+        rq[:] = 0.0
+        if want:
+            K[:, :] = 0.0
+        gather_v(v, dofs[e], 12, vl)
+        if mode == MODE_ACC:
+            gather_v(vd, dofs[e], 12, al)
+        th = 0.0
+        if has_angle:
+            raw = prim_angle(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth, Hth,
+                             w1, w2, w3, w4)
+            th = unwrap(raw, es[eoff[e]])
+        power = 0.0
+        for i in range(nr):
+            typ = rtype[i]
+            phit = 0.0
+            phitt = 0.0
+            if typ == ROW_AXIAL:
+                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, ai[i]], g, H)
+            elif typ == ROW_DOT:
+                val = prim_dot(RA, RB, RmA[e, :, ai[i]], RmB[e, :, bj[i]], g, H)
+            elif typ == ROW_SCREW:
+                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, 2], g, H)
+                c = pitch[e] / two_pi
+                val -= c * th + c0[e]
+                for a in range(12):
+                    g[a] -= c * gth[a]
+                    for b in range(12):
+                        H[a, b] -= c * Hth[a, b]
+            else:  # ROW_DRIVE
+                f = tfid[e]
+                if tfmode[e] == 0:
+                    val = th - c0[e] - tfv[f, 0]
+                    phit = -tfv[f, 1]
+                    phitt = -tfv[f, 2]
+                else:
+                    val = th - c0[e] - tfv[f, 3]
+                    phit = -tfv[f, 0]
+                    phitt = -tfv[f, 1]
+                g[:] = gth
+                H[:, :] = Hth
+            k = kk[e, i]
+            p = pp[e, i]
+            sig = k * lam[dofs[e, 12 + i] - (r.shape[0] - lam.shape[0])] + p * val
+            for a in range(12):
+                rq[a] += sig * g[a]
+                G[i, a] = k * g[a]
+            if mode == MODE_DYN:
+                rl[i] = k * val
+            elif mode == MODE_ACC:
+                s = 0.0
+                for a in range(12):
+                    s += g[a] * al[a]
+                rl[i] = k * (s + quad_form(H, vl) + phitt)
+            else:
+                s = 0.0
+                for a in range(12):
+                    s += g[a] * vl[a]
+                rl[i] = k * (s + phit)
+            power += sig * phit
+            if want:
+                for a in range(12):
+                    for b in range(12):
+                        K[a, b] += sig * H[a, b] + p * g[a] * g[b]
+        scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
+                      cM, cC, cK, mode, want, r, rabs, data)
+        # reactions on B at marker B (global frame): applied = -(residual contribution)
+        F = -rq[6:9]
+        TB = -(RB @ rq[9:12])
+        arm = matvec(RB, pB[e])
+        Tm = TB - np.cross(arm, F)
+        for a in range(3):
+            aux[e, a] = F[a]
+            aux[e, 3 + a] = Tm[a]
+        aux[e, 6] = th
+        aux[e, 7] = power
+        aux[e, 8] = -sig  # last row's force: the driving torque of a driver row
+        eout[e, 0] = 0.0
+        eout[e, 1] = 0.0
+        eout[e, 2] = power
+        eout[e, 3] = 0.0
+
+
+def _row_value(typ: int, a: int, b: int, xA, RA, xB, RB, pA, pB, RmA, RmB) -> float:
+    """Plain numpy value of a geometric row (for the assembly check at build time)."""
+    d = xB + RB @ pB - xA - RA @ pA
+    if typ in (ROW_AXIAL,):
+        return float(d @ (RA @ RmA[:, a]))
+    if typ == ROW_DOT:
+        return float((RA @ RmA[:, a]) @ (RB @ RmB[:, b]))
+    return 0.0
+
+
+def relative_angle(RA, RB, RmA, RmB) -> float:
+    """Rotation angle of marker B about the z axis of marker A, in (-pi, pi] [rad]."""
+    a1 = RA @ RmA[:, 0]
+    a2 = RA @ RmA[:, 1]
+    b1 = RB @ RmB[:, 0]
+    return float(np.arctan2(b1 @ a2, b1 @ a1))
+
+
+def commit_angles(group: Group, state) -> None:
+    """Store the accumulated joint angles after an accepted step."""
+    if group.nstate:
+        state.es[group.eoff] = group.aux[:, 6]
+
+
+@dataclass(frozen=True)
+class Joint(ElementSpec):
+    """Base of all joints: between ``marker_a`` and ``marker_b``.
+
+    Attributes:
+        name: unique element name.
+        marker_a: marker on the first body (its z axis is the joint axis).
+        marker_b: marker on the second body.
+        k: scaling factor of the augmented Lagrangian [N/m or N m/rad]; None = automatic.
+        p: penalty factor [N/m or N m/rad]; None = equal to k.
+    """
+
+    name: str
+    marker_a: str
+    marker_b: str
+    k: float | None = None
+    p: float | None = None
+
+    rows: ClassVar[tuple[tuple[int, int, int], ...]] = ()
+    has_angle: ClassVar[bool] = False
+
+    def markers(self) -> tuple[str, ...]:
+        return (self.marker_a, self.marker_b)
+
+    def validate(self) -> None:
+        for label, val in (("k", self.k), ("p", self.p)):
+            if val is not None and not (np.isfinite(val) and val > 0):
+                raise ModelError(f"{type(self).__name__} {self.name!r}.{label}: must be > 0, "
+                                 f"got {val!r}")
+
+
+_A, _D, _S = ROW_AXIAL, ROW_DOT, ROW_SCREW
+
+
+@dataclass(frozen=True)
+class Spherical(Joint):
+    """Ball joint: marker origins coincide, all rotations free."""
+
+    family: ClassVar[str] = "spherical"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0))
+
+
+@dataclass(frozen=True)
+class Fixed(Joint):
+    """Rigid connection: marker frames coincide."""
+
+    family: ClassVar[str] = "fixed"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 1, 2), (_D, 2, 0), (_D, 0, 1))
+
+
+@dataclass(frozen=True)
+class Hinge(Joint):
+    """Revolute joint about the z axis of marker A (marker B's z along it)."""
+
+    family: ClassVar[str] = "hinge"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 2, 0), (_D, 2, 1))
+    has_angle: ClassVar[bool] = True
+
+
+@dataclass(frozen=True)
+class Cylindrical(Joint):
+    """Rotation about and translation along the z axis of marker A."""
+
+    family: ClassVar[str] = "cylindrical"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1))
+    has_angle: ClassVar[bool] = True
+
+
+@dataclass(frozen=True)
+class Prismatic(Joint):
+    """Translation along the z axis of marker A; no relative rotation."""
+
+    family: ClassVar[str] = "prismatic"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_D, 0, 1))
+
+
+@dataclass(frozen=True)
+class Universal(Joint):
+    """Cardan joint: origins coincide; rotation axes are x of marker A and y of marker B."""
+
+    family: ClassVar[str] = "universal"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 0, 1))
+
+
+@dataclass(frozen=True)
+class Screw(Joint):
+    """Screw: cylindrical joint whose slide is ``pitch * theta / (2 pi)`` [m].
+
+    Attributes:
+        pitch: advance per revolution [m/rev] (negative for a left-hand thread).
+    """
+
+    pitch: float = 0.0
+    family: ClassVar[str] = "screw"
+    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_S, 2, 0))
+    has_angle: ClassVar[bool] = True
+
+    def validate(self) -> None:
+        super().validate()
+        if not np.isfinite(self.pitch):
+            raise ModelError(f"Screw {self.name!r}.pitch: must be finite, got {self.pitch!r}")
+
+
+def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
+                           drive: list[tuple[int, int]] | None = None) -> Group:
+    """Arrays and index maps of a group of two-marker constraint elements.
+
+    ``rows`` are ``(type, i, j)`` triples; ``drive`` gives per element (time-function id,
+    mode) for ``ROW_DRIVE`` rows.
+    """
+    nel = len(specs)
+    nr = len(rows)
+    pA = np.zeros((nel, 3))
+    pB = np.zeros((nel, 3))
+    RmA = np.zeros((nel, 3, 3))
+    RmB = np.zeros((nel, 3, 3))
+    kk = np.zeros((nel, nr))
+    pp = np.zeros((nel, nr))
+    pitch = np.zeros(nel)
+    c0 = np.zeros(nel)
+    lnodes = np.zeros((nel, 2), np.int64)
+    dofs = np.zeros((nel, 12 + nr), np.int64)
+    eoff = np.zeros(nel, np.int64)
+    tfid = np.zeros(nel, np.int64)
+    tfmode = np.zeros(nel, np.int64)
+    tol = ctx.spec.settings.assembly_tolerance
+    for e, s in enumerate(specs):
+        what = f"{type(s).__name__} {s.name!r}"
+        ma, mb = s.markers()[:2]
+        nA, pA[e], RmA[e] = ctx.marker(ma, what)
+        nB, pB[e], RmB[e] = ctx.marker(mb, what)
+        if nA == nB:
+            where = "the ground" if nA == ctx.nn else f"body {ctx.spec.markers[ma].body!r}"
+            raise ModelError(f"{what}: both markers {ma!r} and {mb!r} are on {where}; a joint "
+                             "must connect two different bodies")
+        lnodes[e] = (nA, nB)
+        xA, RA, xB, RB = ctx.x0[nA], ctx.R0[nA], ctx.x0[nB], ctx.R0[nB]
+        for i, (typ, a, b) in enumerate(rows):
+            rot = typ == ROW_DOT or typ == ROW_DRIVE
+            kk[e, i], pp[e, i] = ctx.scaling(getattr(s, "k", None), getattr(s, "p", None), rot)
+            if typ in (ROW_AXIAL, ROW_DOT):
+                val = _row_value(typ, a, b, xA, RA, xB, RB, pA[e], pB[e], RmA[e], RmB[e])
+                if abs(val) > tol:
+                    kind = "position" if typ == ROW_AXIAL else "orientation"
+                    raise ModelError(
+                        f"{what}: markers {ma!r} and {mb!r} are not assembled ({kind} "
+                        f"constraint {i} = {val:.3g} exceeds {tol:g}); check positions and axes")
+        th0 = relative_angle(RA, RB, RmA[e], RmB[e]) if has_angle else 0.0
+        if has_angle:
+            eoff[e] = ctx.alloc_state([th0])
+        if any(r[0] == ROW_SCREW for r in rows):
+            pitch[e] = s.pitch
+            d = xB + RB @ pB[e] - xA - RA @ pA[e]
+            c0[e] = float(d @ (RA @ RmA[e][:, 2])) - s.pitch / (2 * np.pi) * th0
+        if drive is not None:
+            tfid[e], tfmode[e] = drive[e]
+            c0[e] = th0
+        m0 = ctx.alloc_mult(nr, f"{family} {s.name}", list(kk[e]))
+        dofs[e] = ctx.local_dofs([nA, nB], m0, nr)
+    rt = np.array([r[0] for r in rows], np.int64)
+    ai = np.array([r[1] for r in rows], np.int64)
+    bj = np.array([r[2] for r in rows], np.int64)
+    return Group(
+        family=family,
+        names=[s.name for s in specs],
+        kernel=constraint_kernel,
+        params=(rt, ai, bj, bool(has_angle), pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
+        lnodes=lnodes,
+        nmult=nr,
+        dofs=dofs,
+        eoff=eoff,
+        nstate=1 if has_angle else 0,
+        aux_names=JOINT_AUX,
+        aux_units=("N", "N", "N", "N m", "N m", "N m", "rad", "W"),
+        aux_desc=("reaction force on body B, global x", "reaction force on body B, global y",
+                  "reaction force on body B, global z",
+                  "reaction torque on body B about marker B, global x",
+                  "reaction torque on body B about marker B, global y",
+                  "reaction torque on body B about marker B, global z",
+                  "relative rotation of B about the joint axis (accumulated)",
+                  "power supplied by the constraint (rheonomic rows)"),
+        commit=commit_angles if has_angle else None,
+        naux=9,
+    )
+
+
+class JointFamily(Family):
+    """Registry entry of one joint type."""
+
+    def __init__(self, spec_type: type[Joint]) -> None:
+        self.spec_type = spec_type
+        self.name = spec_type.family
+
+    def build(self, specs, ctx) -> Group:
+        return build_constraint_group(self.name, specs, ctx, self.spec_type.rows,
+                                      self.spec_type.has_angle)
+
+    def tangent_cases(self):
+        from drivedyn.elements import _tangent_cases as tc
+
+        return [lambda: tc.joint_case(self.spec_type)]
+
+
+for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Screw):
+    register(JointFamily(_t))

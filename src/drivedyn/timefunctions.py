@@ -1,0 +1,751 @@
+"""Time functions ``f(t)`` of simulated time ``t`` [s] for loads and drivers.
+
+A time function returns a value in the unit of whatever it drives (N, N m, rad, rad/s, ...).
+Available kinds:
+
+* :class:`Constant` -- ``f(t) = value``.
+* :class:`Ramp` -- ``v0`` up to ``t0``, linear to ``v1`` at ``t1``, ``v1`` afterwards.
+* :class:`SmoothStep` -- ``v0`` up to ``t0``, cubic blend ``3 s^2 - 2 s^3`` with
+  ``s = (t - t0)/(t1 - t0)`` to ``v1`` at ``t1``, ``v1`` afterwards (C1 continuous).
+* :class:`Table` -- piecewise linear through ``(times[i], values[i])``, constant
+  extrapolation outside the table.
+* :class:`Sum` -- sum of any of the above; built with ``+`` (``f + g``, ``sum([f, g])``)
+  and scaled with ``*`` (``2.0 * f``).
+
+Every function provides the value, first and second time derivative and the exact integral
+``int_0^t f(tau) dtau``. At breakpoints (``t0``, ``t1``, table times), where a derivative
+jumps, the *right-hand* limit is returned (the derivative that applies just after the
+breakpoint), both in Python and in the compiled kernels. Kinks of ramps and tables are
+ignored by the second derivative (it is 0 there).
+
+For use inside numba kernels, functions are registered in a :class:`TimeFunctionPool` and
+packed into flat arrays (:class:`PackedTimeFunctions`), evaluated by
+:func:`eval_time_functions` (all functions) or :func:`eval_function` / :func:`eval_term`
+(one function / one term). The Python methods run the very same per-kind routines
+interpreted (``.py_func``), so both paths agree to round-off.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "KIND_CONSTANT",
+    "KIND_RAMP",
+    "KIND_SMOOTH_STEP",
+    "KIND_TABLE",
+    "Constant",
+    "PackedTimeFunctions",
+    "Ramp",
+    "SmoothStep",
+    "Sum",
+    "Table",
+    "TimeFunction",
+    "TimeFunctionPool",
+    "as_time_function",
+    "eval_function",
+    "eval_term",
+    "eval_time_functions",
+]
+
+KIND_CONSTANT = 0  #: par = [value, 0, 0, 0]
+KIND_RAMP = 1  #: par = [t0, t1, v0, v1]
+KIND_SMOOTH_STEP = 2  #: par = [t0, t1, v0, v1]
+KIND_TABLE = 3  #: par = [offset, npoints, 0, 0]; tab[offset:offset+n] times, then n values
+
+
+# ---------------------------------------------------------------------------------------------
+# Per-kind scalar routines. Each returns (value, d/dt, d2/dt2, int_0^t). They are
+# self-contained (no calls to other jitted functions) so that their ``py_func`` runs as plain
+# Python without triggering compilation.
+# ---------------------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _constant_eval(t: float, value: float) -> tuple[float, float, float, float]:
+    """Constant ``value``: returns (value, 0, 0, value * t)."""
+    return value, 0.0, 0.0, value * t
+
+
+@njit(cache=True)
+def _ramp_eval(
+    t: float, t0: float, t1: float, v0: float, v1: float
+) -> tuple[float, float, float, float]:
+    """Linear ramp from (t0, v0) to (t1, v1), constant outside; requires t1 > t0."""
+    slope = (v1 - v0) / (t1 - t0)
+    if t < t0:
+        v = v0
+        d = 0.0
+    elif t < t1:
+        v = v0 + slope * (t - t0)
+        d = slope
+    else:
+        v = v1
+        d = 0.0
+    # integral over [a, b] = [min(0, t), max(0, t)] split at the breakpoints
+    if t >= 0.0:
+        a = 0.0
+        b = t
+        sign = 1.0
+    else:
+        a = t
+        b = 0.0
+        sign = -1.0
+    total = 0.0
+    if a < t0:
+        total += v0 * (min(b, t0) - a)
+    if b > t1:
+        total += v1 * (b - max(a, t1))
+    lo = max(a, t0)
+    hi = min(b, t1)
+    if hi > lo:
+        flo = v0 + slope * (lo - t0)
+        fhi = v0 + slope * (hi - t0)
+        total += 0.5 * (flo + fhi) * (hi - lo)
+    return v, d, 0.0, sign * total
+
+
+@njit(cache=True)
+def _smooth_step_eval(
+    t: float, t0: float, t1: float, v0: float, v1: float
+) -> tuple[float, float, float, float]:
+    """Cubic smooth step ``v0 + (v1 - v0)(3 s^2 - 2 s^3)``, s = (t - t0)/(t1 - t0)."""
+    h = t1 - t0
+    dv = v1 - v0
+    if t < t0:
+        v = v0
+        d = 0.0
+        dd = 0.0
+    elif t < t1:
+        s = (t - t0) / h
+        v = v0 + dv * s * s * (3.0 - 2.0 * s)
+        d = dv / h * 6.0 * s * (1.0 - s)
+        dd = dv / (h * h) * (6.0 - 12.0 * s)
+    else:
+        v = v1
+        d = 0.0
+        dd = 0.0
+    if t >= 0.0:
+        a = 0.0
+        b = t
+        sign = 1.0
+    else:
+        a = t
+        b = 0.0
+        sign = -1.0
+    total = 0.0
+    if a < t0:
+        total += v0 * (min(b, t0) - a)
+    if b > t1:
+        total += v1 * (b - max(a, t1))
+    lo = max(a, t0)
+    hi = min(b, t1)
+    if hi > lo:
+        # antiderivative from t0 inside the blend: v0 (tau - t0) + dv h (s^3 - s^4 / 2)
+        slo = (lo - t0) / h
+        shi = (hi - t0) / h
+        total += v0 * (hi - lo) + dv * h * (
+            shi * shi * shi * (1.0 - 0.5 * shi) - slo * slo * slo * (1.0 - 0.5 * slo)
+        )
+    return v, d, dd, sign * total
+
+
+@njit(cache=True)
+def _table_eval(t: float, x: np.ndarray, y: np.ndarray) -> tuple[float, float, float, float]:
+    """Piecewise-linear table through (x[i], y[i]); x strictly increasing, len >= 2."""
+    n = x.shape[0]
+    if t < x[0]:
+        v = y[0]
+        d = 0.0
+    elif t >= x[n - 1]:
+        v = y[n - 1]
+        d = 0.0
+    else:
+        lo = 0
+        hi = n - 1
+        while hi - lo > 1:  # invariant x[lo] <= t < x[hi]
+            mid = (lo + hi) // 2
+            if x[mid] <= t:
+                lo = mid
+            else:
+                hi = mid
+        d = (y[hi] - y[lo]) / (x[hi] - x[lo])
+        v = y[lo] + d * (t - x[lo])
+    if t >= 0.0:
+        a = 0.0
+        b = t
+        sign = 1.0
+    else:
+        a = t
+        b = 0.0
+        sign = -1.0
+    total = 0.0
+    if a < x[0]:
+        total += y[0] * (min(b, x[0]) - a)
+    if b > x[n - 1]:
+        total += y[n - 1] * (b - max(a, x[n - 1]))
+    for j in range(n - 1):
+        if x[j] >= b:
+            break
+        lo_ = max(a, x[j])
+        hi_ = min(b, x[j + 1])
+        if hi_ > lo_:
+            s = (y[j + 1] - y[j]) / (x[j + 1] - x[j])
+            flo = y[j] + s * (lo_ - x[j])
+            fhi = y[j] + s * (hi_ - x[j])
+            total += 0.5 * (flo + fhi) * (hi_ - lo_)
+    return v, d, 0.0, sign * total
+
+
+@njit(cache=True)
+def eval_term(
+    t: float, k: int, kind: np.ndarray, par: np.ndarray, tab: np.ndarray
+) -> tuple[float, float, float, float]:
+    """Evaluate packed term ``k`` at time ``t`` [s].
+
+    Returns ``(value, d/dt, d2/dt2, int_0^t)``; see :class:`PackedTimeFunctions` for the
+    array layout.
+    """
+    kd = kind[k]
+    if kd == KIND_CONSTANT:
+        return _constant_eval(t, par[k, 0])
+    elif kd == KIND_RAMP:
+        return _ramp_eval(t, par[k, 0], par[k, 1], par[k, 2], par[k, 3])
+    elif kd == KIND_SMOOTH_STEP:
+        return _smooth_step_eval(t, par[k, 0], par[k, 1], par[k, 2], par[k, 3])
+    elif kd == KIND_TABLE:
+        off = int(par[k, 0])
+        n = int(par[k, 1])
+        return _table_eval(t, tab[off : off + n], tab[off + n : off + 2 * n])
+    raise ValueError("unknown time function kind")
+
+
+@njit(cache=True)
+def eval_function(
+    t: float, i: int, kind: np.ndarray, par: np.ndarray, fstart: np.ndarray, tab: np.ndarray
+) -> tuple[float, float, float, float]:
+    """Evaluate packed function ``i`` (sum of its terms) at time ``t`` [s].
+
+    Returns ``(value, d/dt, d2/dt2, int_0^t)``.
+    """
+    v = 0.0
+    d = 0.0
+    dd = 0.0
+    integral = 0.0
+    for k in range(fstart[i], fstart[i + 1]):
+        tv, td, tdd, ti = eval_term(t, k, kind, par, tab)
+        v += tv
+        d += td
+        dd += tdd
+        integral += ti
+    return v, d, dd, integral
+
+
+@njit(cache=True)
+def eval_time_functions(
+    t: float,
+    kind: np.ndarray,
+    par: np.ndarray,
+    fstart: np.ndarray,
+    tab: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Fill ``out`` (nf, 4) with ``[value, d/dt, d2/dt2, int_0^t]`` of every packed function.
+
+    ``t`` [s]; ``kind``, ``par``, ``fstart``, ``tab`` as in :class:`PackedTimeFunctions`.
+    Does not allocate.
+    """
+    nf = fstart.shape[0] - 1
+    for i in range(nf):
+        v, d, dd, integral = eval_function(t, i, kind, par, fstart, tab)
+        out[i, 0] = v
+        out[i, 1] = d
+        out[i, 2] = dd
+        out[i, 3] = integral
+
+
+# ---------------------------------------------------------------------------------------------
+# Python objects
+# ---------------------------------------------------------------------------------------------
+
+_constant_py = _constant_eval.py_func
+_ramp_py = _ramp_eval.py_func
+_smooth_step_py = _smooth_step_eval.py_func
+_table_py = _table_eval.py_func
+
+
+def _finite_float(name: str, x: Any) -> float:
+    if isinstance(x, bool) or not isinstance(x, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {type(x).__name__}")
+    v = float(x)
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {v}")
+    return v
+
+
+def _is_scalar_number(x: Any) -> bool:
+    return isinstance(x, numbers.Real) and not isinstance(x, bool)
+
+
+class TimeFunction:
+    """Base class of time functions ``f(t)``, ``t`` [s].
+
+    Supports ``f + g`` / ``f + 2.0`` / ``sum([...])`` (giving a :class:`Sum`), ``-f``,
+    ``f - g`` and scaling by a real number ``k * f`` (scales every term; a leaf stays the
+    same kind). Methods accept a float ``t`` (returning a float) or an array of times
+    (returning an array of the same shape).
+    """
+
+    # let numpy scalars defer to our reflected operators (np.float64(2) * f)
+    __array_ufunc__ = None
+
+    # -- to be provided by leaves -------------------------------------------------------------
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        """Return ``(value, d/dt [1/s], d2/dt2 [1/s^2], int_0^t f [s])`` at ``t`` [s]."""
+        raise NotImplementedError
+
+    def terms(self) -> list[TimeFunction]:
+        """Leaf terms (non-:class:`Sum`) whose sum is this function."""
+        return [self]
+
+    def scaled(self, factor: float) -> TimeFunction:
+        """This function multiplied by ``factor``."""
+        raise NotImplementedError
+
+    def breakpoints(self) -> tuple[float, ...]:
+        """Sorted times [s] where the function or a derivative is not smooth."""
+        return ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-data description accepted by :func:`as_time_function`."""
+        raise NotImplementedError
+
+    # -- evaluation ---------------------------------------------------------------------------
+    def _component(self, t: float | np.ndarray, j: int) -> float | np.ndarray:
+        if np.ndim(t) == 0:
+            return self.evaluate(float(t))[j]
+        ta = np.asarray(t, dtype=float)
+        flat = np.array([self.evaluate(float(x))[j] for x in ta.ravel()], dtype=float)
+        return flat.reshape(ta.shape)
+
+    def __call__(self, t: float | np.ndarray) -> float | np.ndarray:
+        """Value at time ``t`` [s]."""
+        return self._component(t, 0)
+
+    def derivative(self, t: float | np.ndarray) -> float | np.ndarray:
+        """First time derivative at ``t`` [s] (value unit per s; right limit at breakpoints)."""
+        return self._component(t, 1)
+
+    def second_derivative(self, t: float | np.ndarray) -> float | np.ndarray:
+        """Second time derivative at ``t`` [s] (value unit per s^2; kinks ignored)."""
+        return self._component(t, 2)
+
+    def integral(self, t: float | np.ndarray) -> float | np.ndarray:
+        """Exact integral ``int_0^t f(tau) dtau`` (value unit times s)."""
+        return self._component(t, 3)
+
+    # -- algebra ------------------------------------------------------------------------------
+    def __add__(self, other: Any) -> Sum:
+        if isinstance(other, TimeFunction):
+            return Sum((*self.terms(), *other.terms()))
+        if _is_scalar_number(other):
+            if other == 0:
+                return Sum(tuple(self.terms()))
+            return Sum((*self.terms(), Constant(other)))
+        return NotImplemented
+
+    def __radd__(self, other: Any) -> Sum:
+        if isinstance(other, TimeFunction):
+            return Sum((*other.terms(), *self.terms()))
+        if _is_scalar_number(other):
+            if other == 0:
+                return Sum(tuple(self.terms()))
+            return Sum((Constant(other), *self.terms()))
+        return NotImplemented
+
+    def __mul__(self, other: Any) -> TimeFunction:
+        if _is_scalar_number(other):
+            return self.scaled(float(other))
+        return NotImplemented
+
+    __rmul__ = __mul__
+
+    def __neg__(self) -> TimeFunction:
+        return self.scaled(-1.0)
+
+    def __sub__(self, other: Any) -> Sum:
+        if isinstance(other, TimeFunction) or _is_scalar_number(other):
+            return self + (-1.0) * other
+        return NotImplemented
+
+    def __rsub__(self, other: Any) -> Sum:
+        if _is_scalar_number(other):
+            return (-self) + other
+        return NotImplemented
+
+
+@dataclass(frozen=True)
+class Constant(TimeFunction):
+    """Constant ``f(t) = value``."""
+
+    value: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _finite_float("Constant: value", self.value))
+
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        return _constant_py(float(t), self.value)
+
+    def scaled(self, factor: float) -> Constant:
+        return Constant(self.value * factor)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "constant", "value": self.value}
+
+
+def _check_interval(cls: str, t0: float, t1: float) -> None:
+    if not t1 > t0:
+        raise ValueError(f"{cls}: t1 (={t1}) must be greater than t0 (={t0})")
+
+
+@dataclass(frozen=True)
+class Ramp(TimeFunction):
+    """Linear ramp: ``v0`` for ``t <= t0`` [s], linear to ``v1`` at ``t1`` [s], ``v1`` after.
+
+    Requires ``t1 > t0``. The derivative is ``(v1 - v0)/(t1 - t0)`` on ``[t0, t1)``, else 0;
+    the second derivative is 0.
+    """
+
+    t0: float
+    t1: float
+    v0: float
+    v1: float
+
+    def __post_init__(self) -> None:
+        name = type(self).__name__
+        for f in ("t0", "t1", "v0", "v1"):
+            object.__setattr__(self, f, _finite_float(f"{name}: {f}", getattr(self, f)))
+        _check_interval(name, self.t0, self.t1)
+
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        return _ramp_py(float(t), self.t0, self.t1, self.v0, self.v1)
+
+    def scaled(self, factor: float) -> Ramp:
+        return type(self)(self.t0, self.t1, self.v0 * factor, self.v1 * factor)
+
+    def breakpoints(self) -> tuple[float, ...]:
+        return (self.t0, self.t1)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "ramp", "t0": self.t0, "t1": self.t1, "v0": self.v0, "v1": self.v1}
+
+
+@dataclass(frozen=True)
+class SmoothStep(TimeFunction):
+    """C1 cubic step: ``v0`` for ``t <= t0`` [s], ``v1`` for ``t >= t1`` [s], in between
+    ``v0 + (v1 - v0)(3 s^2 - 2 s^3)`` with ``s = (t - t0)/(t1 - t0)``.
+
+    Requires ``t1 > t0``. The second derivative is the cubic's on ``[t0, t1)``, else 0.
+    """
+
+    t0: float
+    t1: float
+    v0: float
+    v1: float
+
+    def __post_init__(self) -> None:
+        name = type(self).__name__
+        for f in ("t0", "t1", "v0", "v1"):
+            object.__setattr__(self, f, _finite_float(f"{name}: {f}", getattr(self, f)))
+        _check_interval(name, self.t0, self.t1)
+
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        return _smooth_step_py(float(t), self.t0, self.t1, self.v0, self.v1)
+
+    def scaled(self, factor: float) -> SmoothStep:
+        return type(self)(self.t0, self.t1, self.v0 * factor, self.v1 * factor)
+
+    def breakpoints(self) -> tuple[float, ...]:
+        return (self.t0, self.t1)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "type": "smooth_step",
+            "t0": self.t0,
+            "t1": self.t1,
+            "v0": self.v0,
+            "v1": self.v1,
+        }
+
+
+@dataclass(frozen=True)
+class Table(TimeFunction):
+    """Piecewise-linear interpolation of ``values`` over ``times`` [s].
+
+    Constant extrapolation (first / last value) outside ``[times[0], times[-1]]``.
+    ``times`` must be strictly increasing, with at least 2 points, the same length as
+    ``values``, all finite. The second derivative is 0 (kinks ignored). Stored as tuples of
+    floats so the object is hashable.
+    """
+
+    times: Sequence[float]
+    values: Sequence[float]
+    _x: np.ndarray = field(init=False, repr=False, compare=False)
+    _y: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        x = self._as_1d("times", self.times)
+        y = self._as_1d("values", self.values)
+        if x.shape[0] != y.shape[0]:
+            raise ValueError(
+                f"Table: times and values must have the same length "
+                f"(got {x.shape[0]} times and {y.shape[0]} values)"
+            )
+        if x.shape[0] < 2:
+            raise ValueError(f"Table: times needs at least 2 points, got {x.shape[0]}")
+        dx = np.diff(x)
+        if np.any(dx <= 0.0):
+            i = int(np.argmax(dx <= 0.0)) + 1
+            raise ValueError(
+                f"Table: times must be strictly increasing, but times[{i}] = {x[i]} "
+                f"<= times[{i - 1}] = {x[i - 1]}"
+            )
+        x.flags.writeable = False
+        y.flags.writeable = False
+        object.__setattr__(self, "times", tuple(float(v) for v in x))
+        object.__setattr__(self, "values", tuple(float(v) for v in y))
+        object.__setattr__(self, "_x", x)
+        object.__setattr__(self, "_y", y)
+
+    @staticmethod
+    def _as_1d(name: str, seq: Any) -> np.ndarray:
+        if isinstance(seq, str | bytes) or not isinstance(seq, Iterable | np.ndarray):
+            raise TypeError(f"Table: {name} must be a sequence of numbers")
+        try:
+            a = np.array(seq, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"Table: {name} must be a sequence of numbers ({exc})") from None
+        if a.ndim != 1:
+            raise ValueError(f"Table: {name} must be one-dimensional, got shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"Table: {name} must be finite")
+        return a
+
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        v, d, dd, integral = _table_py(float(t), self._x, self._y)
+        return float(v), float(d), float(dd), float(integral)
+
+    def scaled(self, factor: float) -> Table:
+        return Table(self.times, tuple(v * factor for v in self.values))
+
+    def breakpoints(self) -> tuple[float, ...]:
+        return tuple(self.times)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "table", "times": list(self.times), "values": list(self.values)}
+
+
+@dataclass(frozen=True)
+class Sum(TimeFunction):
+    """Sum of time functions. Nested sums are flattened; numbers become :class:`Constant`."""
+
+    terms_: tuple[TimeFunction, ...]
+
+    def __init__(self, terms: Iterable[TimeFunction | float]) -> None:
+        flat: list[TimeFunction] = []
+        for term in terms:
+            flat.extend(as_time_function(term).terms())
+        object.__setattr__(self, "terms_", tuple(flat))
+
+    def __repr__(self) -> str:
+        return f"Sum({list(self.terms_)!r})"
+
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        v = d = dd = integral = 0.0
+        for term in self.terms_:
+            tv, td, tdd, ti = term.evaluate(t)
+            v += tv
+            d += td
+            dd += tdd
+            integral += ti
+        return v, d, dd, integral
+
+    def terms(self) -> list[TimeFunction]:
+        return list(self.terms_)
+
+    def scaled(self, factor: float) -> Sum:
+        return Sum(tuple(term.scaled(factor) for term in self.terms_))
+
+    def breakpoints(self) -> tuple[float, ...]:
+        return tuple(sorted({b for term in self.terms_ for b in term.breakpoints()}))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "sum", "terms": [term.to_dict() for term in self.terms_]}
+
+
+# ---------------------------------------------------------------------------------------------
+# Parsing
+# ---------------------------------------------------------------------------------------------
+
+_DICT_KEYS: dict[str, tuple[str, ...]] = {
+    "constant": ("value",),
+    "ramp": ("t0", "t1", "v0", "v1"),
+    "smooth_step": ("t0", "t1", "v0", "v1"),
+    "table": ("times", "values"),
+    "sum": ("terms",),
+}
+
+
+def as_time_function(x: Any) -> TimeFunction:
+    """Convert ``x`` to a :class:`TimeFunction`.
+
+    * a :class:`TimeFunction` is returned unchanged;
+    * a real number (not bool) becomes :class:`Constant`;
+    * a mapping with key ``"type"`` in ``constant`` (``value``), ``ramp`` / ``smooth_step``
+      (``t0, t1, v0, v1``), ``table`` (``times, values``), ``sum`` (``terms``: list of
+      anything accepted here) is parsed; the type is case-insensitive and ``-``/space are
+      read as ``_``. Missing or unknown keys raise ValueError.
+
+    Anything else raises TypeError.
+    """
+    if isinstance(x, TimeFunction):
+        return x
+    if _is_scalar_number(x):
+        return Constant(float(x))
+    if isinstance(x, Mapping):
+        if "type" not in x:
+            raise ValueError(f"time function mapping needs a 'type' key, got keys {sorted(x)}")
+        typ = str(x["type"]).strip().lower().replace("-", "_").replace(" ", "_")
+        if typ == "smoothstep":
+            typ = "smooth_step"
+        if typ not in _DICT_KEYS:
+            raise ValueError(
+                f"unknown time function type {x['type']!r}; expected one of {sorted(_DICT_KEYS)}"
+            )
+        required = _DICT_KEYS[typ]
+        given = set(x) - {"type"}
+        missing = [k for k in required if k not in given]
+        if missing:
+            raise ValueError(f"time function of type {typ!r} is missing key(s) {missing}")
+        unknown = sorted(given - set(required))
+        if unknown:
+            raise ValueError(
+                f"time function of type {typ!r} has unknown key(s) {unknown}; "
+                f"expected {list(required)}"
+            )
+        if typ == "constant":
+            return Constant(x["value"])
+        if typ == "ramp":
+            return Ramp(x["t0"], x["t1"], x["v0"], x["v1"])
+        if typ == "smooth_step":
+            return SmoothStep(x["t0"], x["t1"], x["v0"], x["v1"])
+        if typ == "table":
+            return Table(x["times"], x["values"])
+        terms = x["terms"]
+        if isinstance(terms, str | bytes | Mapping) or not isinstance(terms, Iterable):
+            raise ValueError("time function of type 'sum': 'terms' must be a list")
+        return Sum([as_time_function(term) for term in terms])
+    raise TypeError(
+        f"cannot convert {type(x).__name__} to a time function "
+        "(expected a number, a TimeFunction or a mapping with a 'type' key)"
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# Packing
+# ---------------------------------------------------------------------------------------------
+
+
+class PackedTimeFunctions(NamedTuple):
+    """Flat-array form of a set of time functions, for numba kernels.
+
+    * ``kind`` (nterms,) int64 -- term kinds (0 constant, 1 ramp, 2 smooth step, 3 table);
+    * ``par`` (nterms, 4) float64 -- term parameters: constant ``[value, 0, 0, 0]``,
+      ramp / smooth step ``[t0, t1, v0, v1]``, table ``[offset, npoints, 0, 0]``;
+    * ``fstart`` (nf + 1,) int64 -- terms of function ``i`` are ``fstart[i]:fstart[i+1]``;
+    * ``tab`` (>= 1,) float64 -- table storage: ``tab[offset:offset+n]`` times [s],
+      ``tab[offset+n:offset+2n]`` values (a single 0 if there are no tables).
+    """
+
+    kind: np.ndarray
+    par: np.ndarray
+    fstart: np.ndarray
+    tab: np.ndarray
+
+    @property
+    def n_functions(self) -> int:
+        """Number of packed functions."""
+        return int(self.fstart.shape[0] - 1)
+
+    def evaluate(self, t: float) -> np.ndarray:
+        """``(nf, 4)`` array of ``[value, d/dt, d2/dt2, int_0^t]`` at ``t`` [s] (allocates)."""
+        out = np.zeros((self.n_functions, 4))
+        eval_time_functions(float(t), self.kind, self.par, self.fstart, self.tab, out)
+        return out
+
+
+class TimeFunctionPool:
+    """Collects time functions and packs them for numba kernels.
+
+    ``add`` returns consecutive integer ids 0, 1, 2, ... (no de-duplication); the id is the
+    row of the function in the output of :func:`eval_time_functions`.
+    """
+
+    def __init__(self) -> None:
+        self._functions: list[TimeFunction] = []
+
+    def add(self, f: TimeFunction | float | Mapping[str, Any]) -> int:
+        """Register ``f`` (anything accepted by :func:`as_time_function`); return its id."""
+        self._functions.append(as_time_function(f))
+        return len(self._functions) - 1
+
+    def __len__(self) -> int:
+        return len(self._functions)
+
+    def __getitem__(self, i: int) -> TimeFunction:
+        return self._functions[i]
+
+    @property
+    def functions(self) -> tuple[TimeFunction, ...]:
+        """Registered functions in id order."""
+        return tuple(self._functions)
+
+    def pack(self) -> PackedTimeFunctions:
+        """Flat arrays of all registered functions (see :class:`PackedTimeFunctions`)."""
+        kinds: list[int] = []
+        pars: list[tuple[float, float, float, float]] = []
+        fstart = [0]
+        tab: list[float] = []
+        for f in self._functions:
+            for term in f.terms():
+                if isinstance(term, Constant):
+                    kinds.append(KIND_CONSTANT)
+                    pars.append((term.value, 0.0, 0.0, 0.0))
+                elif isinstance(term, SmoothStep):
+                    kinds.append(KIND_SMOOTH_STEP)
+                    pars.append((term.t0, term.t1, term.v0, term.v1))
+                elif isinstance(term, Ramp):
+                    kinds.append(KIND_RAMP)
+                    pars.append((term.t0, term.t1, term.v0, term.v1))
+                elif isinstance(term, Table):
+                    n = len(term.times)
+                    kinds.append(KIND_TABLE)
+                    pars.append((float(len(tab)), float(n), 0.0, 0.0))
+                    tab.extend(term.times)
+                    tab.extend(term.values)
+                else:
+                    raise TypeError(f"cannot pack time function term {term!r}")
+            fstart.append(len(kinds))
+        return PackedTimeFunctions(
+            kind=np.array(kinds, dtype=np.int64),
+            par=np.array(pars, dtype=np.float64).reshape(len(pars), 4),
+            fstart=np.array(fstart, dtype=np.int64),
+            tab=np.array(tab if tab else [0.0], dtype=np.float64),
+        )
