@@ -1,0 +1,152 @@
+"""Samples node states, element outputs and the energy account at output times."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from drivedyn.model.model import Model, State
+from drivedyn.solver.assembly import System
+
+
+class EnergyAccount:
+    """Energy bookkeeping of a run (trapezoidal integration of powers over accepted steps).
+
+    ``balance_error = (T + V) - (T0 + V0) - W_in + D``: zero for an exact solution; what is
+    left is numerical dissipation (or creation) of the integrator and constraint drift.
+
+    Attributes:
+        e0: kinetic + potential energy at the start [J].
+        work_in: work supplied by loads and drivers [J].
+        dissipated: (per group) arrays of energy dissipated by each element [J].
+    """
+
+    def __init__(self, model: Model) -> None:
+        self.model = model
+        self.e0 = 0.0
+        self.work_in = 0.0
+        self.dissipated = [np.zeros(g.nel) for g in model.groups]
+        self._pin = [np.zeros(g.nel) for g in model.groups]
+        self._pd = [np.zeros(g.nel) for g in model.groups]
+        self.kinetic = 0.0
+        self.potential = 0.0
+
+    def start(self, sys: System) -> None:
+        e = sys.energies()
+        self.kinetic, self.potential = e["kinetic"], e["potential"]
+        self.e0 = self.kinetic + self.potential
+        for i, g in enumerate(self.model.groups):
+            self._pin[i] = g.eout[:, 2].copy()
+            self._pd[i] = g.eout[:, 3].copy()
+
+    def advance(self, sys: System, h: float) -> None:
+        """Integrate the powers over an accepted step of size ``h`` [s] (after evaluation at
+        the new state)."""
+        for i, g in enumerate(self.model.groups):
+            pin = g.eout[:, 2]
+            pd = g.eout[:, 3]
+            self.work_in += 0.5 * h * float((self._pin[i] + pin).sum())
+            self.dissipated[i] += 0.5 * h * (self._pd[i] + pd)
+            self._pin[i] = pin.copy()
+            self._pd[i] = pd.copy()
+        e = sys.energies()
+        self.kinetic, self.potential = e["kinetic"], e["potential"]
+
+    @property
+    def total_dissipated(self) -> float:
+        return float(sum(d.sum() for d in self.dissipated))
+
+    @property
+    def balance_error(self) -> float:
+        return self.kinetic + self.potential - self.e0 - self.work_in + self.total_dissipated
+
+
+class Recorder:
+    """Stores snapshots at output times and turns them into an ``xarray.Dataset``."""
+
+    def __init__(self, model: Model, energy: EnergyAccount) -> None:
+        self.model = model
+        self.energy = energy
+        self.t: list[float] = []
+        self.x: list[np.ndarray] = []
+        self.R: list[np.ndarray] = []
+        self.v: list[np.ndarray] = []
+        self.aux: list[list[np.ndarray]] = []
+        self.en: list[tuple[float, ...]] = []
+        self.diss: list[list[np.ndarray]] = []
+        self.h: list[float] = []
+
+    def record(self, st: State, h: float = 0.0) -> None:
+        nn = self.model.nn
+        self.t.append(st.t)
+        self.x.append(st.x[:nn].copy())
+        self.R.append(st.R[:nn].copy())
+        self.v.append(st.v.reshape(nn, 6).copy() if nn else np.zeros((0, 6)))
+        self.aux.append([g.aux.copy() for g in self.model.groups])
+        e = self.energy
+        self.en.append((e.kinetic, e.potential, e.work_in, e.total_dissipated, e.balance_error))
+        self.diss.append([d.copy() for d in e.dissipated])
+        self.h.append(h)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def dataset(self, attrs: dict | None = None):
+        """The recorded data as an ``xarray.Dataset`` (one variable per sensor)."""
+        import xarray as xr
+
+        m = self.model
+        t = np.asarray(self.t, dtype=float)
+        nt = len(t)
+        data_vars: dict[str, xr.Variable] = {}
+
+        def put(name, dims, values, units, desc):
+            data_vars[name] = xr.Variable(dims, values, {"units": units, "description": desc})
+
+        if m.nn and nt:
+            X = np.asarray(self.x)
+            Rm = np.asarray(self.R)
+            V = np.asarray(self.v)
+            omega_g = np.einsum("tnij,tnj->tni", Rm, V[:, :, 3:])
+            for i, info in enumerate(m.nodes):
+                n = info.name
+                what = "centre of mass" if info.body else "node origin"
+                put(f"{n}.position", ("time", "xyz"), X[:, i], "m",
+                    f"position of the {what} of {n}, global frame")
+                put(f"{n}.rotation", ("time", "row", "col"), Rm[:, i], "1",
+                    f"rotation matrix of {n} (body to global)")
+                put(f"{n}.velocity", ("time", "xyz"), V[:, i, :3], "m/s",
+                    f"velocity of the {what} of {n}, global frame")
+                put(f"{n}.angular_velocity", ("time", "xyz"), omega_g[:, i], "rad/s",
+                    f"angular velocity of {n}, global frame")
+        for gi, g in enumerate(m.groups):
+            if nt == 0:
+                break
+            A = np.asarray([a[gi] for a in self.aux])  # (nt, nel, naux)
+            for ei, en in enumerate(g.names):
+                for col, name, unit, desc in g.outputs():
+                    if g.family == "rigid_body":
+                        continue
+                    put(f"{en}.{name}", ("time",), A[:, ei, col], unit, f"{desc} ({g.family})")
+                if g.dissipative:
+                    D = np.asarray([d[gi][ei] for d in self.diss])
+                    put(f"{en}.dissipated_energy", ("time",), D, "J",
+                        f"energy dissipated by {en} since the start")
+            if g.family == "rigid_body":
+                for ei, en in enumerate(g.names):
+                    put(f"{en}.angular_momentum", ("time", "xyz"), A[:, ei, :3], "kg m^2/s",
+                        f"angular momentum of {en} about its centre of mass, global frame")
+        E = np.asarray(self.en).reshape(nt, 5)
+        for j, (name, desc) in enumerate((
+            ("kinetic", "kinetic energy of all bodies"),
+            ("potential", "potential energy (gravity and springs)"),
+            ("work_in", "work supplied by loads and drivers since the start"),
+            ("dissipated", "energy dissipated by all dissipative elements since the start"),
+            ("balance_error", "(T + V) - (T0 + V0) - W_in + D: numerical energy error"),
+        )):
+            put(f"energy.{name}", ("time",), E[:, j], "J", desc)
+        put("solver.step_size", ("time",), np.asarray(self.h, dtype=float), "s",
+            "step size of the step that reached this output time")
+        coords = {"time": ("time", t, {"units": "s", "description": "simulated time"}),
+                  "xyz": ("xyz", ["x", "y", "z"]), "row": ("row", [0, 1, 2]),
+                  "col": ("col", [0, 1, 2])}
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs or {})

@@ -1,0 +1,138 @@
+"""Results of a run: an ``xarray.Dataset`` with units, the run status and statistics."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import asdict
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+
+
+class Results:
+    """What a simulation returns, also when it failed part-way.
+
+    Attributes:
+        dataset: ``xarray.Dataset``, coordinate ``time`` [s], one variable per sensor named
+            ``"<body|node|element>.<quantity>"`` or ``"energy.<term>"``, each with ``units``
+            and ``description`` attributes.
+        success: False if the run stopped before ``t_end``.
+        message: why it stopped (time, worst equation, residual), empty on success.
+        stats: step, Newton and timing counters.
+    """
+
+    def __init__(self, dataset: Any, success: bool, message: str, stats: RunStats) -> None:
+        self.dataset = dataset
+        self.success = success
+        self.message = message
+        self.stats = stats
+        self.dataset.attrs.update({
+            "success": int(success),
+            "message": message,
+            "stats": json.dumps(_jsonable(asdict(stats))),
+        })
+
+    def __getitem__(self, name: str) -> Any:
+        return self.dataset[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.dataset
+
+    @property
+    def time(self) -> np.ndarray:
+        return self.dataset["time"].values
+
+    def final(self, name: str) -> np.ndarray:
+        """Last recorded value of a variable."""
+        return np.asarray(self.dataset[name].isel(time=-1).values)
+
+    def to_netcdf(self, path: str | os.PathLike) -> Path:
+        """Write the dataset to netCDF atomically (temporary file, then rename)."""
+        return write_netcdf_atomic(self.dataset, path)
+
+    def to_csv(self, path: str | os.PathLike) -> Path:
+        """Write all time histories to one CSV file (vector components as extra columns)."""
+        import pandas as pd
+
+        cols: dict[str, np.ndarray] = {"time [s]": self.time}
+        for name, var in self.dataset.data_vars.items():
+            unit = var.attrs.get("units", "")
+            vals = np.asarray(var.values)
+            if vals.ndim == 1:
+                cols[f"{name} [{unit}]"] = vals
+            else:
+                flat = vals.reshape(vals.shape[0], -1)
+                for j in range(flat.shape[1]):
+                    cols[f"{name}[{j}] [{unit}]"] = flat[:, j]
+        path = Path(path)
+        pd.DataFrame(cols).to_csv(path, index=False)
+        return path
+
+    def plot(self, names: list[str] | None = None, ax: Any = None) -> Any:
+        """Plot time histories of ``names`` (default: the energy terms); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        names = names or [n for n in self.dataset.data_vars if str(n).startswith("energy.")]
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 4.5))
+        for n in names:
+            var = self.dataset[n]
+            vals = np.asarray(var.values)
+            label = f"{n} [{var.attrs.get('units', '')}]"
+            if vals.ndim == 1:
+                ax.plot(self.time, vals, label=label)
+            else:
+                flat = vals.reshape(vals.shape[0], -1)
+                for j in range(flat.shape[1]):
+                    ax.plot(self.time, flat[:, j], label=f"{label}[{j}]")
+        ax.set_xlabel("time [s]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize="small")
+        return ax
+
+    def __repr__(self) -> str:
+        state = "ok" if self.success else f"FAILED: {self.message}"
+        return (f"Results({len(self.time)} outputs, {self.stats.steps} steps, "
+                f"{self.stats.wall_s:.3g} s wall, {state})")
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {k: _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, float) and not np.isfinite(obj):
+        return None
+    if isinstance(obj, (np.floating, np.integer)):
+        return obj.item()
+    return obj
+
+
+def write_netcdf_atomic(dataset: Any, path: str | os.PathLike) -> Path:
+    """Write ``dataset`` to ``path`` via a temporary file in the same folder and a rename, so
+    that a crash never leaves a half-written file under the final name."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        dataset.to_netcdf(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
+def load_results(path: str | os.PathLike) -> Results:
+    """Read a results file written by :meth:`Results.to_netcdf`."""
+    import xarray as xr
+
+    from drivedyn.solver.settings import RunStats
+
+    ds = xr.load_dataset(path)
+    stats = RunStats(**{k: (np.inf if v is None else v)
+                        for k, v in json.loads(ds.attrs.get("stats", "{}")).items()})
+    return Results(ds, bool(ds.attrs.get("success", 1)), str(ds.attrs.get("message", "")), stats)

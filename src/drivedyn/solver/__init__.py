@@ -1,0 +1,32 @@
+"""Time integration, Newton iterations, linear solvers, step control and statics."""
+
+from drivedyn.solver.linear import DenseLU, LinearSolver, SparseLU
+from drivedyn.solver.settings import (
+    AdaptiveStep,
+    FixedStep,
+    GeneralizedAlpha,
+    Newton,
+    RunStats,
+    StepOutcome,
+    StepStatus,
+)
+from drivedyn.solver.simulate import InitializationError, consistent_initial_state, simulate
+from drivedyn.solver.statics import StaticsError, solve_static
+
+__all__ = [
+    "AdaptiveStep",
+    "DenseLU",
+    "FixedStep",
+    "GeneralizedAlpha",
+    "InitializationError",
+    "LinearSolver",
+    "Newton",
+    "RunStats",
+    "SparseLU",
+    "StaticsError",
+    "StepOutcome",
+    "StepStatus",
+    "consistent_initial_state",
+    "simulate",
+    "solve_static",
+]

@@ -1,0 +1,251 @@
+"""``simulate``: time integration from a consistent initial state to ``t_end``.
+
+Only this top level decides to stop: a step that fails is retried smaller; when the step
+would fall below ``h_min`` (or too many consecutive rejections happen) the run stops, and the
+results up to that time are returned with ``success = False`` and a message naming the time,
+the worst equation (element and dof) and its residual.
+"""
+
+from __future__ import annotations
+
+import logging
+import time as _time
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.model.model import Model, State
+from drivedyn.results.recorder import EnergyAccount, Recorder
+from drivedyn.results.results import Results
+from drivedyn.solver.assembly import System
+from drivedyn.solver.linear import LinearSolver, default_linear_solver
+from drivedyn.solver.settings import (
+    AdaptiveStep,
+    FixedStep,
+    GeneralizedAlpha,
+    Newton,
+    RunStats,
+    StepOutcome,
+)
+from drivedyn.solver.stepper import Stepper
+
+log = logging.getLogger("drivedyn")
+
+
+class InitializationError(RuntimeError):
+    """The initial state cannot be made consistent (singular constraint Jacobian or mass)."""
+
+
+def consistent_initial_state(model: Model, st: State, sys: System | None = None,
+                             linear_solver: LinearSolver | None = None,
+                             project_velocities: bool = True) -> State:
+    """Make velocities satisfy the velocity constraints (M-orthogonal projection) and compute
+    accelerations and multipliers from the equations of motion and the acceleration-level
+    constraints ``Phi_q vd + v^T H v + Phi_tt = 0``. Modifies and returns ``st``."""
+    sys = sys or System(model)
+    lin = linear_solver or default_linear_solver(model.neq)
+    nd = model.nd
+    sys.reset_tangent()
+    try:
+        if project_velocities and model.nm:
+            sys.evaluate(st, 1.0, 0.0, 0.0, MODE_VEL, True)
+            rhs = np.zeros(model.neq)
+            rhs[nd:] = -sys.r[nd:]
+            lin.factor(sys.matrix())
+            dv = lin.solve(rhs)
+            st.v += dv[:nd]
+        st.vd[:] = 0.0
+        st.lam[:] = 0.0
+        sys.evaluate(st, 1.0, 0.0, 0.0, MODE_ACC, True)
+        lin.factor(sys.matrix())
+        sol = lin.solve(-sys.r)
+    except np.linalg.LinAlgError as exc:
+        raise InitializationError(
+            "cannot compute consistent initial accelerations: the mass matrix with the "
+            f"constraint Jacobian is singular ({exc}); check for massless nodes without "
+            "stiffness or redundant constraints") from None
+    st.vd[:] = sol[:nd]
+    st.a[:] = st.vd
+    st.lam[:] = sol[nd:]
+    return st
+
+
+def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.ndarray:
+    if output_times is not None:
+        ts = np.unique(np.asarray(output_times, dtype=float))
+        return ts[(ts >= t0 - 1e-15) & (ts <= t_end + 1e-12)]
+    if output_dt is None:
+        if isinstance(step, FixedStep):
+            n_steps = max(1, int(round((t_end - t0) / step.h)))
+            every = max(1, int(np.ceil(n_steps / 1000)))
+            output_dt = every * step.h
+        else:
+            output_dt = (t_end - t0) / 1000
+    n = max(1, int(round((t_end - t0) / output_dt)))
+    ts = t0 + output_dt * np.arange(n + 1)
+    ts = ts[ts <= t_end * (1 + 1e-12) + 1e-15]
+    if ts[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
+        ts = np.append(ts, t_end)
+    return ts
+
+
+def simulate(
+    model: Model,
+    t_end: float,
+    *,
+    state: State | None = None,
+    integrator: GeneralizedAlpha | None = None,
+    newton: Newton | None = None,
+    step: FixedStep | AdaptiveStep | None = None,
+    output_dt: float | None = None,
+    output_times: Sequence[float] | None = None,
+    linear_solver: LinearSolver | None = None,
+    progress: Callable[[float, float, int], None] | None = None,
+    initialize: bool = True,
+) -> Results:
+    """Integrate ``model`` from ``state`` (default: its initial state) to ``t_end`` [s].
+
+    Args:
+        model: compiled model.
+        t_end: final time [s].
+        state: initial state; made consistent first unless ``initialize=False``.
+        integrator: :class:`GeneralizedAlpha` (default rho_inf = 0.8).
+        newton: :class:`Newton` settings.
+        step: :class:`FixedStep` (default h = 1 ms) or :class:`AdaptiveStep`.
+        output_dt, output_times: when to record (default about 1000 outputs); steps are
+            shortened to land on output times.
+        linear_solver: default sparse LU (dense below 60 unknowns).
+        progress: called as ``progress(t, h, steps)`` after every accepted step.
+
+    Returns:
+        :class:`Results`; on failure ``success`` is False and it holds all outputs recorded
+        before the failure.
+    """
+    integrator = integrator or GeneralizedAlpha()
+    newton = newton or Newton()
+    step = step or FixedStep()
+    wall0 = _time.perf_counter()
+    st = (state or model.initial_state()).copy()
+    lin = linear_solver or default_linear_solver(model.neq)
+    stepper = Stepper(model, integrator, newton, lin)
+    sys = stepper.sys
+    if initialize:
+        consistent_initial_state(model, st, sys, lin)
+    sys.reset_tangent()
+    sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, False)
+    viol = sys.constraint_violation()
+    if viol.size and viol.max() > model.spec.settings.assembly_tolerance:
+        i = int(np.argmax(viol))
+        raise InitializationError(f"initial state violates {model.eq_labels[model.nd + i]} "
+                                  f"by {viol[i]:.3g}")
+    energy = EnergyAccount(model)
+    energy.start(sys)
+    rec = Recorder(model, energy)
+    t0 = st.t
+    touts = _output_times(t0, t_end, step, output_dt, output_times)
+    iout = 0
+    if touts.size and abs(touts[0] - t0) <= 1e-12 * max(1.0, abs(t0)):
+        rec.record(st)
+        iout = 1
+    stats = RunStats()
+    adaptive = isinstance(step, AdaptiveStep)
+    if adaptive:
+        h = step.h0
+        h_min, h_max = step.h_min, step.h_max
+    else:
+        h = step.h
+        h_min = step.h_min if step.h_min is not None else step.h / 1024
+        h_max = step.h
+    success, message = True, ""
+    rejections = 0
+    eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
+    substep_until = -np.inf
+    while st.t < t_end - eps_t:
+        t_next = touts[iout] if iout < touts.size else t_end
+        h_try = min(h, h_max)
+        if not adaptive and st.t >= substep_until:
+            h_try = h_max
+        if st.t + h_try >= t_next - 0.25 * h_try:
+            h_try = t_next - st.t
+        if h_try <= eps_t:
+            iout += 1
+            continue
+        out: StepOutcome = stepper.step(st, h_try)
+        stats.newton_iterations += out.iterations
+        err = 0.0
+        if out.ok and adaptive:
+            err = stepper.error_estimate(st, h_try, step.rtol, step.atol)
+            if err > 1.0:
+                out.status = out.status.__class__.ERROR_TOO_LARGE
+        if out.ok:
+            trial = stepper.trial
+            for g in model.groups:
+                if g.commit is not None:
+                    g.commit(g, trial)
+            energy.advance(sys, h_try)
+            st.assign(trial)
+            stats.steps += 1
+            stats.h_min_used = min(stats.h_min_used, h_try)
+            stats.h_max_used = max(stats.h_max_used, h_try)
+            rejections = 0
+            if iout < touts.size and abs(st.t - touts[iout]) <= 1e-9 * max(h_try, 1e-300) + eps_t:
+                st.t = float(touts[iout])
+                rec.record(st, h_try)
+                iout += 1
+            if adaptive:
+                fac = 0.9 * err ** (-1.0 / 3.0) if err > 0 else 2.0
+                fac = min(2.0, max(0.2, fac))
+                if out.iterations > 6:
+                    fac = min(fac, 1.0)
+                h = min(h_max, max(h_min, h_try * fac)) if h_try >= 0.99 * h else max(h, h_min)
+            if progress is not None:
+                progress(st.t, h_try, stats.steps)
+            continue
+        # rejected step
+        stats.rejected += 1
+        rejections += 1
+        stepper.invalidate()
+        if adaptive and out.status.name == "ERROR_TOO_LARGE":
+            h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
+        else:
+            h = h_try * 0.25
+            if not adaptive:
+                substep_until = st.t + h_max
+        max_rej = step.max_rejections if adaptive else 12
+        if h < h_min * (1 - 1e-12) or rejections > max_rej:
+            success = False
+            message = _failure_message(model, st.t, h_try, out)
+            log.error(message)
+            break
+    stats.factorizations = stepper.factorizations
+    stats.residual_evaluations = sys.nevals
+    stats.wall_s = _time.perf_counter() - wall0
+    if not success and (not rec.t or rec.t[-1] < st.t):
+        rec.record(st, 0.0)
+    attrs = {
+        "integrator": f"GeneralizedAlpha(rho_inf={integrator.rho_inf})",
+        "newton": repr(newton),
+        "step": repr(step),
+        "drivedyn_version": _version(),
+    }
+    return Results(rec.dataset(attrs), success, message, stats)
+
+
+def _failure_message(model: Model, t: float, h: float, out: StepOutcome) -> str:
+    where = ""
+    if out.worst_eq >= 0:
+        where = (f"; worst equation: {model.eq_labels[out.worst_eq]} "
+                 f"(scaled residual {out.residual:.3g})")
+    extra = f" ({out.message})" if out.message else ""
+    return (f"simulation stopped at t = {t:.9g} s: step of {h:.3g} s failed: "
+            f"{out.status.value}{extra}{where}; results up to t = {t:.9g} s are kept")
+
+
+def _version() -> str:
+    try:
+        from importlib.metadata import version
+
+        return version("drivedyn")
+    except Exception:  # pragma: no cover - not installed (source checkout)
+        return "unknown"

@@ -1,0 +1,81 @@
+"""Static equilibrium: ``f_int(q) + Phi_q^T (k lam + p Phi) = f_ext(t)``, ``Phi(q) = 0``.
+
+Newton on the same residual as the dynamics with zero velocities and accelerations
+(``cM = cC = 0``); position corrections are applied as ``x += dx``, ``R <- R exp(dtheta)``.
+A backtracking line search on the residual norm keeps large first corrections safe.
+Drivers hold their prescribed values at time ``t``, so this is also the kinetostatic
+analysis of a driven mechanism at one instant.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from drivedyn.elements.base import MODE_DYN
+from drivedyn.model.model import Model, State
+from drivedyn.rotations import exp_so3
+from drivedyn.solver.assembly import System
+from drivedyn.solver.linear import LinearSolver, default_linear_solver
+from drivedyn.solver.settings import Newton
+from drivedyn.solver.stepper import scaled_residual
+
+
+class StaticsError(RuntimeError):
+    """Static equilibrium not found; the message names the worst equation."""
+
+
+def _apply(st: State, base: State, dx: np.ndarray, nn: int) -> None:
+    st.x[:nn] = base.x[:nn] + dx.reshape(nn, 6)[:, :3]
+    for i in range(nn):
+        st.R[i] = base.R[i] @ exp_so3(dx[6 * i + 3 : 6 * i + 6])
+
+
+def solve_static(model: Model, state: State | None = None, t: float = 0.0,
+                 newton: Newton | None = None, max_iter: int = 50,
+                 linear_solver: LinearSolver | None = None) -> State:
+    """Static equilibrium at time ``t`` [s] from ``state`` (default initial state).
+
+    Returns the equilibrium :class:`State` (velocities and accelerations zero, multipliers
+    and element states set). Raises :class:`StaticsError` if Newton does not converge.
+    """
+    nw = newton or Newton(strategy="full")
+    st = (state or model.initial_state()).copy()
+    st.t = t
+    st.v[:] = 0.0
+    st.vd[:] = 0.0
+    st.a[:] = 0.0
+    sys = System(model)
+    sys.reset_tangent()
+    lin = linear_solver or default_linear_solver(model.neq)
+    nd, nn = model.nd, model.nn
+    trial = st.copy()
+    for _ in range(max_iter):
+        sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, True)
+        sq, sphi = scaled_residual(sys)
+        if (sq.max() if sq.size else 0.0) <= nw.tol and (sphi.max() if sphi.size else 0) <= nw.phi_tol:
+            for g in model.groups:
+                if g.commit is not None:
+                    g.commit(g, st)
+            return st
+        norm0 = float(np.linalg.norm(sys.r))
+        try:
+            lin.factor(sys.matrix())
+        except np.linalg.LinAlgError as exc:
+            raise StaticsError(f"singular stiffness matrix ({exc}): the mechanism has a free "
+                               "motion with no stiffness; constrain or drive it") from None
+        delta = lin.solve(-sys.r)
+        alpha = 1.0
+        for _ls in range(12):
+            trial.assign(st)
+            _apply(trial, st, alpha * delta[:nd], nn)
+            trial.lam[:] = st.lam + alpha * delta[nd:]
+            sys.evaluate(trial, 0.0, 0.0, 1.0, MODE_DYN, False)
+            if np.linalg.norm(sys.r) <= (1 - 1e-4 * alpha) * norm0 or alpha < 1e-3:
+                break
+            alpha *= 0.5
+        st.assign(trial)
+    sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, False)
+    sq, sphi = scaled_residual(sys)
+    worst = int(np.argmax(np.concatenate([sq, sphi])))
+    raise StaticsError(f"static equilibrium not found in {max_iter} iterations; worst "
+                       f"equation: {model.eq_labels[worst]}")
