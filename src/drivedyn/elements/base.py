@@ -52,7 +52,7 @@ MODE_ACC = 1
 MODE_VEL = 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def scatter_local(
     rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, r, rabs, data
 ):
@@ -65,7 +65,6 @@ def scatter_local(
     """
     nd = 6 * nnode
     nm = rl.shape[0]
-    nloc = nd + nm
     for i in range(nd):
         gi = dofs[i]
         if gi >= 0:
@@ -76,8 +75,22 @@ def scatter_local(
         if gi >= 0:
             r[gi] += rl[i]
             rabs[gi] += abs(rl[i])
-    if not want:
-        return
+    if want:
+        _scatter_matrix(M, C, K, G, nnode, nm, lnodes, kmap, Tn, cM, cC, cK, mode, data)
+
+
+@njit(cache=True)
+def _scatter_matrix(M, C, K, G, nnode, nm, lnodes, kmap, Tn, cM, cC, cK, mode, data):
+    """Matrix part of :func:`scatter_local` (out of line so that residual-only evaluations
+    do not carry its code in their loops)."""
+    nd = 6 * nnode
+    nloc = nd + nm
+    # multiplier columns: d rq / d lam = G^T (no tangent operator: lam is not on the group)
+    for i in range(nm):
+        for j in range(nd):
+            p = kmap[j * nloc + nd + i]
+            if p >= 0:
+                data[p] += G[i, j]
     if mode == MODE_DYN:
         # K T and G T on rotation columns
         for a in range(nnode):
@@ -109,9 +122,6 @@ def scatter_local(
     for i in range(nm):
         for j in range(nd):
             p = kmap[(nd + i) * nloc + j]
-            if p >= 0:
-                data[p] += G[i, j]
-            p = kmap[j * nloc + nd + i]
             if p >= 0:
                 data[p] += G[i, j]
 

@@ -15,7 +15,67 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import Family, Group, register, scatter_local
+from drivedyn.elements.base import MODE_ACC, Family, Group, register, scatter_local
+
+
+@njit(cache=True, inline="always")
+def _rigid_body_kernel_element(P, I, S, Cc, O, W, full):
+    mass, inertia, gravity = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    nel, rq, rl, M, C, K, G, JOm, JOd = W
+    for e in range(nel):
+        d0 = dofs[e, 0]
+        n = lnodes[e, 0]
+        m = mass[e]
+        J = inertia[e]
+        o0 = v[d0 + 3]
+        o1 = v[d0 + 4]
+        o2 = v[d0 + 5]
+        for i in range(3):
+            JOm[i] = J[i, 0] * o0 + J[i, 1] * o1 + J[i, 2] * o2
+            JOd[i] = J[i, 0] * vd[d0 + 3] + J[i, 1] * vd[d0 + 4] + J[i, 2] * vd[d0 + 5]
+        for i in range(3):
+            rq[i] = m * vd[d0 + i] - m * gravity[i]
+        rq[3] = JOd[0] + o1 * JOm[2] - o2 * JOm[1]
+        rq[4] = JOd[1] + o2 * JOm[0] - o0 * JOm[2]
+        rq[5] = JOd[2] + o0 * JOm[1] - o1 * JOm[0]
+        if full:
+            M[:, :] = 0.0
+            C[:, :] = 0.0
+            for i in range(3):
+                M[i, i] = m
+                for j in range(3):
+                    M[3 + i, 3 + j] = J[i, j]
+            # d(Omega x J Omega)/dOmega = Omega~ J - (J Omega)~
+            for j in range(3):
+                C[3, 3 + j] = o1 * J[2, j] - o2 * J[1, j]
+                C[4, 3 + j] = o2 * J[0, j] - o0 * J[2, j]
+                C[5, 3 + j] = o0 * J[1, j] - o1 * J[0, j]
+            C[3, 4] += JOm[2]
+            C[3, 5] -= JOm[1]
+            C[4, 3] -= JOm[2]
+            C[4, 5] += JOm[0]
+            C[5, 3] += JOm[1]
+            C[5, 4] -= JOm[0]
+        if full:
+            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, want, r, rabs, data)
+        else:
+            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, False, r, rabs, data)
+        eout[e, 0] = 0.5 * m * (v[d0] ** 2 + v[d0 + 1] ** 2 + v[d0 + 2] ** 2) + 0.5 * (
+            o0 * JOm[0] + o1 * JOm[1] + o2 * JOm[2]
+        )
+        eout[e, 1] = -m * (gravity[0] * x[n, 0] + gravity[1] * x[n, 1] + gravity[2] * x[n, 2])
+        eout[e, 2] = 0.0
+        eout[e, 3] = 0.0
+        # aux: angular momentum about the centre of mass, global frame
+        Rn = R[n]
+        for i in range(3):
+            aux[e, i] = Rn[i, 0] * JOm[0] + Rn[i, 1] * JOm[1] + Rn[i, 2] * JOm[2]
 
 
 @njit(cache=True)
@@ -31,55 +91,19 @@ def rigid_body_kernel(
     C = np.zeros((6, 6))
     K = np.zeros((6, 6))
     G = np.zeros((0, 6))
-    for e in range(nel):
-        d0 = dofs[e, 0]
-        n = lnodes[e, 0]
-        m = mass[e]
-        J = inertia[e]
-        Om = v[d0 + 3 : d0 + 6]
-        JOm = J @ Om
-        gyro = np.cross(Om, JOm)
-        JOd = J @ vd[d0 + 3 : d0 + 6]
-        for i in range(3):
-            rq[i] = m * vd[d0 + i] - m * gravity[i]
-            rq[3 + i] = JOd[i] + gyro[i]
-        if want:
-            M[:, :] = 0.0
-            C[:, :] = 0.0
-            for i in range(3):
-                M[i, i] = m
-                for j in range(3):
-                    M[3 + i, 3 + j] = J[i, j]
-            # Omega~ J - (J Omega)~
-            S = np.zeros((3, 3))
-            S[0, 1] = -Om[2]
-            S[0, 2] = Om[1]
-            S[1, 0] = Om[2]
-            S[1, 2] = -Om[0]
-            S[2, 0] = -Om[1]
-            S[2, 1] = Om[0]
-            W = np.zeros((3, 3))
-            W[0, 1] = -JOm[2]
-            W[0, 2] = JOm[1]
-            W[1, 0] = JOm[2]
-            W[1, 2] = -JOm[0]
-            W[2, 0] = -JOm[1]
-            W[2, 1] = JOm[0]
-            C[3:6, 3:6] = S @ J - W
-        scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                      cM, cC, cK, mode, want, r, rabs, data)
-        xv = v[d0 : d0 + 3]
-        eout[e, 0] = 0.5 * m * (xv[0] ** 2 + xv[1] ** 2 + xv[2] ** 2) + 0.5 * (
-            Om[0] * JOm[0] + Om[1] * JOm[1] + Om[2] * JOm[2]
-        )
-        eout[e, 1] = -m * (gravity[0] * x[n, 0] + gravity[1] * x[n, 1] + gravity[2] * x[n, 2])
-        eout[e, 2] = 0.0
-        eout[e, 3] = 0.0
-        # aux: angular momentum about the centre of mass, global frame
-        Hg = R[n] @ JOm
-        aux[e, 0] = Hg[0]
-        aux[e, 1] = Hg[1]
-        aux[e, 2] = Hg[2]
+    JOm = np.zeros(3)
+    JOd = np.zeros(3)
+    P = (mass, inertia, gravity)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, rq, rl, M, C, K, G, JOm, JOd)
+    if want or mode == MODE_ACC:
+        _rigid_body_kernel_element(P, I, S, Cc, O, W, True)
+    else:
+        _rigid_body_kernel_element(P, I, S, Cc, O, W, False)
+
 
 
 class RigidBodyFamily(Family):

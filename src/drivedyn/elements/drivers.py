@@ -112,42 +112,24 @@ class JointDriverFamily(Family):
     def tangent_cases(self):
         from drivedyn.elements import _tangent_cases as tc
 
-        return [tc.driver_case]
+        return [tc.driver_case, tc.speed_driver_case]
 
 
-@njit(cache=True)
-def speed_difference_kernel(
-    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    nel = kk.shape[0]
-    nd = 24
-    rq = np.zeros(nd)
-    rl = np.zeros(1)
-    M = np.zeros((nd, nd))
-    C = np.zeros((nd, nd))
-    K = np.zeros((nd, nd))
-    G = np.zeros((1, nd))
-    g1 = np.zeros(12)
-    H1 = np.zeros((12, 12))
-    g2 = np.zeros(12)
-    H2 = np.zeros((12, 12))
-    w1 = np.zeros(12)
-    w2 = np.zeros((12, 12))
-    w3 = np.zeros(12)
-    w4 = np.zeros((12, 12))
-    g = np.zeros(nd)
-    H = np.zeros((nd, nd))
-    vl = np.zeros(nd)
-    al = np.zeros(nd)
-    nd_glob = r.shape[0] - lam.shape[0]
+@njit(cache=True, inline="always")
+def _speed_difference_kernel_element(P, I, S, Cc, O, W, full):
+    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    (nel, nd, rq, rl, M, C, K, G, g1, H1, g2, H2, w1, w2, w3, w4, g, H, vl, al, nd_glob, ws,
+     wv) = W
     for e in range(nel):
         n = lnodes[e]
         raw1 = prim_angle(R[n[0]], R[n[1]], RmA1[e, :, 0], RmA1[e, :, 1], RmB1[e, :, 0],
-                          g1, H1, w1, w2, w3, w4)
+                          g1, H1, full, w1, w2, w3, w4, ws, wv)
         raw2 = prim_angle(R[n[2]], R[n[3]], RmA2[e, :, 0], RmA2[e, :, 1], RmB2[e, :, 0],
-                          g2, H2, w1, w2, w3, w4)
+                          g2, H2, full, w1, w2, w3, w4, ws, wv)
         th1 = unwrap(raw1, es[eoff[e]])
         th2 = unwrap(raw2, es[eoff[e] + 1])
         g[:12] = g1
@@ -179,12 +161,16 @@ def speed_difference_kernel(
             for a in range(nd):
                 s += g[a] * vl[a]
             rl[0] = k * (s + phit)
-        if want:
+        if full:
             for a in range(nd):
                 for b in range(nd):
                     K[a, b] = sig * H[a, b] + p * g[a] * g[b]
-        scatter_local(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn,
-                      cM, cC, cK, mode, want, r, rabs, data)
+        if full:
+            scatter_local(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, want, r, rabs, data)
+        else:
+            scatter_local(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, False, r, rabs, data)
         aux[e, 0] = -sig
         aux[e, 1] = th1
         aux[e, 2] = th2
@@ -193,6 +179,49 @@ def speed_difference_kernel(
         eout[e, 1] = 0.0
         eout[e, 2] = sig * phit
         eout[e, 3] = 0.0
+
+
+@njit(cache=True)
+def speed_difference_kernel(
+    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = kk.shape[0]
+    nd = 24
+    rq = np.zeros(nd)
+    rl = np.zeros(1)
+    M = np.zeros((nd, nd))
+    C = np.zeros((nd, nd))
+    K = np.zeros((nd, nd))
+    G = np.zeros((1, nd))
+    g1 = np.zeros(12)
+    H1 = np.zeros((12, 12))
+    g2 = np.zeros(12)
+    H2 = np.zeros((12, 12))
+    w1 = np.zeros(12)
+    w2 = np.zeros((12, 12))
+    w3 = np.zeros(12)
+    w4 = np.zeros((12, 12))
+    g = np.zeros(nd)
+    H = np.zeros((nd, nd))
+    vl = np.zeros(nd)
+    al = np.zeros(nd)
+    nd_glob = r.shape[0] - lam.shape[0]
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
+    P = (RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, nd, rq, rl, M, C, K, G, g1, H1, g2, H2, w1, w2, w3, w4, g, H, vl, al, nd_glob, ws,
+        wv)
+    if want or mode == MODE_ACC:
+        _speed_difference_kernel_element(P, I, S, Cc, O, W, True)
+    else:
+        _speed_difference_kernel_element(P, I, S, Cc, O, W, False)
+
 
 
 def _commit_two_angles(group: Group, state) -> None:

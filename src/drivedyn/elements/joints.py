@@ -45,8 +45,9 @@ from drivedyn.elements.base import (
     scatter_local,
 )
 from drivedyn.elements.primitives import (
+    cross,
     gather_v,
-    matvec,
+    mv,
     prim_angle,
     prim_axial,
     prim_dot,
@@ -62,6 +63,121 @@ ROW_DRIVE = 3  # theta - theta0 - f(t)   (or the integral of f for a speed drive
 
 JOINT_AUX = ("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z",
              "angle", "power")
+
+
+@njit(cache=True, inline="always")
+def _constraint_kernel_element(P, I, S, Cc, O, W, full):
+    rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    (nel, nr, rq, rl, M, C, K, G, g, H, gth, Hth, w1, w2, w3, w4, vl, al, ws, wv, two_pi,
+     nd_glob) = W
+    for e in range(nel):
+        nA = lnodes[e, 0]
+        nB = lnodes[e, 1]
+        xA = x[nA]
+        xB = x[nB]
+        RA = R[nA]
+        RB = R[nB]
+        rq[:] = 0.0
+        if full:
+            K[:, :] = 0.0
+        if mode != MODE_DYN:
+            gather_v(v, dofs[e], 12, vl)
+        if mode == MODE_ACC:
+            gather_v(vd, dofs[e], 12, al)
+        th = 0.0
+        if has_angle:
+            raw = prim_angle(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth, Hth,
+                             full, w1, w2, w3, w4, ws, wv)
+            th = unwrap(raw, es[eoff[e]])
+        power = 0.0
+        sig = 0.0
+        for i in range(nr):
+            typ = rtype[i]
+            phit = 0.0
+            phitt = 0.0
+            if typ == ROW_AXIAL:
+                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, ai[i]], g, H,
+                                 full, ws, wv)
+            elif typ == ROW_DOT:
+                val = prim_dot(RA, RB, RmA[e, :, ai[i]], RmB[e, :, bj[i]], g, H, full, ws, wv)
+            elif typ == ROW_SCREW:
+                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, 2], g, H,
+                                 full, ws, wv)
+                c = pitch[e] / two_pi
+                val -= c * th + c0[e]
+                for a in range(12):
+                    g[a] -= c * gth[a]
+                if full:
+                    for a in range(12):
+                        for b in range(12):
+                            H[a, b] -= c * Hth[a, b]
+            else:  # ROW_DRIVE
+                f = tfid[e]
+                if tfmode[e] == 0:
+                    val = th - c0[e] - tfv[f, 0]
+                    phit = -tfv[f, 1]
+                    phitt = -tfv[f, 2]
+                else:
+                    val = th - c0[e] - tfv[f, 3]
+                    phit = -tfv[f, 0]
+                    phitt = -tfv[f, 1]
+                g[:] = gth
+                if full:
+                    H[:, :] = Hth
+            k = kk[e, i]
+            p = pp[e, i]
+            sig = k * lam[dofs[e, 12 + i] - nd_glob] + p * val
+            for a in range(12):
+                rq[a] += sig * g[a]
+            if full:
+                for a in range(12):
+                    G[i, a] = k * g[a]
+            if mode == MODE_DYN:
+                rl[i] = k * val
+            elif mode == MODE_ACC:
+                s = 0.0
+                for a in range(12):
+                    s += g[a] * al[a]
+                rl[i] = k * (s + quad_form(H, vl) + phitt)
+            else:
+                s = 0.0
+                for a in range(12):
+                    s += g[a] * vl[a]
+                rl[i] = k * (s + phit)
+            power += sig * phit
+            if full:
+                for a in range(12):
+                    ga = p * g[a]
+                    for b in range(12):
+                        K[a, b] += sig * H[a, b] + ga * g[b]
+        if full:
+            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, want, r, rabs, data)
+        else:
+            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, False, r, rabs, data)
+        # reactions on B at marker B (global frame): applied = -(residual contribution)
+        for a in range(3):
+            F = -rq[6 + a]
+            aux[e, a] = F
+            wv[0, a] = F
+            wv[1, a] = -rq[9 + a]
+        mv(RB, wv[1], wv[2])  # torque about the node, global
+        mv(RB, pB[e], wv[3])  # arm from node to marker
+        cross(wv[3], wv[0], wv[4])
+        for a in range(3):
+            aux[e, 3 + a] = wv[2, a] - wv[4, a]
+        aux[e, 6] = th
+        aux[e, 7] = power
+        aux[e, 8] = -sig  # last row's force: the driving torque of a driver row
+        eout[e, 0] = 0.0
+        eout[e, 1] = 0.0
+        eout[e, 2] = power
+        eout[e, 3] = 0.0
 
 
 @njit(cache=True)
@@ -88,94 +204,22 @@ def constraint_kernel(
     w4 = np.zeros((12, 12))
     vl = np.zeros(12)
     al = np.zeros(12)
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
     two_pi = 2.0 * np.pi
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        xA = x[nA]
-        xB = x[nB]
-        RA = R[nA]
-        RB = R[nB]
-        rq[:] = 0.0
-        if want:
-            K[:, :] = 0.0
-        gather_v(v, dofs[e], 12, vl)
-        if mode == MODE_ACC:
-            gather_v(vd, dofs[e], 12, al)
-        th = 0.0
-        if has_angle:
-            raw = prim_angle(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth, Hth,
-                             w1, w2, w3, w4)
-            th = unwrap(raw, es[eoff[e]])
-        power = 0.0
-        for i in range(nr):
-            typ = rtype[i]
-            phit = 0.0
-            phitt = 0.0
-            if typ == ROW_AXIAL:
-                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, ai[i]], g, H)
-            elif typ == ROW_DOT:
-                val = prim_dot(RA, RB, RmA[e, :, ai[i]], RmB[e, :, bj[i]], g, H)
-            elif typ == ROW_SCREW:
-                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, 2], g, H)
-                c = pitch[e] / two_pi
-                val -= c * th + c0[e]
-                for a in range(12):
-                    g[a] -= c * gth[a]
-                    for b in range(12):
-                        H[a, b] -= c * Hth[a, b]
-            else:  # ROW_DRIVE
-                f = tfid[e]
-                if tfmode[e] == 0:
-                    val = th - c0[e] - tfv[f, 0]
-                    phit = -tfv[f, 1]
-                    phitt = -tfv[f, 2]
-                else:
-                    val = th - c0[e] - tfv[f, 3]
-                    phit = -tfv[f, 0]
-                    phitt = -tfv[f, 1]
-                g[:] = gth
-                H[:, :] = Hth
-            k = kk[e, i]
-            p = pp[e, i]
-            sig = k * lam[dofs[e, 12 + i] - (r.shape[0] - lam.shape[0])] + p * val
-            for a in range(12):
-                rq[a] += sig * g[a]
-                G[i, a] = k * g[a]
-            if mode == MODE_DYN:
-                rl[i] = k * val
-            elif mode == MODE_ACC:
-                s = 0.0
-                for a in range(12):
-                    s += g[a] * al[a]
-                rl[i] = k * (s + quad_form(H, vl) + phitt)
-            else:
-                s = 0.0
-                for a in range(12):
-                    s += g[a] * vl[a]
-                rl[i] = k * (s + phit)
-            power += sig * phit
-            if want:
-                for a in range(12):
-                    for b in range(12):
-                        K[a, b] += sig * H[a, b] + p * g[a] * g[b]
-        scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
-                      cM, cC, cK, mode, want, r, rabs, data)
-        # reactions on B at marker B (global frame): applied = -(residual contribution)
-        F = -rq[6:9]
-        TB = -(RB @ rq[9:12])
-        arm = matvec(RB, pB[e])
-        Tm = TB - np.cross(arm, F)
-        for a in range(3):
-            aux[e, a] = F[a]
-            aux[e, 3 + a] = Tm[a]
-        aux[e, 6] = th
-        aux[e, 7] = power
-        aux[e, 8] = -sig  # last row's force: the driving torque of a driver row
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.0
-        eout[e, 2] = power
-        eout[e, 3] = 0.0
+    nd_glob = r.shape[0] - lam.shape[0]
+    P = (rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, nr, rq, rl, M, C, K, G, g, H, gth, Hth, w1, w2, w3, w4, vl, al, ws, wv, two_pi,
+        nd_glob)
+    if want or mode == MODE_ACC:
+        _constraint_kernel_element(P, I, S, Cc, O, W, True)
+    else:
+        _constraint_kernel_element(P, I, S, Cc, O, W, False)
+
 
 
 def _row_value(typ: int, a: int, b: int, xA, RA, xB, RB, pA, pB, RmA, RmB) -> float:
@@ -402,7 +446,8 @@ class JointFamily(Family):
     def tangent_cases(self):
         from drivedyn.elements import _tangent_cases as tc
 
-        return [lambda: tc.joint_case(self.spec_type)]
+        return [lambda: tc.joint_case(self.spec_type),
+                lambda: tc.joint_case(self.spec_type, ground_a=True)]
 
 
 for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Screw):

@@ -14,23 +14,18 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import ElementSpec, Family, Group, register, scatter_local
+from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_local
 from drivedyn.model.spec import ModelError
 
 
-@njit(cache=True)
-def load_kernel(
-    is_torque, follower, p, Rm, vec, tfid,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    nel = vec.shape[0]
-    rq = np.zeros(6)
-    rl = np.zeros(0)
-    M = np.zeros((6, 6))
-    C = np.zeros((6, 6))
-    K = np.zeros((6, 6))
-    G = np.zeros((0, 6))
+@njit(cache=True, inline="always")
+def _load_kernel_element(P, I, S, Cc, O, W, full):
+    is_torque, follower, p, Rm, vec, tfid = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    nel, rq, rl, M, C, K, G = W
     for e in range(nel):
         n = lnodes[e, 0]
         Rn = R[n]
@@ -45,7 +40,7 @@ def load_kernel(
                 mb = loc
             else:
                 mb = Rn.T @ (vec[e] * f)
-                if want:
+                if full:
                     # d(-R^T T)/dtheta = -(R^T T)~
                     K[3, 4] = mb[2]
                     K[3, 5] = -mb[1]
@@ -61,7 +56,7 @@ def load_kernel(
             if follower[e]:
                 Fg = Rn @ loc
                 Fb = loc
-                if want:
+                if full:
                     # d(-R Fb)/dtheta = R Fb~
                     S = np.zeros((3, 3))
                     S[0, 1] = -Fb[2]
@@ -74,7 +69,7 @@ def load_kernel(
             else:
                 Fg = vec[e] * f
                 Fb = Rn.T @ Fg
-                if want:
+                if full:
                     # d(-p x R^T F)/dtheta = -p~ (R^T F)~
                     P = np.zeros((3, 3))
                     P[0, 1] = -pe[2]
@@ -96,8 +91,12 @@ def load_kernel(
             rq[3:6] = -mb
             vm = v[d0 : d0 + 3] + Rn @ np.cross(Om, pe)
             power = Fg[0] * vm[0] + Fg[1] * vm[1] + Fg[2] * vm[2]
-        scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                      cM, cC, cK, mode, want, r, rabs, data)
+        if full:
+            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, want, r, rabs, data)
+        else:
+            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, False, r, rabs, data)
         if is_torque:
             Tg = Rn @ mb
             for a in range(3):
@@ -110,6 +109,32 @@ def load_kernel(
         eout[e, 1] = 0.0
         eout[e, 2] = power
         eout[e, 3] = 0.0
+
+
+@njit(cache=True)
+def load_kernel(
+    is_torque, follower, p, Rm, vec, tfid,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = vec.shape[0]
+    rq = np.zeros(6)
+    rl = np.zeros(0)
+    M = np.zeros((6, 6))
+    C = np.zeros((6, 6))
+    K = np.zeros((6, 6))
+    G = np.zeros((0, 6))
+    P = (is_torque, follower, p, Rm, vec, tfid)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, rq, rl, M, C, K, G)
+    if want or mode == MODE_ACC:
+        _load_kernel_element(P, I, S, Cc, O, W, True)
+    else:
+        _load_kernel_element(P, I, S, Cc, O, W, False)
+
 
 
 @dataclass(frozen=True)

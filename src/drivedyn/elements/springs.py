@@ -19,10 +19,63 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import ElementSpec, Family, Group, register, scatter_local
-from drivedyn.elements.primitives import gather_v, prim_angle, prim_distance, unwrap
+from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_local
 from drivedyn.elements.joints import relative_angle
+from drivedyn.elements.primitives import gather_v, prim_angle, prim_distance, unwrap
 from drivedyn.model.spec import ModelError
+
+
+@njit(cache=True, inline="always")
+def _scalar_spring_kernel_element(P, I, S, Cc, O, W, full):
+    angular, pA, pB, RmA, RmB, stiff, damp, ref, pre = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    nel, rq, rl, M, C, K, G, g, H, w1, w2, w3, w4, vl, Hv, ws, wv = W
+    for e in range(nel):
+        nA = lnodes[e, 0]
+        nB = lnodes[e, 1]
+        if angular:
+            raw = prim_angle(R[nA], R[nB], RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0],
+                             g, H, full, w1, w2, w3, w4, ws, wv)
+            q = unwrap(raw, es[eoff[e]])
+        else:
+            q = prim_distance(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], g, H, full, ws, wv)
+        gather_v(v, dofs[e], 12, vl)
+        qd = 0.0
+        for a in range(12):
+            qd += g[a] * vl[a]
+        k = stiff[e]
+        c = damp[e]
+        dq = q - ref[e]
+        s = k * dq + c * qd + pre[e]
+        for a in range(12):
+            rq[a] = s * g[a]
+        if full:
+            for b in range(12):
+                sv = 0.0
+                for a in range(12):
+                    sv += H[a, b] * vl[a]
+                Hv[b] = sv
+            for a in range(12):
+                for b in range(12):
+                    K[a, b] = s * H[a, b] + g[a] * (k * g[b] + c * Hv[b])
+                    C[a, b] = c * g[a] * g[b]
+        if full:
+            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, want, r, rabs, data)
+        else:
+            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
+                          cM, cC, cK, mode, False, r, rabs, data)
+        eout[e, 0] = 0.0
+        eout[e, 1] = 0.5 * k * dq * dq + pre[e] * q
+        eout[e, 2] = 0.0
+        eout[e, 3] = c * qd * qd
+        aux[e, 0] = s
+        aux[e, 1] = q
+        aux[e, 2] = qd
+        aux[e, 3] = c * qd * qd
 
 
 @njit(cache=True)
@@ -45,41 +98,20 @@ def scalar_spring_kernel(
     w3 = np.zeros(12)
     w4 = np.zeros((12, 12))
     vl = np.zeros(12)
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        if angular:
-            raw = prim_angle(R[nA], R[nB], RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0],
-                             g, H, w1, w2, w3, w4)
-            q = unwrap(raw, es[eoff[e]])
-        else:
-            q, _ = prim_distance(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], g, H)
-        gather_v(v, dofs[e], 12, vl)
-        qd = 0.0
-        for a in range(12):
-            qd += g[a] * vl[a]
-        k = stiff[e]
-        c = damp[e]
-        dq = q - ref[e]
-        s = k * dq + c * qd + pre[e]
-        for a in range(12):
-            rq[a] = s * g[a]
-        if want:
-            Hv = H.T @ vl
-            for a in range(12):
-                for b in range(12):
-                    K[a, b] = s * H[a, b] + g[a] * (k * g[b] + c * Hv[b])
-                    C[a, b] = c * g[a] * g[b]
-        scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
-                      cM, cC, cK, mode, want, r, rabs, data)
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.5 * k * dq * dq + pre[e] * q
-        eout[e, 2] = 0.0
-        eout[e, 3] = c * qd * qd
-        aux[e, 0] = s
-        aux[e, 1] = q
-        aux[e, 2] = qd
-        aux[e, 3] = c * qd * qd
+    Hv = np.zeros(12)
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
+    P = (angular, pA, pB, RmA, RmB, stiff, damp, ref, pre)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, rq, rl, M, C, K, G, g, H, w1, w2, w3, w4, vl, Hv, ws, wv)
+    if want or mode == MODE_ACC:
+        _scalar_spring_kernel_element(P, I, S, Cc, O, W, True)
+    else:
+        _scalar_spring_kernel_element(P, I, S, Cc, O, W, False)
+
 
 
 def _commit_angle(group: Group, state) -> None:

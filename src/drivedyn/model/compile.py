@@ -10,7 +10,6 @@ import numpy as np
 from drivedyn.elements.base import REGISTRY, family_of
 from drivedyn.model.model import Model, NodeInfo, State
 from drivedyn.model.spec import GROUND, ModelError, Spec
-from drivedyn.rotations import skew
 from drivedyn.timefunctions import TimeFunctionPool, as_time_function
 
 _DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -227,12 +226,7 @@ def compile_model(spec: Spec) -> Model:
     )
 
 
-def compile(spec: Spec) -> Model:  # noqa: A001 - the field's word for it
+def compile(spec: Spec) -> Model:
     """Alias of :func:`compile_model`."""
     return compile_model(spec)
 
-
-def spatial_inertia(mass: float, inertia: np.ndarray, com: np.ndarray) -> np.ndarray:
-    """Inertia (3, 3) about a point at ``-com`` from the centre of mass (parallel axes)."""
-    c = skew(np.asarray(com, float))
-    return inertia - mass * (c @ c)

@@ -3,9 +3,27 @@
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from drivedyn.model.model import Model, State
 from drivedyn.solver.assembly import System
+
+
+@njit(cache=True)
+def _trapezoid(eout, pin_prev, pd_prev, diss, h):
+    """Trapezoidal work increment of one group over a step; updates the per-element
+    dissipated energies and stored powers; returns (work in, kinetic, potential)."""
+    dw = 0.0
+    ek = 0.0
+    ep = 0.0
+    for e in range(eout.shape[0]):
+        dw += 0.5 * h * (pin_prev[e] + eout[e, 2])
+        diss[e] += 0.5 * h * (pd_prev[e] + eout[e, 3])
+        pin_prev[e] = eout[e, 2]
+        pd_prev[e] = eout[e, 3]
+        ek += eout[e, 0]
+        ep += eout[e, 1]
+    return dw, ek, ep
 
 
 class EnergyAccount:
@@ -41,15 +59,13 @@ class EnergyAccount:
     def advance(self, sys: System, h: float) -> None:
         """Integrate the powers over an accepted step of size ``h`` [s] (after evaluation at
         the new state)."""
+        ek = ep = 0.0
         for i, g in enumerate(self.model.groups):
-            pin = g.eout[:, 2]
-            pd = g.eout[:, 3]
-            self.work_in += 0.5 * h * float((self._pin[i] + pin).sum())
-            self.dissipated[i] += 0.5 * h * (self._pd[i] + pd)
-            self._pin[i] = pin.copy()
-            self._pd[i] = pd.copy()
-        e = sys.energies()
-        self.kinetic, self.potential = e["kinetic"], e["potential"]
+            dw, k, p = _trapezoid(g.eout, self._pin[i], self._pd[i], self.dissipated[i], h)
+            self.work_in += dw
+            ek += k
+            ep += p
+        self.kinetic, self.potential = ek, ep
 
     @property
     def total_dissipated(self) -> float:

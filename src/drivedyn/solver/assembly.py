@@ -8,7 +8,7 @@ from numba import njit
 
 from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
-from drivedyn.rotations import exp_so3, tangent
+from drivedyn.rotations import tangent
 from drivedyn.timefunctions import eval_time_functions
 
 
@@ -16,17 +16,53 @@ from drivedyn.timefunctions import eval_time_functions
 def lie_update(x0, R0, hdq, nn, x, R, Tn, with_tangent):
     """Positions ``x = x0 + hdq_x`` and rotations ``R = R0 exp(hdq_theta)`` of all nodes.
 
-    ``hdq`` (6 nn,) is the Lie-algebra increment of the step; ``Tn`` receives the tangent
-    operators T(hdq_theta) (identity rows stay for the ground).
+    ``hdq`` (6 nn,) is the Lie-algebra increment of the step; if ``with_tangent``, ``Tn``
+    receives the tangent operators T(hdq_theta) (the ground row stays identity).
+    Written without temporaries (Rodrigues' formula expanded) because it runs every
+    Newton iteration over all nodes.
     """
+    E = np.empty((3, 3))
     for i in range(nn):
         d = 6 * i
         for a in range(3):
             x[i, a] = x0[i, a] + hdq[d + a]
-        phi = hdq[d + 3 : d + 6]
-        R[i] = R0[i] @ exp_so3(phi)
+        p0 = hdq[d + 3]
+        p1 = hdq[d + 4]
+        p2 = hdq[d + 5]
+        t2 = p0 * p0 + p1 * p1 + p2 * p2
+        t = np.sqrt(t2)
+        if t < 1e-4:
+            ca = 1.0 - t2 / 6.0 + t2 * t2 / 120.0
+            cb = 0.5 - t2 / 24.0 + t2 * t2 / 720.0
+        else:
+            ca = np.sin(t) / t
+            sh = np.sin(0.5 * t) / t
+            cb = 2.0 * sh * sh
+        # E = I + ca S + cb S^2, S = skew(p); S^2 = p p^T - t2 I
+        E[0, 0] = 1.0 + cb * (p0 * p0 - t2)
+        E[1, 1] = 1.0 + cb * (p1 * p1 - t2)
+        E[2, 2] = 1.0 + cb * (p2 * p2 - t2)
+        E[0, 1] = -ca * p2 + cb * p0 * p1
+        E[1, 0] = ca * p2 + cb * p0 * p1
+        E[0, 2] = ca * p1 + cb * p0 * p2
+        E[2, 0] = -ca * p1 + cb * p0 * p2
+        E[1, 2] = -ca * p0 + cb * p1 * p2
+        E[2, 1] = ca * p0 + cb * p1 * p2
+        for a in range(3):
+            r0 = R0[i, a, 0]
+            r1 = R0[i, a, 1]
+            r2 = R0[i, a, 2]
+            for b in range(3):
+                R[i, a, b] = r0 * E[0, b] + r1 * E[1, b] + r2 * E[2, b]
         if with_tangent:
-            Tn[i] = tangent(phi)
+            Tn[i] = tangent(hdq[d + 3 : d + 6])
+
+
+@njit(cache=True)
+def tangents(hdq, nn, Tn):
+    """Tangent operators T(hdq_theta) (3, 3) of all nodes into ``Tn``."""
+    for i in range(nn):
+        Tn[i] = tangent(hdq[6 * i + 3 : 6 * i + 6])
 
 
 class System:

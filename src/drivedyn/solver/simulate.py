@@ -77,12 +77,12 @@ def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.
         return ts[(ts >= t0 - 1e-15) & (ts <= t_end + 1e-12)]
     if output_dt is None:
         if isinstance(step, FixedStep):
-            n_steps = max(1, int(round((t_end - t0) / step.h)))
+            n_steps = max(1, round((t_end - t0) / step.h))
             every = max(1, int(np.ceil(n_steps / 1000)))
             output_dt = every * step.h
         else:
             output_dt = (t_end - t0) / 1000
-    n = max(1, int(round((t_end - t0) / output_dt)))
+    n = max(1, round((t_end - t0) / output_dt))
     ts = t0 + output_dt * np.arange(n + 1)
     ts = ts[ts <= t_end * (1 + 1e-12) + 1e-15]
     if ts[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
@@ -166,7 +166,9 @@ def simulate(
         h_try = min(h, h_max)
         if not adaptive and st.t >= substep_until:
             h_try = h_max
-        if st.t + h_try >= t_next - 0.25 * h_try:
+        # land on output times; stretch a step by up to 25 % to reach one, unless the
+        # previous attempt was just rejected (stretching it again would loop)
+        if st.t + h_try > t_next or (rejections == 0 and st.t + h_try >= t_next - 0.25 * h_try):
             h_try = t_next - st.t
         if h_try <= eps_t:
             iout += 1

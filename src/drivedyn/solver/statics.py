@@ -52,7 +52,9 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
     for _ in range(max_iter):
         sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, True)
         sq, sphi = scaled_residual(sys)
-        if (sq.max() if sq.size else 0.0) <= nw.tol and (sphi.max() if sphi.size else 0) <= nw.phi_tol:
+        rq_max = sq.max() if sq.size else 0.0
+        ph_max = sphi.max() if sphi.size else 0.0
+        if rq_max <= nw.tol and ph_max <= nw.phi_tol:
             for g in model.groups:
                 if g.commit is not None:
                     g.commit(g, st)

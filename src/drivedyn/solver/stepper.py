@@ -21,10 +21,11 @@ the tangent operator of each node's rotation increment. Working on position corr
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
-from drivedyn.solver.assembly import System, lie_update
+from drivedyn.solver.assembly import System, lie_update, tangents
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
 
@@ -42,6 +43,55 @@ def scaled_residual(sys: System, floor_rel: float = 1e-8) -> tuple[np.ndarray, n
     else:
         sq = np.zeros(0)
     return sq, sys.constraint_violation()
+
+
+@njit(cache=True)
+def residual_norms(r, rabs, kscale, nd, floor_rel):
+    """Largest scaled node residual and constraint violation (see :func:`scaled_residual`);
+    returns (rq_max, phi_max, finite)."""
+    amax = 1e-300
+    for i in range(nd):
+        if rabs[i] > amax:
+            amax = rabs[i]
+    floor = floor_rel * amax
+    rq = 0.0
+    finite = True
+    for i in range(nd):
+        v = abs(r[i]) / (rabs[i] + floor)
+        if not np.isfinite(v):
+            finite = False
+        if v > rq:
+            rq = v
+    ph = 0.0
+    for i in range(nd, r.shape[0]):
+        v = abs(r[i]) / kscale[i]
+        if not np.isfinite(v):
+            finite = False
+        if v > ph:
+            ph = v
+    return rq, ph, finite
+
+
+@njit(cache=True)
+def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
+    """Apply a Newton correction; returns (max |dx|, all finite)."""
+    nrm = 0.0
+    finite = True
+    for i in range(nd):
+        dx = delta[i]
+        if not np.isfinite(dx):
+            finite = False
+        hdq[i] += dx
+        vd[i] += cM * dx
+        a[i] += ca * dx
+        v[i] += cC * dx
+        if abs(dx) > nrm:
+            nrm = abs(dx)
+    for i in range(lam.shape[0]):
+        if not np.isfinite(delta[nd + i]):
+            finite = False
+        lam[i] += delta[nd + i]
+    return nrm, finite
 
 
 class Stepper:
@@ -74,6 +124,7 @@ class Stepper:
 
     def _factor(self, st: State, h: float) -> StepOutcome | None:
         sys = self.sys
+        tangents(self.hdq, self.model.nn, sys.Tn)
         sys.evaluate(st, 1.0 / (self.bp * h * h), self.gp / (self.bp * h), 1.0, MODE_DYN, True)
         try:
             self.lin.factor(sys.matrix())
@@ -101,8 +152,10 @@ class Stepper:
         st.v[:] = sn.v + h * ((1.0 - gamma) * sn.a + gamma * st.a)
         hdq = self.hdq
         hdq[:] = h * sn.v + h * h * ((0.5 - beta) * sn.a + beta * st.a)
-        lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, True)
-        if self.lu_h is not None and self.lu_h != h:
+        lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
+        # a factorisation for a slightly different h (output-time clipping) still converges
+        # well; the contraction monitor below refactors if it does not
+        if self.lu_h is not None and abs(self.lu_h - h) > 1e-2 * h:
             self.lu_h = None
         full = nw.strategy == "full"
         cM = 1.0 / (self.bp * h * h)
@@ -112,33 +165,37 @@ class Stepper:
         nfac0 = self.factorizations
         prev = np.inf
         fresh = False
+        since_factor = 0
         worst, wval = -1, 0.0
+        kscale = sys.kscale
         for it in range(nw.max_iter + 1):
-            sq, sphi = scaled_residual(sys)
-            if not (np.all(np.isfinite(sq)) and np.all(np.isfinite(sphi))):
+            rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, 1e-8)
+            if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
-            rq_max = sq.max() if sq.size else 0.0
-            ph_max = sphi.max() if sphi.size else 0.0
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break
-            if full or self.lu_h is None:
+            # modified Newton: a factorisation that needed several iterations already is
+            # stale (the configuration moved on); refresh it rather than creep along
+            if full or self.lu_h is None or since_factor >= 3:
                 out = self._factor(st, h)
                 if out is not None:
                     out.iterations = it
                     return out
                 fresh = True
+                since_factor = 0
+            since_factor += 1
             delta = self.lin.solve(-sys.r)
-            if not np.all(np.isfinite(delta)):
+            nrm, finite = newton_update(delta, nd, hdq, st.vd, st.a, st.v, st.lam, cM, ca, cC)
+            if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite Newton correction")
-            dx = delta[:nd]
-            nrm = float(np.abs(dx).max()) if nd else 0.0
             ratio = nrm / prev if prev > 0 and np.isfinite(prev) else 0.0
             if it > 0 and ratio > nw.contraction:
                 if ratio > 2.0 and fresh:
+                    sq, sphi = scaled_residual(sys)
                     worst, wval = _worst(sys, sq, sphi)
                     return StepOutcome(StepStatus.NEWTON_DIVERGED, it + 1,
                                        self.factorizations - nfac0, worst_eq=worst,
@@ -146,12 +203,7 @@ class Stepper:
                 self.lu_h = None  # refactor at the next iteration
             prev = nrm if nrm > 0 else prev
             fresh = False
-            hdq += dx
-            st.vd += cM * dx
-            st.a += ca * dx
-            st.v += cC * dx
-            st.lam += delta[nd:]
-            lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, True)
+            lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
             sys.evaluate(st, cM, cC, 1.0, MODE_DYN, False)
         sq, sphi = scaled_residual(sys)
         worst, wval = _worst(sys, sq, sphi)

@@ -1,0 +1,133 @@
+"""Small models that exercise each element family, for the registry tangent test.
+
+Each case function returns a :class:`~drivedyn.model.spec.Spec`. The test perturbs the
+compiled initial state randomly (positions off the constraint manifold, random velocities,
+accelerations and multipliers) so that every term of every tangent is active.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from drivedyn.model.spec import Spec
+from drivedyn.rotations import exp_so3
+
+_RA = exp_so3(np.array([0.3, -0.5, 0.8]))
+_RB = exp_so3(np.array([-0.7, 0.2, 0.4]))
+_RM = exp_so3(np.array([0.2, 0.9, -0.3]))  # common global frame of coinciding markers
+
+
+def _two_bodies(spec: Spec, ground_a: bool = False) -> tuple[str, str]:
+    """Bodies 'A' and 'B' with centre-of-mass offsets and coinciding markers 'mA', 'mB'
+    at global point (0.3, -0.2, 0.5) with orientation _RM."""
+    J = np.array([[2.0, 0.1, 0.0], [0.1, 3.0, 0.2], [0.0, 0.2, 2.5]])
+    target = np.array([0.3, -0.2, 0.5])
+    if ground_a:
+        spec.add_marker("mA", "ground", position=target, rotation=_RM)
+    else:
+        xa = np.array([0.1, 0.2, -0.1])
+        spec.add_rigid_body("A", 1.5, J, com=(0.05, 0.0, 0.02), position=xa, rotation=_RA)
+        spec.add_marker("mA", "A", position=_RA.T @ (target - xa), rotation=_RA.T @ _RM)
+    xb = np.array([-0.2, 0.4, 0.3])
+    spec.add_rigid_body("B", 2.0, 0.8 * J, com=(-0.03, 0.04, 0.0), position=xb, rotation=_RB)
+    spec.add_marker("mB", "B", position=_RB.T @ (target - xb), rotation=_RB.T @ _RM)
+    return "mA", "mB"
+
+
+def spinning_body() -> Spec:
+    spec = Spec(gravity=(0.0, -3.0, -9.81))
+    spec.add_rigid_body("body", 2.0, np.diag([1.0, 2.0, 2.5]), com=(0.1, 0.0, 0.0),
+                        rotation=_RA, angular_velocity=(3.0, -2.0, 5.0))
+    return spec
+
+
+def joint_case(joint_type: type, ground_a: bool = False) -> Spec:
+    spec = Spec(gravity=(0.0, 0.0, -9.81))
+    a, b = _two_bodies(spec, ground_a)
+    kw = {"pitch": 0.05} if joint_type.__name__ == "Screw" else {}
+    spec.add(joint_type("j", a, b, k=3.0e2, p=1.0e2, **kw))
+    return spec
+
+
+def driver_case() -> Spec:
+    from drivedyn.elements.drivers import JointDriver
+    from drivedyn.elements.joints import Hinge
+    from drivedyn.timefunctions import Ramp
+
+    spec = Spec()
+    a, b = _two_bodies(spec)
+    spec.add(Hinge("j", a, b))
+    spec.add(JointDriver("d_angle", "j", Ramp(0.0, 1.0, 0.0, 2.0), quantity="angle", k=5.0))
+    return spec
+
+
+def speed_driver_case() -> Spec:
+    from drivedyn.elements.drivers import JointDriver
+    from drivedyn.elements.joints import Hinge
+    from drivedyn.timefunctions import SmoothStep
+
+    spec = Spec()
+    a, b = _two_bodies(spec)
+    spec.add(Hinge("j", a, b))
+    spec.add(JointDriver("d_speed", "j", SmoothStep(0.0, 1.0, 1.0, 3.0), quantity="speed",
+                         k=7.0, p=2.0))
+    return spec
+
+
+def speed_difference_case() -> Spec:
+    from drivedyn.elements.drivers import SpeedDifferenceDriver
+    from drivedyn.elements.joints import Hinge
+
+    spec = Spec()
+    J = np.diag([1.0, 1.5, 2.0])
+    for i, R in enumerate((_RA, _RB, _RM, _RA.T)):
+        spec.add_rigid_body(f"b{i}", 1.0 + i, J, com=(0.01 * i, 0.0, 0.02), rotation=R,
+                            position=(0.1 * i, 0.0, 0.0))
+    for j, (p, q) in enumerate(((0, 1), (2, 3))):
+        Rp = spec.bodies[f"b{p}"].rotation
+        Rq = spec.bodies[f"b{q}"].rotation
+        xp = spec.bodies[f"b{p}"].position
+        xq = spec.bodies[f"b{q}"].position
+        target = np.array([0.2 * j, 0.1, 0.0])
+        spec.add_marker(f"m{p}", f"b{p}", position=Rp.T @ (target - xp), rotation=Rp.T @ _RM)
+        spec.add_marker(f"m{q}", f"b{q}", position=Rq.T @ (target - xq), rotation=Rq.T @ _RM)
+        spec.add(Hinge(f"j{j}", f"m{p}", f"m{q}"))
+    spec.add(SpeedDifferenceDriver("sd", "j0", "j1", 2.0, k=4.0, p=1.5))
+    return spec
+
+
+def spring_case() -> Spec:
+    from drivedyn.elements.springs import SpringDamper
+
+    spec = Spec()
+    _two_bodies(spec)
+    J = np.eye(3)
+    spec.add_rigid_body("C", 1.0, J, position=(1.0, 0.5, -0.2), rotation=_RB)
+    spec.add_marker("mC", "C", position=(0.1, 0.2, 0.3))
+    spec.add_marker("mA2", "A", position=(-0.2, 0.1, 0.05))
+    spec.add(SpringDamper("s", "mA2", "mC", stiffness=1e3, damping=20.0, free_length=0.7,
+                          preload=30.0))
+    return spec
+
+
+def torsion_case() -> Spec:
+    from drivedyn.elements.springs import TorsionalSpringDamper
+
+    spec = Spec()
+    a, b = _two_bodies(spec)
+    spec.add(TorsionalSpringDamper("t", a, b, stiffness=500.0, damping=3.0, free_angle=0.2,
+                                   preload=4.0))
+    return spec
+
+
+def load_case(is_torque: bool, frame: str) -> Spec:
+    from drivedyn.elements.loads import Force, Torque
+    from drivedyn.timefunctions import Ramp
+
+    spec = Spec()
+    spec.add_rigid_body("A", 1.0, np.diag([1.0, 2.0, 3.0]), com=(0.1, 0.0, 0.0), rotation=_RA)
+    spec.add_marker("m", "A", position=(0.3, -0.2, 0.1), rotation=_RM)
+    cls = Torque if is_torque else Force
+    spec.add(cls("load", "m", vector=(3.0, -2.0, 5.0), function=Ramp(-1.0, 1.0, 0.5, 2.0),
+                 frame=frame))
+    return spec

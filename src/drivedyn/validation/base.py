@@ -1,0 +1,86 @@
+"""Registry of validation cases and their result records."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+
+@dataclass
+class CaseResult:
+    """One checked quantity of a validation case.
+
+    Attributes:
+        case: case name (e.g. ``"pendulum"``).
+        quantity: what is compared (e.g. ``"period, 120 deg amplitude"``).
+        reference: exact or published value.
+        simulated: drivedyn's value.
+        unit: unit of both values.
+        error: relative error ``|sim - ref| / |ref|`` (absolute if ``ref == 0``).
+        tolerance: largest accepted error.
+        source: where the reference comes from (formula or publication).
+        wall_s: wall time of the case [s].
+        figures: paths of PNG figures written for the case.
+    """
+
+    case: str
+    quantity: str
+    reference: float
+    simulated: float
+    unit: str
+    error: float
+    tolerance: float
+    source: str = ""
+    wall_s: float = 0.0
+    figures: list[str] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.error <= self.tolerance)
+
+    def as_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["passed"] = self.passed
+        return d
+
+
+def compare(case: str, quantity: str, reference: float, simulated: float, unit: str,
+            tolerance: float, source: str = "") -> CaseResult:
+    """Build a :class:`CaseResult` with the relative error (absolute when ref is 0)."""
+    ref = float(reference)
+    sim = float(simulated)
+    err = abs(sim - ref) / abs(ref) if ref != 0 else abs(sim - ref)
+    return CaseResult(case, quantity, ref, sim, unit, err, tolerance, source)
+
+
+# name -> function(quick: bool, figure_dir: str | None) -> list[CaseResult]
+CASES: dict[str, Callable[..., list[CaseResult]]] = {}
+
+
+def register_case(name: str) -> Callable[[Callable[..., list[CaseResult]]],
+                                         Callable[..., list[CaseResult]]]:
+    """Decorator adding a case function to :data:`CASES`."""
+
+    def deco(fn: Callable[..., list[CaseResult]]) -> Callable[..., list[CaseResult]]:
+        CASES[name] = fn
+        return fn
+
+    return deco
+
+
+def run_cases(names: list[str] | None = None, quick: bool = False,
+              figure_dir: str | None = None) -> list[CaseResult]:
+    """Run the named cases (default all) and return their results with wall times."""
+    from drivedyn.validation import cases  # noqa: F401  (registers the cases)
+
+    out: list[CaseResult] = []
+    for name in names or list(CASES):
+        t0 = time.perf_counter()
+        res = CASES[name](quick=quick, figure_dir=figure_dir)
+        wall = time.perf_counter() - t0
+        for r in res:
+            r.wall_s = wall
+        out += res
+    return out

@@ -1,0 +1,146 @@
+"""Tests of the command line interface (``drivedyn validate``, ``--version``, ``--help``).
+
+The validation registry is replaced by fake cases, so these tests do not depend on (or run)
+the real validation cases.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import types
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import drivedyn
+import drivedyn.validation
+from drivedyn.cli import main
+from drivedyn.validation import base
+from drivedyn.validation.base import compare
+
+
+def _good(quick: bool = False, figure_dir: str | None = None) -> list[base.CaseResult]:
+    res = [compare("good", "period", 2.0, 2.0 + 1e-7, "s", 1e-6, source="exact formula"),
+           compare("good", "energy drift", 0.0, 1e-9, "J", 1e-6)]
+    if figure_dir is not None:
+        fig = Path(figure_dir) / "good.png"
+        fig.write_bytes(b"\x89PNG\r\n\x1a\n")  # a stand-in for a figure
+        res[0].figures.append(str(fig))
+    return res
+
+
+def _bad(quick: bool = False, figure_dir: str | None = None) -> list[base.CaseResult]:
+    return [compare("bad", "peak torque | ratio", 100.0, 150.0, "N m", 0.01)]
+
+
+def _raises(quick: bool = False, figure_dir: str | None = None) -> list[base.CaseResult]:
+    raise RuntimeError("solver exploded")
+
+
+@pytest.fixture
+def fake_cases(monkeypatch: pytest.MonkeyPatch) -> dict:
+    """Replace the case registry and the module that fills it by fakes."""
+    registry = {"good": _good, "bad": _bad, "raises": _raises}
+    dummy = types.ModuleType("drivedyn.validation.cases")
+    monkeypatch.setitem(sys.modules, "drivedyn.validation.cases", dummy)
+    monkeypatch.setattr(drivedyn.validation, "cases", dummy, raising=False)
+    monkeypatch.setattr(base, "CASES", registry)
+    return registry
+
+
+@pytest.fixture
+def runner() -> CliRunner:
+    return CliRunner()
+
+
+def test_version(runner: CliRunner) -> None:
+    res = runner.invoke(main, ["--version"])
+    assert res.exit_code == 0
+    assert drivedyn.__version__ in res.stdout
+
+
+def test_help(runner: CliRunner) -> None:
+    res = runner.invoke(main, ["--help"])
+    assert res.exit_code == 0
+    assert "validate" in res.stdout
+    assert "Example" in res.stdout
+    res = runner.invoke(main, ["validate", "--help"])
+    assert res.exit_code == 0
+    for opt in ("--quick", "--case", "--report", "--json"):
+        assert opt in res.stdout
+
+
+def test_validate_pass(runner: CliRunner, fake_cases: dict) -> None:
+    res = runner.invoke(main, ["validate", "--case", "good"])
+    assert res.exit_code == 0, res.output
+    assert "PASS" in res.stdout
+    assert "FAIL" not in res.stdout
+    assert "2 of 2 checks passed" in res.stdout
+    assert "numba" in res.stderr  # the compile note goes to stderr
+
+
+def test_validate_fail_exit_code(runner: CliRunner, fake_cases: dict) -> None:
+    res = runner.invoke(main, ["validate", "--case", "good", "--case", "bad"])
+    assert res.exit_code == 1, res.output
+    assert "FAIL" in res.stdout
+    assert "PASS" in res.stdout
+
+
+def test_validate_all_cases_and_exception(runner: CliRunner, fake_cases: dict) -> None:
+    res = runner.invoke(main, ["validate", "--quick"])
+    assert res.exit_code == 1, res.output
+    assert "solver exploded" in res.stdout  # a raising case is a failure, others still run
+    assert "good" in res.stdout and "bad" in res.stdout
+
+
+def test_validate_json(runner: CliRunner, fake_cases: dict) -> None:
+    res = runner.invoke(main, ["validate", "--json"])
+    assert res.exit_code == 1
+    data = json.loads(res.stdout)  # stdout holds only the JSON (strict: no NaN/Infinity)
+    assert [d["case"] for d in data] == ["good", "good", "bad", "raises"]
+    assert [d["passed"] for d in data] == [True, True, False, False]
+    assert data[0]["reference"] == 2.0 and data[0]["unit"] == "s"
+    assert data[3]["error"] is None and "solver exploded" in data[3]["source"]
+    assert {"quantity", "simulated", "error", "tolerance", "wall_s", "figures"} <= set(data[0])
+
+    res = runner.invoke(main, ["validate", "--json", "--case", "good"])
+    assert res.exit_code == 0
+    assert all(d["passed"] for d in json.loads(res.stdout))
+
+
+def test_validate_report(runner: CliRunner, fake_cases: dict, tmp_path: Path) -> None:
+    out = tmp_path / "rep"
+    res = runner.invoke(main, ["validate", "--case", "good", "--case", "bad",
+                               "--report", str(out)])
+    assert res.exit_code == 1, res.output
+    text = (out / "report.md").read_text()
+    assert "| case | quantity |" in text
+    assert "**FAIL**" in text and "PASS" in text
+    assert "peak torque \\| ratio" in text  # pipes in cells are escaped
+    assert "](good.png)" in text  # figure linked relative to the report
+    assert (out / "good.png").exists()
+    assert "1 of 3 checks passed" not in text and "2 of 3 checks passed" in text
+
+
+def test_unknown_case_is_usage_error(runner: CliRunner, fake_cases: dict) -> None:
+    res = runner.invoke(main, ["validate", "--case", "nope"])
+    assert res.exit_code == 2
+    assert "nope" in res.stderr and "good" in res.stderr
+
+
+def test_bad_option_is_usage_error(runner: CliRunner) -> None:
+    assert runner.invoke(main, ["validate", "--no-such-option"]).exit_code == 2
+    assert runner.invoke(main, ["no-such-command"]).exit_code == 2
+
+
+def test_no_cases_registered(runner: CliRunner, fake_cases: dict,
+                             monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(base, "CASES", {})
+    res = runner.invoke(main, ["validate"])
+    assert res.exit_code == 0
+    assert "no validation cases" in res.stderr
+    res = runner.invoke(main, ["validate", "--json"])
+    assert res.exit_code == 0
+    assert json.loads(res.stdout) == []

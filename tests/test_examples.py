@@ -1,0 +1,35 @@
+"""Every script in ``examples/`` runs and exits with 0; the pendulum example's figures are
+checked against the exact period."""
+
+from __future__ import annotations
+
+import runpy
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+SCRIPTS = sorted(EXAMPLES.glob("*.py"))
+
+
+def test_examples_exist() -> None:
+    assert SCRIPTS, f"no examples found in {EXAMPLES}"
+
+
+@pytest.mark.parametrize("script", SCRIPTS, ids=[s.name for s in SCRIPTS])
+def test_example_runs(script: Path, tmp_path: Path) -> None:
+    """Run the script as a user would (own process, working directory outside the repo)."""
+    proc = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=900)
+    assert proc.returncode == 0, f"{script.name} failed:\n{proc.stdout}\n{proc.stderr}"
+
+
+def test_pendulum_period_and_energy() -> None:
+    """The pendulum's simulated period matches the exact elliptic-integral period."""
+    ns = runpy.run_path(str(EXAMPLES / "01_pendulum.py"), run_name="example_01")
+    out = ns["main"]()
+    assert out["period_error"] < 1e-4
+    assert out["energy_error"] < 1e-3
+    assert out["period_exact"] == pytest.approx(2.17667, rel=1e-5)  # 4 sqrt(2L/3g) K(sin^2 1)
