@@ -84,8 +84,9 @@ def _check(A, F, what, rmax=0.0):
     scale = max(1.0, np.abs(F).max())
     err = np.abs(A - F).max()
     i, j = np.unravel_index(np.argmax(np.abs(A - F)), A.shape)
-    assert err <= RTOL * scale + 10 * 1e-16 * rmax / EPS, f"{what}: max |analytic - FD| = {err:.3g} at {(i, j)} " \
-                                f"(analytic {A[i, j]:.6g}, FD {F[i, j]:.6g}, scale {scale:.3g})"
+    tol = RTOL * scale + 10 * 1e-16 * rmax / EPS
+    assert err <= tol, (f"{what}: max |analytic - FD| = {err:.3g} at {(i, j)} (analytic "
+                        f"{A[i, j]:.6g}, FD {F[i, j]:.6g}, scale {scale:.3g})")
 
 
 def test_every_family_has_tangent_cases():

@@ -30,6 +30,7 @@ from drivedyn.solver import (
     FixedStep,
     GeneralizedAlpha,
     Newton,
+    element_outputs,
     simulate,
     solve_static,
 )
@@ -66,6 +67,7 @@ __all__ = [
     "TorsionalSpringDamper",
     "Universal",
     "compile_model",
+    "element_outputs",
     "load_results",
     "simulate",
     "solve_static",

@@ -1,5 +1,6 @@
 """Time integration, Newton iterations, linear solvers, step control and statics."""
 
+from drivedyn.solver.assembly import System, element_outputs
 from drivedyn.solver.linear import DenseLU, LinearSolver, SparseLU
 from drivedyn.solver.settings import (
     AdaptiveStep,
@@ -26,7 +27,9 @@ __all__ = [
     "StaticsError",
     "StepOutcome",
     "StepStatus",
+    "System",
     "consistent_initial_state",
+    "element_outputs",
     "simulate",
     "solve_static",
 ]

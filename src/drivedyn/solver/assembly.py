@@ -128,3 +128,15 @@ class System:
             pin += s[2]
             pdis += s[3]
         return {"kinetic": ek, "potential": ep, "power_in": pin, "power_dissipated": pdis}
+
+
+def element_outputs(model: Model, state: State) -> dict[str, dict[str, float]]:
+    """Every element's named outputs at ``state`` (e.g. after :func:`solve_static`):
+    ``{element: {output: value}}`` in the units of ``Group.outputs()``."""
+    sys = System(model)
+    sys.evaluate(state)
+    out: dict[str, dict[str, float]] = {}
+    for g in model.groups:
+        for ei, name in enumerate(g.names):
+            out[name] = {o: float(g.aux[ei, col]) for col, o, _u, _d in g.outputs()}
+    return out

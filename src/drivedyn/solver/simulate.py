@@ -27,6 +27,7 @@ from drivedyn.solver.settings import (
     Newton,
     RunStats,
     StepOutcome,
+    StepStatus,
 )
 from drivedyn.solver.stepper import Stepper
 
@@ -177,9 +178,11 @@ def simulate(
         stats.newton_iterations += out.iterations
         err = 0.0
         if out.ok and adaptive:
-            err = stepper.error_estimate(st, h_try, step.rtol, step.atol)
+            err, ierr = stepper.error_estimate(st, h_try, step.rtol, step.atol)
             if err > 1.0:
-                out.status = out.status.__class__.ERROR_TOO_LARGE
+                out.status = StepStatus.ERROR_TOO_LARGE
+                out.worst_eq = ierr
+                out.residual = err
         if out.ok:
             trial = stepper.trial
             for g in model.groups:
@@ -208,7 +211,7 @@ def simulate(
         stats.rejected += 1
         rejections += 1
         stepper.invalidate()
-        if adaptive and out.status.name == "ERROR_TOO_LARGE":
+        if adaptive and out.status is StepStatus.ERROR_TOO_LARGE:
             h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
         else:
             h = h_try * 0.25
@@ -237,8 +240,9 @@ def simulate(
 def _failure_message(model: Model, t: float, h: float, out: StepOutcome) -> str:
     where = ""
     if out.worst_eq >= 0:
-        where = (f"; worst equation: {model.eq_labels[out.worst_eq]} "
-                 f"(scaled residual {out.residual:.3g})")
+        what = ("weighted error" if out.status is StepStatus.ERROR_TOO_LARGE
+                else "scaled residual")
+        where = f"; worst equation: {model.eq_labels[out.worst_eq]} ({what} {out.residual:.3g})"
     extra = f" ({out.message})" if out.message else ""
     return (f"simulation stopped at t = {t:.9g} s: step of {h:.3g} s failed: "
             f"{out.status.value}{extra}{where}; results up to t = {t:.9g} s are kept")

@@ -210,11 +210,16 @@ class Stepper:
         return StepOutcome(StepStatus.NEWTON_MAX_ITER, nw.max_iter, self.factorizations - nfac0,
                            worst_eq=worst, residual=wval)
 
-    def error_estimate(self, sn: State, h: float, rtol: float, atol: float) -> float:
-        """Weighted max norm of the local position error estimate of the last trial step."""
+    def error_estimate(self, sn: State, h: float, rtol: float, atol: float) -> tuple[float, int]:
+        """Weighted max norm of the local position error estimate of the last trial step
+        and the dof where it is largest (-1 if there are no dofs)."""
         e = abs(self.beta - 1.0 / 6.0) * h * h * np.abs(self.trial.a - sn.a)
         w = atol + rtol * np.abs(self.hdq)
-        return float((e / w).max()) if e.size else 0.0
+        if not e.size:
+            return 0.0, -1
+        q = e / w
+        i = int(np.argmax(q))
+        return float(q[i]), i
 
 
 def _worst(sys: System, sq: np.ndarray, sphi: np.ndarray) -> tuple[int, float]:

@@ -88,23 +88,20 @@ def _failed(case: str, quantity: str, unit: str, tol: float, source: str,
 
 
 def _figure(figure_dir: str | None, name: str, draw: Callable[[Any], None]) -> list[str]:
-    """Draw a figure with ``draw(fig)`` and save it as ``figure_dir/name.png``."""
+    """Draw a figure with ``draw(fig)`` and save it as ``figure_dir/name.png`` (Agg canvas,
+    no pyplot state: safe in tests and without a display)."""
     if not figure_dir:
         return []
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
 
     os.makedirs(figure_dir, exist_ok=True)
-    fig = plt.figure(figsize=(8, 5))
-    try:
-        draw(fig)
-        fig.tight_layout()
-        path = os.path.join(figure_dir, f"{name}.png")
-        fig.savefig(path, dpi=110)
-    finally:
-        plt.close(fig)
+    fig = Figure(figsize=(8, 5))
+    FigureCanvasAgg(fig)
+    draw(fig)
+    fig.tight_layout()
+    path = os.path.join(figure_dir, f"{name}.png")
+    fig.savefig(path, dpi=110)
     return [path]
 
 
@@ -274,8 +271,8 @@ PEND_IO = PEND_J[1, 1] + PEND_M * PEND_D ** 2  # about the pivot
 def pendulum_model(theta0: float, damper: tuple[float, float] | None = None) -> dd.Model:
     """Physical pendulum swinging in the x-z plane about the global y axis.
 
-    ``theta`` is measured from the downward vertical towards +x (hinge axis -y, so the joint
-    angle equals theta). ``damper``: optional (stiffness, damping) of a torsional
+    ``theta`` is measured from the downward vertical towards +x (hinge axis -y, so the hinge
+    angle output is ``theta - theta0``). ``damper``: optional (stiffness, damping) of a torsional
     spring-damper in parallel with the hinge (free angle = the initial angle).
     """
     Rb = _ry(0.5 * np.pi - theta0)  # body x (the rod) points at angle theta0 from -z
@@ -477,7 +474,7 @@ def torque_free_body(quick: bool = False, figure_dir: str | None = None) -> list
                 compare(case, q_t, 0.0, dT, "1", tol_inv, src),
                 compare(case, q_w, 0.0, dW, "1", tol_w, src_w)]
         if pinned:
-            def draw(fig, t=t, Om=Om, Om_ex=Om_ex, H=H):
+            def draw(fig, t=t, Om=Om, Om_ex=Om_ex, H=H, H0=H0):
                 ax1, ax2 = fig.subplots(2, 1, sharex=True)
                 for i, c in enumerate("xyz"):
                     ax1.plot(t, Om[:, i], label=f"Omega_{c} simulated")
@@ -598,20 +595,20 @@ def pendulum(quick: bool = False, figure_dir: str | None = None) -> list[CaseRes
     """Physical pendulum on a hinge: small- and large-amplitude periods."""
     t0 = time.perf_counter()
     case = "pendulum"
-    h = 2e-3 if quick else 5e-4
+    h = 2e-3 if quick else 1e-3
     rho = 0.9
     w0 = np.sqrt(PEND_M * G * PEND_D / PEND_IO)
     T_lin = 2.0 * np.pi / w0
     # relative period error of generalized alpha: O((w0 h)^2); (w0 h)^2 = 3.9e-5 (quick),
-    # 2.4e-6 (full). For 120 deg the motion is slower near the turning points but the
-    # highest frequency content is still ~w0.
+    # 9.7e-6 (full); measured: 0.1 (2 deg) and 0.35 (120 deg) of it. For 120 deg the motion
+    # is slower near the turning points but its highest frequency content is still ~w0.
     tol_num = (w0 * h) ** 2
     out: list[CaseResult] = []
     histories = []
     for deg in (2.0, 120.0):
         th0 = np.radians(deg)
         T_ex = pendulum_period_exact(PEND_IO, PEND_M, G, PEND_D, th0)
-        n_half = 4 if quick else 8  # half periods measured
+        n_half = 4 if quick else 6  # half periods measured
         t_end = (0.5 * n_half + 0.5) * T_ex
         res = dd.simulate(pendulum_model(th0), t_end, step=dd.FixedStep(h),
                           integrator=dd.GeneralizedAlpha(rho), output_dt=h)
@@ -750,12 +747,18 @@ def screw(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult
            compare(case, q2, revs * SCREW_PITCH, z[-1], "m", 1e-8, src + ", angle = w t"),
            compare(case, "accumulated joint angle after the run", speed * t_end,
                    float(jang[-1]), "rad", 1e-9, "speed driver, theta = w t")]
-    # at constant speed the only load is the weight: power balance T w = m g v; the
-    # torque is a multiplier, exact up to the Newton tolerance: 1e-6 relative
-    torque = res["turn.torque"].values
+    # At constant speed the only load is the weight: power balance T w = m g v. The torque
+    # is a multiplier: its mean over the run is exact up to the Newton tolerance (1e-8
+    # relative), tolerance 1e-6. Step to step it carries the (-1)^n oscillation of index-3
+    # multipliers, excited by the round-off of the accumulated angle (eps |theta| ~ 1e-14
+    # rad after 10 revolutions) amplified by J / (beta h^2): ~5e-7 N m = 2e-5 relative at
+    # h = 0.5 ms; tolerance on the largest deviation 1e-4.
+    torque = res["turn.torque"].values[1:]
     T_ref = SCREW_M * G * SCREW_PITCH / (2.0 * np.pi)
-    out.append(compare(case, q3 + " (max deviation over the run)", T_ref,
-                       float(torque[np.argmax(np.abs(torque - T_ref))]), "N m", 1e-6,
+    out.append(compare(case, q3 + ", mean over the run", T_ref, float(np.mean(torque)),
+                       "N m", 1e-6, "power balance of a frictionless screw"))
+    out.append(compare(case, q3 + ", largest deviation", T_ref,
+                       float(torque[np.argmax(np.abs(torque - T_ref))]), "N m", 1e-4,
                        "power balance of a frictionless screw"))
 
     def draw(fig):
@@ -862,7 +865,7 @@ def energy_balance(quick: bool = False, figure_dir: str | None = None) -> list[C
     cases above)."""
     t0 = time.perf_counter()
     case = "energy_balance"
-    h = 2e-3 if quick else 5e-4
+    h = 2e-3 if quick else 1e-3
     t_end = 2.0
     th_top = np.radians(30.0)
     runs = [
