@@ -203,7 +203,12 @@ def simulate(
                 fac = min(2.0, max(0.2, fac))
                 if out.iterations > 6:
                     fac = min(fac, 1.0)
-                h = min(h_max, max(h_min, h_try * fac)) if h_try >= 0.99 * h else max(h, h_min)
+                # hysteresis: a new step size costs a factorisation, so keep h unless the
+                # estimate asks for at least 25 % more
+                if fac < 1.25:
+                    fac = 1.0
+                if h_try >= 0.99 * h:  # not a step shortened to land on an output time
+                    h = min(h_max, max(h_min, h_try * fac))
             if progress is not None:
                 progress(st.t, h_try, stats.steps)
             continue
