@@ -66,6 +66,13 @@ def _rigid_body_kernel_element(P, I, S, Cc, O, W, full):
         else:
             scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
                           cM, cC, cK, mode, False, r, rabs, data)
+        # rabs holds the sum of |terms| of each equation (the convergence scale): replace
+        # the |sum| that scatter_local added by |inertia| + |gyroscopic| + |weight|
+        for i in range(3):
+            rabs[d0 + i] += abs(m * vd[d0 + i]) + abs(m * gravity[i]) - abs(rq[i])
+        rabs[d0 + 3] += abs(JOd[0]) + abs(o1 * JOm[2]) + abs(o2 * JOm[1]) - abs(rq[3])
+        rabs[d0 + 4] += abs(JOd[1]) + abs(o2 * JOm[0]) + abs(o0 * JOm[2]) - abs(rq[4])
+        rabs[d0 + 5] += abs(JOd[2]) + abs(o0 * JOm[1]) + abs(o1 * JOm[0]) - abs(rq[5])
         eout[e, 0] = 0.5 * m * (v[d0] ** 2 + v[d0 + 1] ** 2 + v[d0 + 2] ** 2) + 0.5 * (
             o0 * JOm[0] + o1 * JOm[1] + o2 * JOm[2]
         )

@@ -16,6 +16,11 @@ class GeneralizedAlpha:
     Attributes:
         rho_inf: spectral radius at infinite frequency in [0, 1]; 1 = no numerical
             dissipation, 0 = asymptotic annihilation of the highest frequencies.
+
+    With joints (index-3 constraints) ``rho_inf = 1`` -- the trapezoidal rule -- is only
+    weakly stable: the multipliers carry a (-1)^n oscillation that can grow over long runs
+    with large reactions (a heavy top diverges within a second; Cardona & Geradin 1989).
+    Use ``rho_inf <= 0.95`` for constrained systems; 1 is for energy-conservation studies.
     """
 
     rho_inf: float = 0.8

@@ -49,12 +49,19 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
     lin = linear_solver or default_linear_solver(model.neq)
     nd, nn = model.nd, model.nn
     trial = st.copy()
+    stall = 64.0 * np.finfo(float).eps * max(1.0, float(np.abs(st.x).max()))
+    last = np.inf
     for _ in range(max_iter):
         sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, True)
         sq, sphi = scaled_residual(sys)
         rq_max = sq.max() if sq.size else 0.0
         ph_max = sphi.max() if sphi.size else 0.0
         if rq_max <= nw.tol and ph_max <= nw.phi_tol:
+            for g in model.groups:
+                if g.commit is not None:
+                    g.commit(g, st)
+            return st
+        if last <= stall:  # corrections at round-off of the positions: converged
             for g in model.groups:
                 if g.commit is not None:
                     g.commit(g, st)
@@ -66,6 +73,7 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
             raise StaticsError(f"singular stiffness matrix ({exc}): the mechanism has a free "
                                "motion with no stiffness; constrain or drive it") from None
         delta = lin.solve(-sys.r)
+        last = float(np.abs(delta[:nd]).max()) if nd else 0.0
         alpha = 1.0
         for _ls in range(12):
             trial.assign(st)

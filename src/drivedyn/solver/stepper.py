@@ -29,8 +29,13 @@ from drivedyn.solver.assembly import System, lie_update, tangents
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
 
+# Residual of an equation is measured against the sum of the absolute values of its terms;
+# for an equation with (nearly) no terms of its own, against FLOOR_REL x the largest such sum
+# in the model (the accuracy a solve can deliver there is set by the model's force scale).
+FLOOR_REL = 1e-4
 
-def scaled_residual(sys: System, floor_rel: float = 1e-8) -> tuple[np.ndarray, np.ndarray]:
+
+def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarray, np.ndarray]:
     """Per-equation scaled residuals: node equations relative to the sum of absolute
     contributions (with a floor of ``floor_rel`` x the largest), constraint rows as
     violations [m or rad]."""
@@ -168,12 +173,17 @@ class Stepper:
         since_factor = 0
         worst, wval = -1, 0.0
         kscale = sys.kscale
+        stall = 64.0 * np.finfo(float).eps * max(1.0, float(np.abs(st.x).max()))
+        last = np.inf
         for it in range(nw.max_iter + 1):
-            rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, 1e-8)
+            rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL)
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
+                return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
+            if it > 0 and last <= stall:
+                # the correction is at round-off of the positions: nothing left to gain
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break
@@ -202,6 +212,7 @@ class Stepper:
                                        residual=wval, message="corrections grow")
                 self.lu_h = None  # refactor at the next iteration
             prev = nrm if nrm > 0 else prev
+            last = nrm
             fresh = False
             lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
             sys.evaluate(st, cM, cC, 1.0, MODE_DYN, False)

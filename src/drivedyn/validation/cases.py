@@ -699,18 +699,10 @@ def slider_crank(quick: bool = False, figure_dir: str | None = None) -> list[Cas
     for deg in angles:
         thr = np.radians(deg)
         T_ref, N_ref = slider_crank_statics(SC_R, SC_L, P, thr)
-        # The rod's centre of mass is put 1 cm off the pin line: the statics do not depend
-        # on it, but with the centre of mass on the pin line every term of the rod's
-        # rotation equation vanishes and the relative Newton test cannot be met (reported
-        # engine issue); see tests/test_verification.py.
-        model = slider_crank_model(thr, ("angle", 0.0), piston_force=P, rod_com_offset=0.01)
-        dd.solve_static(model)
-        g, e = model.group("crank_drive")
-        col = dict((n, c) for c, n, _, _ in g.outputs())
-        T_drv = float(g.aux[e, col["torque"]])
-        gj, ej = model.group("guide_joint")
-        colj = dict((n, c) for c, n, _, _ in gj.outputs())
-        N_sim = float(gj.aux[ej, colj["force_y"]])
+        model = slider_crank_model(thr, ("angle", 0.0), piston_force=P)
+        outputs = dd.element_outputs(model, dd.solve_static(model))
+        T_drv = outputs["crank_drive"]["torque"]
+        N_sim = outputs["guide_joint"]["force_y"]
         # the driver holds the crank: its torque on the crank balances the gas torque
         out.append(compare(case, f"statics {deg:g} deg: driver torque (= -T)", -T_ref, T_drv,
                            "N m", 1e-7, src))
@@ -874,10 +866,9 @@ def energy_balance(quick: bool = False, figure_dir: str | None = None) -> list[C
         ("flywheel driven by a torque Ramp + SmoothStep (work in)",
          lambda: flywheel_model(dd.Ramp(0.0, 0.5, 0.0, 2.0)
                                 + dd.SmoothStep(1.0, 1.5, 0.0, -3.0)), (1.0, 0.9)),
-        # starts at 0.3 rad: started from rest at a dead centre (theta = 0) the slider's x
-        # equation has no nonzero term and the relative Newton test cannot be met (reported)
-        ("slider-crank run up to 2 rev/s against a guide spring-damper (driver work)",
-         lambda: slider_crank_model(0.3, ("speed", dd.SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)),
+        ("slider-crank from rest at a dead centre up to 2 rev/s against a guide "
+         "spring-damper (driver work)",
+         lambda: slider_crank_model(0.0, ("speed", dd.SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)),
                                     guide_spring=(2000.0, 5.0)), (1.0, 0.9)),
         # rho_inf = 1 is unstable for the top (growing (-1)^n multiplier oscillation)
         ("heavy top nutating (3D, spherical joint)",
