@@ -73,5 +73,20 @@ def test_speed_difference_driver_splits_torque_by_inertia():
     alpha = T0 / (J1 + J2)
     np.testing.assert_allclose(om1, alpha * res.time, rtol=1e-9, atol=1e-12)
     assert res.final("diff.torque") == pytest.approx(-J2 * T0 / (J1 + J2), rel=1e-9)
-    # energy: work of T and of the driver equals the kinetic energy gained
+    # energy: work of T and of the driver equals the kinetic energy gained; the driver's
+    # torque on disk 0 and its reaction on disk 1 do net work tau * (w0 - w1) = tau * w
     assert abs(res.final("energy.balance_error")) < 1e-6 * res.final("energy.kinetic")
+    tau = -J2 * T0 / (J1 + J2)
+    assert res.final("energy.work_drivers") == pytest.approx(tau * w * 0.3, rel=1e-6)
+    assert res.final("energy.work_loads") == pytest.approx(
+        T0 * (w * 0.3 + 0.5 * alpha * 0.3**2), rel=1e-6)
+
+
+def test_variables_filter_keeps_the_requested_sensors():
+    spec = disks(1)
+    spec.add(dd.Torque("T", "m0", vector=(0.0, 0.0, 1.0)))
+    res = dd.simulate(dd.compile_model(spec), 0.01, step=dd.FixedStep(1e-3),
+                      variables=["d0.angular_velocity", "*.torque_z"])
+    names = set(res.dataset.data_vars)
+    assert {"d0.angular_velocity", "h0.torque_z", "energy.balance_error"} <= names
+    assert "d0.position" not in names and "T.power" not in names

@@ -42,6 +42,8 @@ class EnergyAccount:
         self.model = model
         self.e0 = 0.0
         self.work_in = 0.0
+        self.work_loads = 0.0
+        self.work_drivers = 0.0
         self.dissipated = [np.zeros(g.nel) for g in model.groups]
         self._pin = [np.zeros(g.nel) for g in model.groups]
         self._pd = [np.zeros(g.nel) for g in model.groups]
@@ -63,6 +65,11 @@ class EnergyAccount:
         for i, g in enumerate(self.model.groups):
             dw, k, p = _trapezoid(g.eout, self._pin[i], self._pd[i], self.dissipated[i], h)
             self.work_in += dw
+            # constraint elements (drivers, rheonomic joints) vs applied loads
+            if g.nmult:
+                self.work_drivers += dw
+            else:
+                self.work_loads += dw
             ek += k
             ep += p
         self.kinetic, self.potential = ek, ep
@@ -99,15 +106,19 @@ class Recorder:
         self.v.append(st.v.reshape(nn, 6).copy() if nn else np.zeros((0, 6)))
         self.aux.append([g.aux.copy() for g in self.model.groups])
         e = self.energy
-        self.en.append((e.kinetic, e.potential, e.work_in, e.total_dissipated, e.balance_error))
+        self.en.append((e.kinetic, e.potential, e.work_in, e.total_dissipated, e.balance_error,
+                        e.work_loads, e.work_drivers))
         self.diss.append([d.copy() for d in e.dissipated])
         self.h.append(h)
 
     def __len__(self) -> int:
         return len(self.t)
 
-    def dataset(self, attrs: dict | None = None):
-        """The recorded data as an ``xarray.Dataset`` (one variable per sensor)."""
+    def dataset(self, attrs: dict | None = None, variables: list[str] | None = None):
+        """The recorded data as an ``xarray.Dataset`` (one variable per sensor).
+
+        ``variables``: glob patterns (``"crank.*"``, ``"*.torque"``) of the variables to keep;
+        the energy terms are always kept. None keeps everything."""
         import xarray as xr
 
         m = self.model
@@ -151,17 +162,25 @@ class Recorder:
                 for ei, en in enumerate(g.names):
                     put(f"{en}.angular_momentum", ("time", "xyz"), A[:, ei, :3], "kg m^2/s",
                         f"angular momentum of {en} about its centre of mass, global frame")
-        E = np.asarray(self.en).reshape(nt, 5)
+        E = np.asarray(self.en).reshape(nt, 7)
         for j, (name, desc) in enumerate((
             ("kinetic", "kinetic energy of all bodies"),
             ("potential", "potential energy (gravity and springs)"),
             ("work_in", "work supplied by loads and drivers since the start"),
             ("dissipated", "energy dissipated by all dissipative elements since the start"),
             ("balance_error", "(T + V) - (T0 + V0) - W_in + D: numerical energy error"),
+            ("work_loads", "work of the applied forces and torques since the start"),
+            ("work_drivers", "work of drivers (rheonomic constraints) since the start"),
         )):
             put(f"energy.{name}", ("time",), E[:, j], "J", desc)
         put("solver.step_size", ("time",), np.asarray(self.h, dtype=float), "s",
             "step size of the step that reached this output time")
+        if variables is not None:
+            import fnmatch
+
+            data_vars = {k: v for k, v in data_vars.items()
+                         if k.startswith(("energy.", "solver."))
+                         or any(fnmatch.fnmatchcase(k, p) for p in variables)}
         coords = {"time": ("time", t, {"units": "s", "description": "simulated time"}),
                   "xyz": ("xyz", ["x", "y", "z"]), "row": ("row", [0, 1, 2]),
                   "col": ("col", [0, 1, 2])}

@@ -104,6 +104,7 @@ def simulate(
     linear_solver: LinearSolver | None = None,
     progress: Callable[[float, float, int], None] | None = None,
     initialize: bool = True,
+    variables: Sequence[str] | None = None,
 ) -> Results:
     """Integrate ``model`` from ``state`` (default: its initial state) to ``t_end`` [s].
 
@@ -118,6 +119,9 @@ def simulate(
             shortened to land on output times.
         linear_solver: default sparse LU (dense below 60 unknowns).
         progress: called as ``progress(t, h, steps)`` after every accepted step.
+        initialize: make velocities and accelerations consistent first (default True).
+        variables: glob patterns of the sensors to keep (default all), e.g.
+            ``["crank.*", "*.torque"]``; energy terms are always kept.
 
     Returns:
         :class:`Results`; on failure ``success`` is False and it holds all outputs recorded
@@ -239,7 +243,8 @@ def simulate(
         "step": repr(step),
         "drivedyn_version": _version(),
     }
-    return Results(rec.dataset(attrs), success, message, stats)
+    return Results(rec.dataset(attrs, None if variables is None else list(variables)),
+                   success, message, stats)
 
 
 def _failure_message(model: Model, t: float, h: float, out: StepOutcome) -> str:
