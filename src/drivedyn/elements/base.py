@@ -40,6 +40,7 @@ Modes: ``MODE_DYN`` (time step / statics: ``rl = k Phi``; matrix
 
 from __future__ import annotations
 
+import abc
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
@@ -77,6 +78,21 @@ def scatter_local(
             rabs[gi] += abs(rl[i])
     if want:
         _scatter_matrix(M, C, K, G, nnode, nm, lnodes, kmap, Tn, cM, cC, cK, mode, data)
+
+
+@njit(cache=True, inline="always")
+def scatter_element(
+    rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, full, r, rabs,
+    data,
+):
+    """:func:`scatter_local` from an element loop specialised on the literal ``full``: the
+    residual-only copy (``full=False``) carries no matrix code (see primitives' docstring)."""
+    if full:
+        scatter_local(rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode,
+                      want, r, rabs, data)
+    else:
+        scatter_local(rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode,
+                      False, r, rabs, data)
 
 
 @njit(cache=True)
@@ -219,7 +235,7 @@ class ElementSpec:
         return None
 
 
-class Family:
+class Family(abc.ABC):
     """Registry entry: builds a :class:`Group` from all specs of one family.
 
     ``build(specs, ctx)`` receives the element specs (in model order) and a
@@ -232,8 +248,9 @@ class Family:
     name: ClassVar[str] = ""
     spec_types: ClassVar[tuple[type, ...]] = ()
 
+    @abc.abstractmethod
     def build(self, specs: Sequence[Any], ctx: Any) -> Group:
-        raise NotImplementedError
+        """The group of all ``specs`` of this family."""
 
     def tangent_cases(self) -> list[Callable[[], Any]]:
         """Functions returning ``(Spec, State modifier)`` pairs for the tangent test."""

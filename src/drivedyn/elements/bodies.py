@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, Family, Group, register, scatter_local
+from drivedyn.elements.base import MODE_ACC, Family, Group, register, scatter_element
 
 
 @njit(cache=True, inline="always")
@@ -60,12 +60,8 @@ def _rigid_body_kernel_element(P, I, S, Cc, O, W, full):
             C[4, 5] += JOm[0]
             C[5, 3] += JOm[1]
             C[5, 4] -= JOm[0]
-        if full:
-            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, want, r, rabs, data)
-        else:
-            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, False, r, rabs, data)
+        scatter_element(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn, cM, cC,
+                        cK, mode,want, full, r, rabs, data)
         # rabs holds the sum of |terms| of each equation (the convergence scale): replace
         # the |sum| that scatter_local added by |inertia| + |gyroscopic| + |weight|
         for i in range(3):

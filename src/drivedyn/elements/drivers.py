@@ -28,7 +28,7 @@ from drivedyn.elements.base import (
     Family,
     Group,
     register,
-    scatter_local,
+    scatter_element,
 )
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
 from drivedyn.elements.primitives import gather_v, prim_angle, quad_form, unwrap
@@ -165,12 +165,8 @@ def _speed_difference_kernel_element(P, I, S, Cc, O, W, full):
             for a in range(nd):
                 for b in range(nd):
                     K[a, b] = sig * H[a, b] + p * g[a] * g[b]
-        if full:
-            scatter_local(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, want, r, rabs, data)
-        else:
-            scatter_local(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, False, r, rabs, data)
+        scatter_element(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn, cM, cC, cK,
+                        mode,want, full, r, rabs, data)
         aux[e, 0] = -sig
         aux[e, 1] = th1
         aux[e, 2] = th2

@@ -42,7 +42,7 @@ from drivedyn.elements.base import (
     Family,
     Group,
     register,
-    scatter_local,
+    scatter_element,
 )
 from drivedyn.elements.primitives import (
     cross,
@@ -154,12 +154,8 @@ def _constraint_kernel_element(P, I, S, Cc, O, W, full):
                     ga = p * g[a]
                     for b in range(12):
                         K[a, b] += sig * H[a, b] + ga * g[b]
-        if full:
-            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, want, r, rabs, data)
-        else:
-            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, False, r, rabs, data)
+        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC,
+                        cK, mode,want, full, r, rabs, data)
         # reactions on B at marker B (global frame): applied = -(residual contribution)
         for a in range(3):
             F = -rq[6 + a]

@@ -14,7 +14,15 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_local
+from drivedyn.elements.base import (
+    MODE_ACC,
+    ElementSpec,
+    Family,
+    Group,
+    register,
+    scatter_element,
+)
+from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
 from drivedyn.model.spec import ModelError
 
 
@@ -25,85 +33,64 @@ def _load_kernel_element(P, I, S, Cc, O, W, full):
     x, R, v, vd, lam, es, tfv, t = S
     Tn, cM, cC, cK, mode, want = Cc
     r, rabs, data, eout, aux = O
-    nel, rq, rl, M, C, K, G = W
+    nel, rq, rl, M, C, K, G, ws, wv = W
     for e in range(nel):
         n = lnodes[e, 0]
         Rn = R[n]
         d0 = dofs[e, 0]
         f = tfv[tfid[e], 0]
-        loc = Rm[e] @ vec[e] * f  # node-frame components if follower
-        rq[:] = 0.0
-        K[:, :] = 0.0
+        for a in range(3):
+            wv[0, a] = vec[e, a] * f  # load vector: global, or marker frame if follower
+        mv(Rm[e], wv[0], wv[1])  # node-frame components of a follower load
+        for a in range(6):
+            rq[a] = 0.0
+        if full:
+            K[:, :] = 0.0
         Om = v[d0 + 3 : d0 + 6]
         if is_torque:
             if follower[e]:
-                mb = loc
+                mb = wv[1]
             else:
-                mb = Rn.T @ (vec[e] * f)
+                mb = wv[2]
+                mtv(Rn, wv[0], mb)  # body components of a fixed-direction torque
                 if full:
                     # d(-R^T T)/dtheta = -(R^T T)~
-                    K[3, 4] = mb[2]
-                    K[3, 5] = -mb[1]
-                    K[4, 3] = -mb[2]
-                    K[4, 5] = mb[0]
-                    K[5, 3] = mb[1]
-                    K[5, 4] = -mb[0]
-            rq[3:6] = -mb
+                    set_skew(mb, ws[0])
+                    for i in range(3):
+                        for j in range(3):
+                            K[3 + i, 3 + j] = -ws[0, i, j]
+            for a in range(3):
+                rq[3 + a] = -mb[a]
             power = mb[0] * Om[0] + mb[1] * Om[1] + mb[2] * Om[2]
-            Fg = np.zeros(3)
+            mv(Rn, mb, wv[3])  # reported torque, global
         else:
             pe = p[e]
+            Fg = wv[3]
             if follower[e]:
-                Fg = Rn @ loc
-                Fb = loc
+                Fb = wv[1]
+                mv(Rn, Fb, Fg)
                 if full:
-                    # d(-R Fb)/dtheta = R Fb~
-                    S = np.zeros((3, 3))
-                    S[0, 1] = -Fb[2]
-                    S[0, 2] = Fb[1]
-                    S[1, 0] = Fb[2]
-                    S[1, 2] = -Fb[0]
-                    S[2, 0] = -Fb[1]
-                    S[2, 1] = Fb[0]
-                    K[0:3, 3:6] = Rn @ S
+                    mat_skew(Rn, Fb, 1.0, K, 0, 3)  # d(-R Fb)/dtheta = R Fb~
             else:
-                Fg = vec[e] * f
-                Fb = Rn.T @ Fg
+                Fb = wv[2]
+                for a in range(3):
+                    Fg[a] = wv[0, a]
+                mtv(Rn, Fg, Fb)
                 if full:
-                    # d(-p x R^T F)/dtheta = -p~ (R^T F)~
-                    P = np.zeros((3, 3))
-                    P[0, 1] = -pe[2]
-                    P[0, 2] = pe[1]
-                    P[1, 0] = pe[2]
-                    P[1, 2] = -pe[0]
-                    P[2, 0] = -pe[1]
-                    P[2, 1] = pe[0]
-                    S = np.zeros((3, 3))
-                    S[0, 1] = -Fb[2]
-                    S[0, 2] = Fb[1]
-                    S[1, 0] = Fb[2]
-                    S[1, 2] = -Fb[0]
-                    S[2, 0] = -Fb[1]
-                    S[2, 1] = Fb[0]
-                    K[3:6, 3:6] = -(P @ S)
-            mb = np.cross(pe, Fb)
-            rq[0:3] = -Fg
-            rq[3:6] = -mb
-            vm = v[d0 : d0 + 3] + Rn @ np.cross(Om, pe)
-            power = Fg[0] * vm[0] + Fg[1] * vm[1] + Fg[2] * vm[2]
-        if full:
-            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, want, r, rabs, data)
-        else:
-            scatter_local(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, False, r, rabs, data)
-        if is_torque:
-            Tg = Rn @ mb
+                    skew_skew(pe, Fb, ws[0], -1.0, K, 3, 3)  # -p~ (R^T F)~
+            cross(pe, Fb, wv[4])
             for a in range(3):
-                aux[e, a] = Tg[a]
-        else:
+                rq[a] = -Fg[a]
+                rq[3 + a] = -wv[4, a]
+            cross(Om, pe, wv[5])
+            mv(Rn, wv[5], wv[6])
+            power = 0.0
             for a in range(3):
-                aux[e, a] = Fg[a]
+                power += Fg[a] * (v[d0 + a] + wv[6, a])
+        scatter_element(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
+                        cM, cC, cK, mode, want, full, r, rabs, data)
+        for a in range(3):
+            aux[e, a] = wv[3, a]
         aux[e, 3] = power
         eout[e, 0] = 0.0
         eout[e, 1] = 0.0
@@ -124,12 +111,14 @@ def load_kernel(
     C = np.zeros((6, 6))
     K = np.zeros((6, 6))
     G = np.zeros((0, 6))
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
     P = (is_torque, follower, p, Rm, vec, tfid)
     I = (lnodes, dofs, kmap, eoff)
     S = (x, R, v, vd, lam, es, tfv, t)
     Cc = (Tn, cM, cC, cK, mode, want)
     O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G)
+    W = (nel, rq, rl, M, C, K, G, ws, wv)
     if want or mode == MODE_ACC:
         _load_kernel_element(P, I, S, Cc, O, W, True)
     else:

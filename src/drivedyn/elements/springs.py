@@ -19,7 +19,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_local
+from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_element
 from drivedyn.elements.joints import relative_angle
 from drivedyn.elements.primitives import gather_v, prim_angle, prim_distance, unwrap
 from drivedyn.model.spec import ModelError
@@ -62,12 +62,8 @@ def _scalar_spring_kernel_element(P, I, S, Cc, O, W, full):
                 for b in range(12):
                     K[a, b] = s * H[a, b] + g[a] * (k * g[b] + c * Hv[b])
                     C[a, b] = c * g[a] * g[b]
-        if full:
-            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, want, r, rabs, data)
-        else:
-            scatter_local(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn,
-                          cM, cC, cK, mode, False, r, rabs, data)
+        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC,
+                        cK, mode,want, full, r, rabs, data)
         eout[e, 0] = 0.0
         eout[e, 1] = 0.5 * k * dq * dq + pre[e] * q
         eout[e, 2] = 0.0

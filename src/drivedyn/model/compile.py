@@ -111,6 +111,21 @@ def _node_layout(spec: Spec):
     return names, infos, xs, Rs, vs
 
 
+def _local_pairs(g, neq: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSC keys ``col * neq + row`` of every local matrix entry of a group (nel, nloc^2) and
+    the mask of those stored (both dofs exist; multiplier-multiplier entries are always
+    zero and left out, except the diagonal)."""
+    d = g.dofs
+    rows = np.repeat(d, g.nloc, axis=1)
+    cols = np.tile(d, (1, g.nloc))
+    nodal = 6 * g.nnode
+    li = np.repeat(np.arange(g.nloc), g.nloc)
+    lj = np.tile(np.arange(g.nloc), g.nloc)
+    both_mult = (li >= nodal) & (lj >= nodal) & (li != lj)
+    mask = (rows >= 0) & (cols >= 0) & ~both_mult[None, :]
+    return cols * neq + rows, mask
+
+
 def compile_model(spec: Spec) -> Model:
     """Check ``spec`` and build the frozen :class:`Model`.
 
@@ -177,32 +192,14 @@ def compile_model(spec: Spec) -> Model:
         g.allocate()
 
     # CSC pattern from all element-local pairs (plus the full diagonal)
-    keys = [np.arange(neq, dtype=np.int64) * (neq + 1)]
-    for g in groups:
-        d = g.dofs
-        rows = np.repeat(d, g.nloc, axis=1)
-        cols = np.tile(d, (1, g.nloc))
-        nloc_nodes = 6 * g.nnode
-        li = np.repeat(np.arange(g.nloc), g.nloc)
-        lj = np.tile(np.arange(g.nloc), g.nloc)
-        both_mult = (li >= nloc_nodes) & (lj >= nloc_nodes) & (li != lj)
-        mask = (rows >= 0) & (cols >= 0) & ~both_mult[None, :]
-        keys.append((cols * neq + rows)[mask])
-    allkeys = np.unique(np.concatenate(keys)) if keys else np.zeros(0, np.int64)
+    pairs = [_local_pairs(g, neq) for g in groups]
+    keys = [np.arange(neq, dtype=np.int64) * (neq + 1)] + [k[m] for k, m in pairs]
+    allkeys = np.unique(np.concatenate(keys))
     indices = (allkeys % neq).astype(np.int32)
     colsum = np.bincount((allkeys // neq).astype(np.int64), minlength=neq)
     indptr = np.concatenate([[0], np.cumsum(colsum)]).astype(np.int32)
-    for g in groups:
-        d = g.dofs
-        rows = np.repeat(d, g.nloc, axis=1)
-        cols = np.tile(d, (1, g.nloc))
-        nloc_nodes = 6 * g.nnode
-        li = np.repeat(np.arange(g.nloc), g.nloc)
-        lj = np.tile(np.arange(g.nloc), g.nloc)
-        both_mult = (li >= nloc_nodes) & (lj >= nloc_nodes) & (li != lj)
-        mask = (rows >= 0) & (cols >= 0) & ~both_mult[None, :]
-        pos = np.searchsorted(allkeys, cols * neq + rows)
-        g.kmap = np.where(mask, pos, -1).astype(np.int64)
+    for g, (k, m) in zip(groups, pairs, strict=True):
+        g.kmap = np.where(m, np.searchsorted(allkeys, k), -1).astype(np.int64)
         if g.kmap.size == 0:
             g.kmap = np.zeros((g.nel, g.nloc * g.nloc), np.int64) - 1
 

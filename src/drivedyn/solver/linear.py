@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import abc
+
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
@@ -9,15 +11,17 @@ import scipy.sparse.linalg as spla
 from numba import njit
 
 
-class LinearSolver:
+class LinearSolver(abc.ABC):
     """Factorise once, solve many times. ``factor`` raises ``np.linalg.LinAlgError`` on a
     singular matrix."""
 
+    @abc.abstractmethod
     def factor(self, A: sp.csc_matrix) -> None:
-        raise NotImplementedError
+        """Factorise ``A`` (neq x neq, CSC)."""
 
+    @abc.abstractmethod
     def solve(self, b: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
+        """Solve with the last factorisation; ``b`` (neq,)."""
 
 
 @njit(cache=True)
