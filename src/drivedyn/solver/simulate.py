@@ -93,7 +93,7 @@ def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.
 
 def simulate(
     model: Model,
-    t_end: float,
+    t_end: float | None = None,
     *,
     state: State | None = None,
     integrator: GeneralizedAlpha | None = None,
@@ -110,7 +110,8 @@ def simulate(
 
     Args:
         model: compiled model.
-        t_end: final time [s].
+        t_end: final time [s]; for a model loaded from a file (``load_model``) every
+            argument left at None takes the file's ``[solver]``/``[output]`` value.
         state: initial state; made consistent first unless ``initialize=False``.
         integrator: :class:`GeneralizedAlpha` (default rho_inf = 0.8).
         newton: :class:`Newton` settings.
@@ -127,6 +128,17 @@ def simulate(
         :class:`Results`; on failure ``success`` is False and it holds all outputs recorded
         before the failure.
     """
+    scenario = model.meta.get("scenario")
+    if scenario is not None:  # a model loaded from a file brings its own settings
+        t_end = scenario.t_end if t_end is None else t_end
+        integrator = integrator or scenario.integrator
+        newton = newton or scenario.newton
+        step = step or scenario.step
+        if output_dt is None and output_times is None:
+            output_dt, output_times = scenario.output_dt, scenario.output_times
+        variables = scenario.variables if variables is None else variables
+    if t_end is None:
+        raise ValueError("simulate: t_end is required for a model without a scenario")
     integrator = integrator or GeneralizedAlpha()
     newton = newton or Newton()
     step = step or FixedStep()
@@ -166,72 +178,81 @@ def simulate(
     rejections = 0
     eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
     substep_until = -np.inf
-    while st.t < t_end - eps_t:
-        t_next = touts[iout] if iout < touts.size else t_end
-        h_try = min(h, h_max)
-        if not adaptive and st.t >= substep_until:
-            h_try = h_max
-        # land on output times; stretch a step by up to 25 % to reach one, unless the
-        # previous attempt was just rejected (stretching it again would loop)
-        if st.t + h_try > t_next or (rejections == 0 and st.t + h_try >= t_next - 0.25 * h_try):
-            h_try = t_next - st.t
-        if h_try <= eps_t:
-            iout += 1
-            continue
-        out: StepOutcome = stepper.step(st, h_try)
-        stats.newton_iterations += out.iterations
-        err = 0.0
-        if out.ok and adaptive:
-            err, ierr = stepper.error_estimate(st, h_try, step.rtol, step.atol)
-            if err > 1.0:
-                out.status = StepStatus.ERROR_TOO_LARGE
-                out.worst_eq = ierr
-                out.residual = err
-        if out.ok:
-            trial = stepper.trial
-            for g in model.groups:
-                if g.commit is not None:
-                    g.commit(g, trial)
-            energy.advance(sys, h_try)
-            st.assign(trial)
-            stats.steps += 1
-            stats.h_min_used = min(stats.h_min_used, h_try)
-            stats.h_max_used = max(stats.h_max_used, h_try)
-            rejections = 0
-            if iout < touts.size and abs(st.t - touts[iout]) <= 1e-9 * max(h_try, 1e-300) + eps_t:
-                st.t = float(touts[iout])
-                rec.record(st, h_try)
+    try:
+        while st.t < t_end - eps_t:
+            t_next = touts[iout] if iout < touts.size else t_end
+            h_try = min(h, h_max)
+            if not adaptive and st.t >= substep_until:
+                h_try = h_max
+            # land on output times; stretch a step by up to 25 % to reach one, unless the
+            # previous attempt was just rejected (stretching it again would loop)
+            stretch = rejections == 0 and st.t + h_try >= t_next - 0.25 * h_try
+            if st.t + h_try > t_next or stretch:
+                h_try = t_next - st.t
+            if h_try <= eps_t:
                 iout += 1
-            if adaptive:
-                fac = 0.9 * err ** (-1.0 / 3.0) if err > 0 else 2.0
-                fac = min(2.0, max(0.2, fac))
-                if out.iterations > 6:
-                    fac = min(fac, 1.0)
-                # hysteresis: a new step size costs a factorisation, so keep h unless the
-                # estimate asks for at least 25 % more
-                if fac < 1.25:
-                    fac = 1.0
-                if h_try >= 0.99 * h:  # not a step shortened to land on an output time
-                    h = min(h_max, max(h_min, h_try * fac))
-            if progress is not None:
-                progress(st.t, h_try, stats.steps)
-            continue
-        # rejected step
-        stats.rejected += 1
-        rejections += 1
-        stepper.invalidate()
-        if adaptive and out.status is StepStatus.ERROR_TOO_LARGE:
-            h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
-        else:
-            h = h_try * 0.25
-            if not adaptive:
-                substep_until = st.t + h_max
-        max_rej = step.max_rejections if adaptive else 12
-        if h < h_min * (1 - 1e-12) or rejections > max_rej:
-            success = False
-            message = _failure_message(model, st.t, h_try, out)
-            log.error(message)
-            break
+                continue
+            out: StepOutcome = stepper.step(st, h_try)
+            stats.newton_iterations += out.iterations
+            err = 0.0
+            if out.ok and adaptive:
+                err, ierr = stepper.error_estimate(st, h_try, step.rtol, step.atol)
+                if err > 1.0:
+                    out.status = StepStatus.ERROR_TOO_LARGE
+                    out.worst_eq = ierr
+                    out.residual = err
+            if out.ok:
+                trial = stepper.trial
+                for g in model.groups:
+                    if g.commit is not None:
+                        g.commit(g, trial)
+                energy.advance(sys, h_try)
+                stepper.accepted(st)
+                st.assign(trial)
+                stats.steps += 1
+                stats.h_min_used = min(stats.h_min_used, h_try)
+                stats.h_max_used = max(stats.h_max_used, h_try)
+                rejections = 0
+                if iout < touts.size and abs(st.t - touts[iout]) <= 1e-9 * h_try + eps_t:
+                    st.t = float(touts[iout])
+                    rec.record(st, h_try)
+                    iout += 1
+                if adaptive:
+                    fac = 0.9 * err ** (-1.0 / 3.0) if err > 0 else 2.0
+                    fac = min(2.0, max(0.2, fac))
+                    if out.iterations > 6:
+                        fac = min(fac, 1.0)
+                    # hysteresis: a new step size costs a factorisation, so keep h unless the
+                    # estimate asks for at least 25 % more
+                    if fac < 1.25:
+                        fac = 1.0
+                    if h_try >= 0.99 * h:  # not a step shortened to land on an output time
+                        h = min(h_max, max(h_min, h_try * fac))
+                if progress is not None:
+                    progress(st.t, h_try, stats.steps)
+                continue
+            # rejected step
+            stats.rejected += 1
+            rejections += 1
+            stepper.invalidate()
+            if adaptive and out.status is StepStatus.ERROR_TOO_LARGE:
+                h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
+            else:
+                h = h_try * 0.25
+                if not adaptive:
+                    substep_until = st.t + h_max
+            max_rej = step.max_rejections if adaptive else 12
+            if h < h_min * (1 - 1e-12) or rejections > max_rej:
+                success = False
+                message = _failure_message(model, st.t, h_try, out)
+                log.error(message)
+                break
+    except KeyboardInterrupt:
+        # Ctrl-C: stop cleanly with what was computed (the caller writes partial results)
+        success = False
+        message = (f"interrupted by the user at t = {st.t:.9g} s; results up to "
+                   f"t = {st.t:.9g} s are kept")
+        log.error(message)
     stats.factorizations = stepper.factorizations
     stats.residual_evaluations = sys.nevals
     stats.wall_s = _time.perf_counter() - wall0

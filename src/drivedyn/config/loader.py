@@ -1,0 +1,296 @@
+"""Model files: TOML -> overrides (``--set key=value``) -> validated schema -> Spec -> Model.
+
+``load_model(path)`` returns a compiled :class:`~drivedyn.model.model.Model` whose
+``meta["scenario"]`` holds the file's solver and output settings, so that
+``simulate(model)`` runs the scenario as the file describes it. Shipped model files live in
+``drivedyn/models/`` and can be named without their path (``load_model("pendulum")``).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import ValidationError
+
+from drivedyn.config import schema as S
+from drivedyn.model.model import Model
+from drivedyn.model.spec import ModelError, Spec
+from drivedyn.rotations import exp_so3
+
+
+class ModelFileError(ValueError):
+    """A model file that cannot be read or validated; the message lists every problem with
+    its key path, the bad value and what was expected."""
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """Solver and output settings of a model file (the arguments of ``simulate``)."""
+
+    t_end: float
+    integrator: Any
+    step: Any
+    newton: Any
+    output_dt: float | None
+    output_times: list[float] | None
+    variables: list[str] | None
+
+    def simulate_kwargs(self) -> dict[str, Any]:
+        return {"integrator": self.integrator, "step": self.step, "newton": self.newton,
+                "output_dt": self.output_dt, "output_times": self.output_times,
+                "variables": self.variables}
+
+
+def shipped_models() -> dict[str, Path]:
+    """Name -> path of the model files shipped in ``drivedyn/models``."""
+    folder = resources.files("drivedyn") / "models"
+    out = {}
+    for entry in folder.iterdir():
+        if entry.name.endswith(".toml"):
+            out[entry.name[:-5]] = Path(str(entry))
+    return dict(sorted(out.items()))
+
+
+def resolve_path(name: str | Path) -> Path:
+    """A path to an existing file, or the shipped model of that name."""
+    p = Path(name)
+    if p.is_file():
+        return p
+    shipped = shipped_models()
+    if str(name) in shipped:
+        return shipped[str(name)]
+    if p.suffix == ".toml" and p.stem in shipped and not p.parent.name:
+        return shipped[p.stem]
+    raise ModelFileError(f"{name}: no such file, and no shipped model of that name "
+                         f"(shipped: {', '.join(shipped) or 'none'})")
+
+
+# -- overrides ---------------------------------------------------------------------------
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """``"a.b.c=VALUE"`` -> (``"a.b.c"``, value); VALUE is read as a TOML value
+    (``2``, ``"3 mm"``, ``[0, 0, -9.81]``) or, failing that, as a plain string."""
+    key, sep, raw = text.partition("=")
+    key = key.strip()
+    if not sep or not key:
+        raise ModelFileError(f"--set {text!r}: expected KEY=VALUE, e.g. solver.t_end=2")
+    try:
+        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw.strip()
+    return key, value
+
+
+def apply_override(data: dict, key: str, value: Any) -> None:
+    """Set ``data[key]`` for a dotted key; list items are addressed by their ``name``
+    (``bodies.crank.mass``) or index (``bodies.0.mass``)."""
+    parts = key.split(".")
+    node: Any = data
+    for i, part in enumerate(parts[:-1]):
+        where = ".".join(parts[: i + 1])
+        if isinstance(node, list):
+            node = _list_item(node, part, where)
+        elif isinstance(node, dict):
+            if part not in node:
+                node[part] = {}
+            node = node[part]
+        else:
+            raise ModelFileError(f"--set {key}: {where} is a value, not a table")
+    last = parts[-1]
+    if isinstance(node, list):
+        raise ModelFileError(f"--set {key}: cannot replace a whole list item")
+    if not isinstance(node, dict):
+        raise ModelFileError(f"--set {key}: {'.'.join(parts[:-1])} is a value, not a table")
+    node[last] = value
+
+
+def _list_item(items: list, part: str, where: str) -> Any:
+    for it in items:
+        if isinstance(it, dict) and it.get("name") == part:
+            return it
+    if part.isdigit() and int(part) < len(items):
+        return items[int(part)]
+    names = [it.get("name") for it in items if isinstance(it, dict)]
+    raise ModelFileError(f"--set: no item {part!r} in {where.rsplit('.', 1)[0]} "
+                         f"(names: {', '.join(map(str, names))})")
+
+
+# -- validation messages -----------------------------------------------------------------
+
+
+def _path(data: Any, loc: tuple) -> str:
+    out = ""
+    node = data
+    for part in loc:
+        if isinstance(part, int):
+            name = node[part].get("name") if isinstance(node, list) and part < len(node) \
+                and isinstance(node[part], dict) else None
+            out += f"[{part}]" + (f" ({name})" if name else "")
+        else:
+            out += ("." if out else "") + str(part)
+        try:
+            node = node[part]
+        except (KeyError, IndexError, TypeError):
+            node = None
+    return out
+
+
+def format_validation_error(source: str, data: dict, exc: ValidationError) -> str:
+    lines = [f"{source}: {exc.error_count()} problem(s)"]
+    for err in exc.errors():
+        loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
+        # union members appear as extra location parts; keep the user's keys only
+        loc = tuple(p for p in loc if isinstance(p, int) or not str(p).startswith(
+            ("tuple[", "list[", "Rotation", "FixedStepFile", "AdaptiveStepFile", "dict[",
+             "float", "str", "none")))
+        msg = err["msg"]
+        for prefix in ("Value error, ", "Assertion failed, "):
+            if msg.startswith(prefix):
+                msg = msg[len(prefix):]
+        if err["type"] == "extra_forbidden":
+            msg = "unknown key (misspelt?)"
+        elif err["type"] == "missing":
+            msg = "required key is missing"
+        path = _path(data, loc) or "(top level)"
+        got = "" if err["type"] == "missing" else f" (got {err.get('input')!r})"
+        lines.append(f"  {path}: {msg}{got}")
+    return "\n".join(lines)
+
+
+# -- building ----------------------------------------------------------------------------
+
+
+def _rotation(r: Any) -> np.ndarray | None:
+    if r is None:
+        return None
+    if isinstance(r, S.Rotation):
+        axis = np.asarray(r.axis, float)
+        n = np.linalg.norm(axis)
+        if n == 0:
+            raise ModelError("rotation axis must be non-zero")
+        return exp_so3(axis / n * r.angle)
+    return np.asarray(r, float)
+
+
+def _function(f: Any, functions: dict, where: str) -> Any:
+    if isinstance(f, str):
+        if f not in functions:
+            raise ModelError(f"{where}.function: unknown function {f!r} (defined: "
+                             f"{', '.join(functions) or 'none'})")
+        return functions[f]
+    return f
+
+
+def build_spec(mf: S.ModelFile) -> Spec:
+    """A :class:`Spec` from a validated file (elements in file order, by section)."""
+    from drivedyn import elements as E
+
+    spec = Spec(gravity=mf.model.gravity)
+    for b in mf.bodies:
+        spec.add_rigid_body(b.name, b.mass, b.inertia, com=b.com, position=b.position,
+                            rotation=_rotation(b.rotation), velocity=b.velocity,
+                            angular_velocity=b.angular_velocity)
+    for n in mf.nodes:
+        spec.add_node(n.name, n.position, _rotation(n.rotation), n.velocity, n.angular_velocity)
+    for m in mf.markers:
+        spec.add_marker(m.name, m.body, position=m.position, rotation=_rotation(m.rotation),
+                        axis=m.axis)
+    joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
+                   "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
+                   "universal": E.Universal, "screw": E.Screw}
+    for j in mf.joints:
+        kw = {"pitch": j.pitch} if j.type == "screw" else {}
+        spec.add(joint_types[j.type](j.name, j.marker_a, j.marker_b, k=j.k, p=j.p, **kw))
+    for s in mf.springs:
+        spec.add(E.SpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness, s.damping,
+                                s.free_length, s.preload))
+    for s in mf.torsional_springs:
+        spec.add(E.TorsionalSpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness,
+                                         s.damping, s.free_angle, s.preload))
+    funcs = mf.functions
+    for f in mf.forces:
+        spec.add(E.Force(f.name, f.marker, f.vector,
+                         _function(f.function, funcs, f"forces.{f.name}"), f.frame))
+    for t in mf.torques:
+        spec.add(E.Torque(t.name, t.marker, t.vector,
+                          _function(t.function, funcs, f"torques.{t.name}"), t.frame))
+    for d in mf.drivers:
+        spec.add(E.JointDriver(d.name, d.joint, _function(d.function, funcs,
+                                                          f"drivers.{d.name}"),
+                               d.quantity, d.k, d.p))
+    for d in mf.speed_difference_drivers:
+        spec.add(E.SpeedDifferenceDriver(d.name, d.joint_1, d.joint_2,
+                                         _function(d.function, funcs,
+                                                   f"speed_difference_drivers.{d.name}"),
+                                         d.k, d.p))
+    return spec
+
+
+def scenario_of(mf: S.ModelFile) -> Scenario:
+    from drivedyn.solver.settings import AdaptiveStep, FixedStep, GeneralizedAlpha, Newton
+
+    st = mf.solver.step
+    if isinstance(st, S.AdaptiveStepFile):
+        step = AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol)
+    else:
+        step = FixedStep(st.h)
+    nw = mf.solver.newton
+    return Scenario(
+        t_end=mf.solver.t_end,
+        integrator=GeneralizedAlpha(mf.solver.rho_inf),
+        step=step,
+        newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
+        output_dt=mf.output.dt,
+        output_times=mf.output.times,
+        variables=mf.output.variables,
+    )
+
+
+def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
+                    ) -> tuple[S.ModelFile, dict, str]:
+    """Read, override and validate a model file: (schema object, raw data, source name)."""
+    p = resolve_path(path)
+    source = str(path)
+    try:
+        data = tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelFileError(f"{source}: not valid TOML: {exc}") from None
+    data = copy.deepcopy(data)
+    items = overrides.items() if isinstance(overrides, dict) else \
+        [parse_override(o) for o in (overrides or [])]
+    for k, v in items:
+        apply_override(data, k, v)
+    try:
+        mf = S.ModelFile.model_validate(data)
+    except ValidationError as exc:
+        raise ModelFileError(format_validation_error(source, data, exc)) from None
+    return mf, data, source
+
+
+def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = None) -> Model:
+    """Compile the model of a TOML file (path or shipped name), with ``--set``-style
+    overrides (``["solver.t_end=2", "bodies.rod.mass=2 kg"]`` or a dict).
+
+    Raises :class:`ModelFileError` for unreadable or invalid files and
+    :class:`~drivedyn.model.spec.ModelError` for physically impossible models.
+    """
+    from drivedyn.model.compile import compile_model
+
+    mf, data, source = read_model_file(path, overrides)
+    try:
+        model = compile_model(build_spec(mf))
+    except ModelError as exc:
+        raise ModelError(f"{source}: {exc}") from None
+    model.meta["scenario"] = scenario_of(mf)
+    model.meta["source"] = source
+    model.meta["model_file"] = json.dumps(data, indent=1, default=str)
+    model.meta["model_name"] = mf.model.name
+    return model

@@ -1,0 +1,123 @@
+"""Quantities with units in model files: ``"3 mm"``, ``"1500 rpm"``, ``"2.5 kg m^2"``.
+
+A model file may give any physical value either as a plain number (SI) or as a string
+``"<number> <unit>"``; it is converted to SI and its dimension is checked against what the
+field expects. Units are products of symbols with optional integer exponents (``^2``,
+``^-1``), separated by spaces or ``*``, with at most one ``/`` (everything after it is in the
+denominator): ``"N m s/rad"``, ``"kg*m^2"``, ``"m/s^2"``.
+
+Dimensions are exponent vectors over (m, kg, s, rad). Angles count as a dimension so that a
+speed in rpm cannot be given where a length is expected.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+Dim = tuple[int, int, int, int]  # exponents of m, kg, s, rad
+
+DIMENSIONLESS: Dim = (0, 0, 0, 0)
+LENGTH: Dim = (1, 0, 0, 0)
+MASS: Dim = (0, 1, 0, 0)
+TIME: Dim = (0, 0, 1, 0)
+ANGLE: Dim = (0, 0, 0, 1)
+INERTIA: Dim = (2, 1, 0, 0)
+VELOCITY: Dim = (1, 0, -1, 0)
+ACCELERATION: Dim = (1, 0, -2, 0)
+ANGULAR_VELOCITY: Dim = (0, 0, -1, 1)
+FORCE: Dim = (1, 1, -2, 0)
+TORQUE: Dim = (2, 1, -2, 0)
+STIFFNESS: Dim = (0, 1, -2, 0)  # N/m
+DAMPING: Dim = (0, 1, -1, 0)  # N s/m
+TORSIONAL_STIFFNESS: Dim = (2, 1, -2, -1)  # N m/rad
+TORSIONAL_DAMPING: Dim = (2, 1, -1, -1)  # N m s/rad
+PITCH: Dim = (1, 0, 0, -1)  # m/rad... a screw pitch is given per revolution, see below
+
+_NAMES = {
+    DIMENSIONLESS: "1", LENGTH: "m", MASS: "kg", TIME: "s", ANGLE: "rad", INERTIA: "kg m^2",
+    VELOCITY: "m/s", ACCELERATION: "m/s^2", ANGULAR_VELOCITY: "rad/s", FORCE: "N",
+    TORQUE: "N m", STIFFNESS: "N/m", DAMPING: "N s/m", TORSIONAL_STIFFNESS: "N m/rad",
+    TORSIONAL_DAMPING: "N m s/rad",
+}
+
+# symbol -> (factor to SI, dimension)
+UNITS: dict[str, tuple[float, Dim]] = {
+    "m": (1.0, LENGTH), "mm": (1e-3, LENGTH), "cm": (1e-2, LENGTH), "km": (1e3, LENGTH),
+    "um": (1e-6, LENGTH), "in": (0.0254, LENGTH),
+    "kg": (1.0, MASS), "g": (1e-3, MASS), "t": (1e3, MASS),
+    "s": (1.0, TIME), "ms": (1e-3, TIME), "min": (60.0, TIME), "h": (3600.0, TIME),
+    "rad": (1.0, ANGLE), "deg": (math.pi / 180.0, ANGLE), "rev": (2 * math.pi, ANGLE),
+    "rpm": (2 * math.pi / 60.0, ANGULAR_VELOCITY),
+    "N": (1.0, FORCE), "kN": (1e3, FORCE), "Nm": (1.0, TORQUE),
+    "Pa": (1.0, (-1, 1, -2, 0)), "kPa": (1e3, (-1, 1, -2, 0)), "MPa": (1e6, (-1, 1, -2, 0)),
+    "GPa": (1e9, (-1, 1, -2, 0)), "J": (1.0, (2, 1, -2, 0)), "W": (1.0, (2, 1, -3, 0)),
+    "Hz": (1.0, (0, 0, -1, 0)),
+}
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
+
+
+class UnitError(ValueError):
+    """A unit that cannot be parsed or has the wrong dimension."""
+
+
+def dim_name(dim: Dim) -> str:
+    """Readable SI unit of a dimension."""
+    if dim in _NAMES:
+        return _NAMES[dim]
+    parts = []
+    for sym, e in zip(("m", "kg", "s", "rad"), dim, strict=True):
+        if e:
+            parts.append(sym if e == 1 else f"{sym}^{e}")
+    return " ".join(parts) or "1"
+
+
+def parse_unit(text: str) -> tuple[float, Dim]:
+    """Factor to SI and dimension of a unit expression (``"N m/rad"``, ``"kg*m^2"``)."""
+    text = text.strip()
+    if not text:
+        return 1.0, DIMENSIONLESS
+    if text.count("/") > 1:
+        raise UnitError(f"unit {text!r}: use at most one '/'")
+    num, _, den = text.partition("/")
+    factor = 1.0
+    dim = np.zeros(4, dtype=int)
+    for part, sign in ((num, 1), (den, -1)):
+        for tok in re.split(r"[\s*]+", part.strip()):
+            if not tok:
+                continue
+            m = re.fullmatch(r"([A-Za-z]+)(?:\^(-?\d+))?", tok)
+            if m is None or m.group(1) not in UNITS:
+                sym = m.group(1) if m else tok
+                raise UnitError(f"unknown unit {sym!r} in {text!r} (known: "
+                                f"{', '.join(sorted(UNITS))})")
+            f, d = UNITS[m.group(1)]
+            e = sign * int(m.group(2) or 1)
+            factor *= f**e
+            dim += e * np.asarray(d)
+    return factor, tuple(int(x) for x in dim)  # type: ignore[return-value]
+
+
+def to_si(value: object, expected: Dim) -> float:
+    """A number (taken as SI) or a ``"<number> <unit>"`` string, converted to SI.
+
+    Raises :class:`UnitError` for an unknown unit or a unit of another dimension.
+    """
+    if isinstance(value, bool):
+        raise UnitError(f"expected a number [{dim_name(expected)}], got {value!r}")
+    if isinstance(value, (int, float)):
+        return float(value)
+    if not isinstance(value, str):
+        raise UnitError(f"expected a number [{dim_name(expected)}] or a string like "
+                        f"'1.5 {dim_name(expected)}', got {value!r}")
+    m = _QUANTITY.match(value)
+    if m is None:
+        raise UnitError(f"expected '<number> <unit>' [{dim_name(expected)}], got {value!r}")
+    factor, dim = parse_unit(m.group(2))
+    if dim != expected:
+        raise UnitError(f"{value!r} is in {dim_name(dim)}, expected {dim_name(expected)}")
+    return float(m.group(1)) * factor
