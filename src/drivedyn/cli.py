@@ -1,4 +1,4 @@
-"""Command line interface: ``drivedyn validate``, ``drivedyn --version``.
+"""Command line interface: ``drivedyn validate``, ``run``, ``plot``, ``models``, ``--version``.
 
 Exit codes: 0 success, 1 failure (a validation check failed or a case raised), 2 bad input
 (unknown option or case name; click's usage errors).
@@ -239,6 +239,17 @@ def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: 
         err.print(f"report written to {path}")
     if failed:
         sys.exit(1)
+
+
+def _attach_commands() -> None:
+    """Commands on model and results files live in :mod:`drivedyn.cli_commands`."""
+    from drivedyn.cli_commands import COMMANDS
+
+    for cmd in COMMANDS:
+        main.add_command(cmd)
+
+
+_attach_commands()
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from pydantic import ValidationError
 
-from drivedyn.config import schema as S
+from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
 from drivedyn.model.model import Model
 from drivedyn.model.spec import ModelError, Spec
 from drivedyn.rotations import exp_so3
@@ -191,7 +191,7 @@ def _function(f: Any, functions: dict, where: str) -> Any:
 
 def build_spec(mf: S.ModelFile) -> Spec:
     """A :class:`Spec` from a validated file (elements in file order, by section)."""
-    from drivedyn import elements as E
+    from drivedyn import elements as E  # noqa: N812
 
     spec = Spec(gravity=mf.model.gravity)
     for b in mf.bodies:

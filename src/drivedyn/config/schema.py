@@ -29,7 +29,7 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
 
-from drivedyn.config import units as U
+from drivedyn.config import units as U  # noqa: N812 - short name for units
 
 
 def _scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False):

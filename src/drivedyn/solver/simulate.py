@@ -178,6 +178,7 @@ def simulate(
     rejections = 0
     eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
     substep_until = -np.inf
+    debug = log.isEnabledFor(logging.DEBUG)
     try:
         while st.t < t_end - eps_t:
             t_next = touts[iout] if iout < touts.size else t_end
@@ -228,10 +229,18 @@ def simulate(
                         fac = 1.0
                     if h_try >= 0.99 * h:  # not a step shortened to land on an output time
                         h = min(h_max, max(h_min, h_try * fac))
+                if debug:
+                    log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d",
+                              st.t, h_try, out.iterations, out.factorizations)
                 if progress is not None:
                     progress(st.t, h_try, stats.steps)
                 continue
             # rejected step
+            if debug:
+                log.debug("t = %.9g s  h = %.3g s  rejected: %s (iterations %d, worst %s, %.3g)",
+                          st.t, h_try, out.status.value, out.iterations,
+                          model.eq_labels[out.worst_eq] if out.worst_eq >= 0 else "-",
+                          out.residual)
             stats.rejected += 1
             rejections += 1
             stepper.invalidate()

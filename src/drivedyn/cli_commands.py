@@ -1,0 +1,225 @@
+"""CLI commands on model and results files: ``run``, ``plot``, ``models``.
+
+They are attached to the ``drivedyn`` group in :mod:`drivedyn.cli`. Exit codes: 0 success,
+1 simulation failure or interruption (partial results are still written), 2 bad input
+(unreadable or invalid model file, impossible model, bad option).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import json
+import logging
+import math
+import sys
+from pathlib import Path
+
+import click
+import numpy as np
+
+EXIT_FAILED = 1
+EXIT_BAD_INPUT = 2
+
+
+def _err(message: str) -> None:
+    click.echo(message, err=True)
+
+
+def _bad_input(message: str) -> None:
+    _err(f"error: {message}")
+    sys.exit(EXIT_BAD_INPUT)
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def _summary(res, out: Path | None) -> dict:
+    ds = res.dataset
+    final = {}
+    for name, var in ds.data_vars.items():
+        vals = np.asarray(var.values)
+        if vals.size and vals.ndim <= 2:
+            last = vals[-1]
+            final[str(name)] = ([_finite(float(v)) for v in np.atleast_1d(last)]
+                                if np.ndim(last) else _finite(float(last)))
+    st = res.stats
+    return {
+        "success": res.success,
+        "message": res.message,
+        "t_final": float(res.time[-1]) if len(res.time) else None,
+        "steps": st.steps,
+        "rejected_steps": st.rejected,
+        "newton_iterations": st.newton_iterations,
+        "factorizations": st.factorizations,
+        "wall_s": st.wall_s,
+        "energy_balance_error": _finite(float(ds["energy.balance_error"].values[-1]))
+        if len(res.time) else None,
+        "results_file": str(out) if out else None,
+        "final": final,
+    }
+
+
+@click.command()
+@click.argument("model_file", metavar="FILE")
+@click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Results file (netCDF). Default: <model name>.nc in the current folder; a "
+                   "failed or interrupted run writes <name>.partial.nc instead.")
+@click.option("--t-end", type=float, default=None, help="Final time [s] (overrides the file).")
+@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
+              help="Override a value of the file by dotted key, e.g. --set solver.t_end=2 "
+                   "--set 'bodies.rod.mass=\"2 kg\"' (list items by name). Repeatable.")
+@click.option("--csv", "csv_path", type=click.Path(dir_okay=False, path_type=Path),
+              default=None, help="Also write the time histories to this CSV file.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print a JSON summary (steps, Newton iterations, wall time, energy balance "
+                   "error, final values of every sensor) instead of text.")
+@click.option("--verbose", "-v", is_flag=True, help="Log every step's Newton statistics.")
+def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str, ...],
+        csv_path: Path | None, as_json: bool, verbose: bool) -> None:
+    """Simulate the scenario of a model FILE (TOML, or the name of a shipped model).
+
+    \b
+    Example:
+        drivedyn run pendulum --t-end 5 --set solver.rho_inf=0.8 --out pendulum.nc
+    """
+    from drivedyn.config import ModelFileError, UnitError, load_model
+    from drivedyn.model.spec import ModelError
+    from drivedyn.progress import kernels_cached, progress_bar
+    from drivedyn.results.results import write_netcdf_atomic
+    from drivedyn.solver.simulate import InitializationError, simulate
+
+    if verbose:
+        logging.basicConfig(level=logging.DEBUG, format="%(message)s", stream=sys.stderr)
+        logging.getLogger("drivedyn").setLevel(logging.DEBUG)
+    try:
+        model = load_model(model_file, list(sets))
+    except (ModelFileError, ModelError, UnitError) as exc:
+        _bad_input(str(exc))
+    scenario = model.meta["scenario"]
+    t_final = t_end if t_end is not None else scenario.t_end
+    if t_final <= 0:
+        _bad_input(f"--t-end must be > 0 s, got {t_final}")
+    if not kernels_cached():
+        _err("note: first run: compiling the numba kernels (about a minute, cached afterwards)")
+    name = model.meta.get("model_name", "model")
+    _err(f"simulating {name} to t = {t_final:g} s")
+    try:
+        with progress_bar(t_final) as cb:
+            res = simulate(model, t_final, progress=cb)
+    except InitializationError as exc:
+        _bad_input(str(exc))
+    res.dataset.attrs["model_file"] = model.meta["model_file"]
+    res.dataset.attrs["model_source"] = model.meta["source"]
+    res.dataset.attrs["overrides"] = json.dumps(list(sets))
+    target = out or Path(f"{name}.nc")
+    if not res.success:
+        target = target.with_name(target.stem + ".partial.nc")
+    write_netcdf_atomic(res.dataset, target)
+    if csv_path is not None:
+        res.to_csv(csv_path)
+    summary = _summary(res, target)
+    if as_json:
+        click.echo(json.dumps(summary))
+    else:
+        state = "done" if res.success else f"FAILED: {res.message}"
+        st = res.stats
+        click.echo(f"{state}\n  steps {st.steps} (rejected {st.rejected}), Newton iterations "
+                   f"{st.newton_iterations}, factorizations {st.factorizations}, wall "
+                   f"{st.wall_s:.3g} s\n  energy balance error "
+                   f"{summary['energy_balance_error']:.3g} J\n  results: {target}")
+    if not res.success:
+        sys.exit(EXIT_FAILED)
+
+
+def _groups(names: list[str]) -> dict[str, list[str]]:
+    out: dict[str, list[str]] = {}
+    for n in names:
+        prefix = n.rsplit(".", 1)[0] if "." in n else n
+        out.setdefault(prefix, []).append(n)
+    return out
+
+
+@click.command()
+@click.argument("results_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
+                metavar="RESULTS.nc")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=Path("plots"), show_default=True, help="Folder for the PNG files.")
+@click.option("--vars", "patterns", multiple=True, metavar="PATTERN",
+              help="Variables to plot (glob patterns, e.g. 'crank.*' or '*.torque'); "
+                   "default: the energy terms and every body/element, up to 20 figures.")
+def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
+    """Write PNG time histories of a results file, one figure per body or element.
+
+    \b
+    Example:
+        drivedyn plot pendulum.nc --vars 'rod.*' --vars 'energy.*' --out figs
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from drivedyn.results.results import load_results
+
+    try:
+        res = load_results(results_file)
+    except (OSError, ValueError) as exc:
+        _bad_input(f"{results_file}: not a readable results file ({exc})")
+    names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")]
+    if patterns:
+        names = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]
+        if not names:
+            _bad_input(f"no variable matches {', '.join(patterns)} (variables: "
+                       f"{', '.join(sorted(res.dataset.data_vars))})")
+    groups = _groups(names)
+    if not patterns and len(groups) > 20:
+        _err(f"note: {len(groups)} bodies/elements; plotting the first 20 (use --vars)")
+        keep = ["energy", *[g for g in groups if g != "energy"][:19]]
+        groups = {g: groups[g] for g in keep if g in groups}
+    out_dir.mkdir(parents=True, exist_ok=True)
+    t = res.time
+    for prefix, vars_ in groups.items():
+        fig, axes = plt.subplots(len(vars_), 1, figsize=(8, 2.2 * len(vars_) + 0.8),
+                                 sharex=True, squeeze=False)
+        for ax, n in zip(axes[:, 0], vars_, strict=True):
+            var = res.dataset[n]
+            vals = np.asarray(var.values)
+            unit = var.attrs.get("units", "")
+            if vals.ndim == 1:
+                ax.plot(t, vals)
+            else:
+                flat = vals.reshape(len(t), -1)
+                labels = (["x", "y", "z"] if flat.shape[1] == 3
+                          else [str(j) for j in range(flat.shape[1])])
+                for j in range(flat.shape[1]):
+                    ax.plot(t, flat[:, j], label=labels[j])
+                ax.legend(fontsize="small", ncol=min(3, flat.shape[1]))
+            ax.set_ylabel(f"{n.split('.')[-1]} [{unit}]")
+            ax.set_title(var.attrs.get("description", n), fontsize="small")
+            ax.grid(True, alpha=0.3)
+        axes[-1, 0].set_xlabel("time [s]")
+        fig.suptitle(prefix)
+        fig.tight_layout()
+        path = out_dir / f"{prefix}.png"
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        click.echo(str(path))
+
+
+@click.command()
+def models() -> None:
+    """List the model files shipped with drivedyn (run one with `drivedyn run NAME`)."""
+    import tomllib
+
+    from drivedyn.config import shipped_models
+
+    for name, path in shipped_models().items():
+        try:
+            desc = tomllib.loads(path.read_text()).get("model", {}).get("description", "")
+        except tomllib.TOMLDecodeError:
+            desc = "(unreadable)"
+        click.echo(f"{name:20s} {desc}\n{'':20s} {path}")
+
+
+COMMANDS = (run, plot, models)

@@ -1,0 +1,252 @@
+"""Model files, `--set` overrides and the `run`/`plot`/`models` commands, through the real
+entry point (subprocess) where exit codes and messages matter."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import drivedyn as dd
+from drivedyn.config import ModelFileError, load_model, shipped_models
+from drivedyn.config import units as U  # noqa: N812
+from drivedyn.config.units import UnitError, to_si
+
+BLOCK = """
+[model]
+name = "block"
+description = "block on a spring"
+
+[[bodies]]
+name = "block"
+mass = "2 kg"
+inertia = [0.1, 0.1, 0.1]
+position = [0, 0, "1.1 m"]
+
+[[markers]]
+name = "rail"
+body = "ground"
+position = [0, 0, 1.1]
+axis = [0, 0, 1]
+
+[[markers]]
+name = "slider"
+body = "block"
+axis = [0, 0, 1]
+
+[[markers]]
+name = "anchor"
+body = "ground"
+
+[[joints]]
+type = "prismatic"
+name = "p"
+marker_a = "rail"
+marker_b = "slider"
+
+[[springs]]
+name = "s"
+marker_a = "anchor"
+marker_b = "slider"
+stiffness = "200 N/m"
+free_length = "1 m"
+
+[solver]
+t_end = "0.5 s"
+step = { mode = "fixed", h = "1 ms" }
+
+[output]
+dt = "0.1 s"
+"""
+
+
+def _write(tmp_path: Path, text: str, name: str = "m.toml") -> Path:
+    p = tmp_path / name
+    p.write_text(textwrap.dedent(text))
+    return p
+
+
+def _cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "drivedyn.cli", *args], capture_output=True,
+                          text=True, cwd=cwd, timeout=600)
+
+
+# -- units ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("text", "dim", "si"), [
+    ("3 mm", U.LENGTH, 3e-3), ("1500 rpm", U.ANGULAR_VELOCITY, 1500 * 2 * np.pi / 60),
+    ("2.5 kg m^2", U.INERTIA, 2.5), ("10 N m/rad", U.TORSIONAL_STIFFNESS, 10.0),
+    ("90 deg", U.ANGLE, np.pi / 2), ("1e3 N s/m", U.DAMPING, 1e3), ("9.81 m/s^2",
+                                                                      U.ACCELERATION, 9.81),
+    (4, U.FORCE, 4.0), ("2 kN", U.FORCE, 2000.0), ("5 Nm", U.TORQUE, 5.0),
+])
+def test_units_convert_to_si(text, dim, si):
+    assert to_si(text, dim) == pytest.approx(si, rel=1e-15)
+
+
+def test_unit_errors():
+    with pytest.raises(UnitError, match="unknown unit 'kgg'"):
+        to_si("2 kgg", U.MASS)
+    with pytest.raises(UnitError, match="'3 mm' is in m, expected kg"):
+        to_si("3 mm", U.MASS)
+
+
+# -- loading and validation -------------------------------------------------------------------
+
+
+def test_shipped_models_load_and_run():
+    assert {"pendulum", "slider_crank"} <= set(shipped_models())
+    for name in shipped_models():
+        model = load_model(name)
+        res = dd.simulate(model, 0.05)
+        assert res.success, (name, res.message)
+
+
+def test_file_model_matches_python_model(tmp_path):
+    """The block of the file is the oscillator of test_solver: x(t) = 0.1 cos(10 t)."""
+    model = load_model(_write(tmp_path, BLOCK))
+    res = dd.simulate(model)  # the file's scenario: 0.5 s at 1 ms, outputs every 0.1 s
+    assert res.time[-1] == pytest.approx(0.5)
+    assert len(res.time) == 6
+    z = res["block.position"].values[:, 2] - 1.0
+    np.testing.assert_allclose(z, 0.1 * np.cos(10 * res.time), atol=3e-4 * 0.1 * 10)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (('mass = "2 kg"', 'mass = "heavy"'),
+     "bodies[0] (block).mass: expected '<number> <unit>' [kg], got 'heavy' (got 'heavy')"),
+    (('mass = "2 kg"', 'mass = "2 kgg"'), "bodies[0] (block).mass: unknown unit 'kgg'"),
+    (('mass = "2 kg"', "mass = -1"), "bodies[0] (block).mass: must be > 0 kg (got -1)"),
+    (('inertia = [0.1, 0.1, 0.1]\n', ""), "bodies[0] (block).inertia: required key is missing"),
+    (('stiffness = "200 N/m"', 'stifness = "200 N/m"'),
+     "springs[0] (s).stifness: unknown key (misspelt?)"),
+    (('stiffness = "200 N/m"', 'stiffness = "200 N m"'),
+     "springs[0] (s).stiffness: '200 N m' is in N m, expected N/m"),
+    (('type = "prismatic"', 'type = "slider"'), "joints[0] (p).type: Input should be"),
+    (('h = "1 ms"', "h = 0"), "solver.step.fixed.h: must be > 0 s"),
+])
+def test_bad_files_name_key_value_and_expectation(tmp_path, edit, message):
+    text = BLOCK.replace(*edit)
+    with pytest.raises(ModelFileError) as exc:
+        load_model(_write(tmp_path, text))
+    assert message in str(exc.value)
+
+
+def test_impossible_inertia_is_refused_with_the_file_name(tmp_path):
+    path = _write(tmp_path, BLOCK.replace("inertia = [0.1, 0.1, 0.1]", "inertia = [0.1, 0.1, 0.5]"))
+    with pytest.raises(dd.ModelError, match="violate the triangle inequality"):
+        load_model(path)
+
+
+def test_overrides_by_dotted_key_and_item_name(tmp_path):
+    path = _write(tmp_path, BLOCK)
+    model = load_model(path, ["solver.t_end=0.2", 'bodies.block.mass="8 kg"',
+                              "springs.s.stiffness=800"])
+    assert model.meta["scenario"].t_end == 0.2
+    assert model.nodes[0].mass == 8.0
+    with pytest.raises(ModelFileError, match="no item 'ghost' in bodies"):
+        load_model(path, ["bodies.ghost.mass=1"])
+    with pytest.raises(ModelFileError, match="expected KEY=VALUE"):
+        load_model(path, ["solver.t_end"])
+
+
+# -- the commands ----------------------------------------------------------------------------
+
+
+def test_run_plot_round_trip(tmp_path):
+    path = _write(tmp_path, BLOCK)
+    proc = _cli("run", str(path), "--json", "--set", "solver.t_end=0.3", "--out",
+                str(tmp_path / "r.nc"), "--csv", str(tmp_path / "r.csv"))
+    assert proc.returncode == 0, proc.stderr
+    summary = json.loads(proc.stdout)
+    assert summary["success"] and summary["steps"] == 300
+    assert abs(summary["energy_balance_error"]) < 1e-6
+    assert summary["final"]["block.position"][2] == pytest.approx(1 + 0.1 * np.cos(3.0),
+                                                                  abs=1e-3)
+    res = dd.load_results(tmp_path / "r.nc")
+    assert "block" in res.dataset.attrs["model_file"]
+    assert json.loads(res.dataset.attrs["overrides"]) == ["solver.t_end=0.3"]
+    np.testing.assert_allclose(res.time, [0.0, 0.1, 0.2, 0.3])
+    assert (tmp_path / "r.csv").read_text().startswith("time [s],")
+    proc = _cli("plot", str(tmp_path / "r.nc"), "--out", str(tmp_path / "figs"))
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "figs" / "block.png").stat().st_size > 5000
+    assert (tmp_path / "figs" / "energy.png").exists()
+
+
+def test_bad_file_exits_2_without_traceback(tmp_path):
+    path = _write(tmp_path, BLOCK.replace('mass = "2 kg"', "mass = -1"))
+    proc = _cli("run", str(path))
+    assert proc.returncode == 2
+    assert "bodies[0] (block).mass: must be > 0 kg (got -1)" in proc.stderr
+    assert "Traceback" not in proc.stderr
+    proc = _cli("run", str(tmp_path / "missing.toml"))
+    assert proc.returncode == 2 and "no such file" in proc.stderr
+
+
+def test_failed_run_exits_1_and_keeps_partial_results(tmp_path):
+    text = BLOCK + textwrap.dedent("""
+        [[drivers]]
+        name = "kick"
+        joint = "p"
+        quantity = "speed"
+        function = { type = "table", times = [0, 0.2, 0.2000001, 1], values = [0, 0, 50, 50] }
+    """)
+    # a prismatic joint has no rotation axis: bad input first
+    proc = _cli("run", str(_write(tmp_path, text)))
+    assert proc.returncode == 2
+    assert "JointDriver 'kick': joint 'p' is a Prismatic" in proc.stderr
+    text = BLOCK.replace('type = "prismatic"', 'type = "cylindrical"').replace(
+        'step = { mode = "fixed", h = "1 ms" }',
+        'step = { mode = "adaptive", h0 = "1 ms", h_min = "0.1 ms", h_max = "10 ms" }')
+    text += textwrap.dedent("""
+        [[drivers]]
+        name = "kick"
+        joint = "p"
+        quantity = "speed"
+        function = { type = "table", times = [0, 0.2, 0.2000001, 1], values = [0, 0, 50, 50] }
+    """)
+    path = _write(tmp_path, text, "kick.toml")
+    proc = _cli("run", str(path), "--out", str(tmp_path / "kick.nc"))
+    assert proc.returncode == 1, proc.stderr
+    assert "simulation stopped at t = 0.2" in proc.stdout + proc.stderr
+    assert not (tmp_path / "kick.nc").exists()
+    part = dd.load_results(tmp_path / "kick.partial.nc")
+    assert not part.success and part.time[-1] == pytest.approx(0.2, abs=1e-3)
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT delivery")
+def test_interrupted_run_leaves_a_readable_partial_result(tmp_path):
+    path = _write(tmp_path, BLOCK.replace('t_end = "0.5 s"', 't_end = "1000 s"'))
+    proc = subprocess.Popen([sys.executable, "-m", "drivedyn.cli", "run", str(path), "--out",
+                             str(tmp_path / "long.nc")], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    # wait until the run has started (the command announces it), then let it integrate
+    deadline = time.time() + 300
+    line = ""
+    while "simulating" not in line and time.time() < deadline:
+        line = proc.stderr.readline()
+    time.sleep(2.0)
+    proc.send_signal(signal.SIGINT)
+    _out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 1, err
+    part = dd.load_results(tmp_path / "long.partial.nc")
+    assert "interrupted by the user" in part.message
+    assert 0.1 < part.time[-1] < 1000
+    assert not (tmp_path / "long.nc").exists()
+    assert not list(tmp_path.glob("*.part"))
+
+
+def test_models_command_lists_shipped_files():
+    proc = _cli("models")
+    assert proc.returncode == 0
+    assert "pendulum" in proc.stdout and "slider_crank" in proc.stdout
