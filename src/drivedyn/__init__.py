@@ -8,6 +8,7 @@ Build a :class:`Spec`, ``compile_model`` it, ``simulate`` it::
     results = dd.simulate(dd.compile_model(spec), t_end=1.0)
 """
 
+from drivedyn.config import ModelFileError, load_model
 from drivedyn.elements import (
     Cylindrical,
     Fixed,
@@ -51,6 +52,7 @@ __all__ = [
     "JointDriver",
     "Model",
     "ModelError",
+    "ModelFileError",
     "Newton",
     "Prismatic",
     "Ramp",
@@ -68,6 +70,7 @@ __all__ = [
     "Universal",
     "compile_model",
     "element_outputs",
+    "load_model",
     "load_results",
     "simulate",
     "solve_static",

@@ -208,13 +208,27 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
 
 
 @click.command()
-def models() -> None:
-    """List the model files shipped with drivedyn (run one with `drivedyn run NAME`)."""
+@click.option("--show", metavar="NAME", default=None,
+              help="Print the file of one shipped model (redirect it to a file to edit it).")
+def models(show: str | None) -> None:
+    """List the model files shipped with drivedyn (run one with `drivedyn run NAME`).
+
+    \b
+    Example (copy a shipped model, edit it, run it):
+        drivedyn models --show pendulum > my_pendulum.toml
+        drivedyn run my_pendulum.toml --set solver.t_end=10
+    """
     import tomllib
 
     from drivedyn.config import shipped_models
 
-    for name, path in shipped_models().items():
+    shipped = shipped_models()
+    if show is not None:
+        if show not in shipped:
+            _bad_input(f"no shipped model {show!r} (shipped: {', '.join(shipped)})")
+        click.echo(shipped[show].read_text(), nl=False)
+        return
+    for name, path in shipped.items():
         try:
             desc = tomllib.loads(path.read_text()).get("model", {}).get("description", "")
         except tomllib.TOMLDecodeError:

@@ -1,0 +1,20 @@
+"""The README's Python API example runs as written."""
+
+import re
+from pathlib import Path
+
+import matplotlib
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_readme_python_api_block_runs(tmp_path, monkeypatch):
+    matplotlib.use("Agg")
+    text = (ROOT / "README.md").read_text()
+    section = text.split("## Python API", 1)[1]
+    block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - our own README
+    assert (tmp_path / "pendulum.nc").exists()
+    assert namespace["results"].success
