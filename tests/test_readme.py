@@ -15,6 +15,6 @@ def test_readme_python_api_block_runs(tmp_path, monkeypatch):
     block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
-    exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - our own README
+    exec(compile(block, "README.md", "exec"), namespace)
     assert (tmp_path / "pendulum.nc").exists()
     assert namespace["results"].success
