@@ -184,8 +184,6 @@ class Group:
     naux: int = 0  # columns the kernel writes into aux (0: len(aux_names))
     aux_cols: tuple[int, ...] = ()  # aux column of each exported output (empty: in order)
     dissipative: bool = False
-    # True if the family's power input is work done on the system (loads, drivers)
-    supplies_power: bool = False
 
     def outputs(self) -> list[tuple[int, str, str, str]]:
         """Exported per-element outputs: (aux column, name, unit, description)."""
@@ -241,8 +239,9 @@ class Family(abc.ABC):
     ``build(specs, ctx)`` receives the element specs (in model order) and a
     :class:`drivedyn.model.compile.BuildContext` giving marker frames, multiplier and state
     allocation and time-function ids. ``tangent_cases()`` returns small
-    ``(spec, perturbation-seed)`` models used by the registry test that checks every
-    family's tangent matrices against finite differences.
+    functions that build small :class:`~drivedyn.model.spec.Spec` models exercising the
+    family, used by the registry test that checks every family's tangent matrices against
+    finite differences.
     """
 
     name: ClassVar[str] = ""
@@ -253,7 +252,7 @@ class Family(abc.ABC):
         """The group of all ``specs`` of this family."""
 
     def tangent_cases(self) -> list[Callable[[], Any]]:
-        """Functions returning ``(Spec, State modifier)`` pairs for the tangent test."""
+        """Functions returning a small :class:`Spec` that exercises the family (tangent test)."""
         return []
 
 

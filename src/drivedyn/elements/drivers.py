@@ -100,7 +100,6 @@ class JointDriverFamily(Family):
             drive.append((ctx.time_function(s.function), 0 if s.quantity == "angle" else 1))
         g = build_constraint_group(self.name, views, ctx, ((ROW_DRIVE, 0, 0),), True, drive)
         g.extra["joint"] = [s.joint for s in specs]
-        g.supplies_power = True
         # outputs: driving torque (column 8 = -sigma of the drive row), angle, power
         g.aux_cols = (8, 6, 7)
         g.aux_names = ("torque", "angle", "power")
@@ -291,7 +290,6 @@ class SpeedDifferenceDriverFamily(Family):
                       "accumulated angle of joint 1", "accumulated angle of joint 2",
                       "power supplied by the driver"),
             commit=_commit_two_angles,
-            supplies_power=True,
         )
 
     def tangent_cases(self):

@@ -197,7 +197,6 @@ class _LoadFamily(Family):
             aux_units=(unit, unit, unit, "W"),
             aux_desc=(f"applied {kind}, global x", f"applied {kind}, global y",
                       f"applied {kind}, global z", "power supplied by the load"),
-            supplies_power=True,
         )
 
     def tangent_cases(self):

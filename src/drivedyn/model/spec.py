@@ -282,6 +282,3 @@ class Spec:
             if e.name == name:
                 return e
         raise KeyError(name)
-
-    def body_of_marker(self, marker: str) -> str:
-        return self.markers[marker].body
