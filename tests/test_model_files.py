@@ -250,3 +250,28 @@ def test_models_command_lists_shipped_files():
     proc = _cli("models")
     assert proc.returncode == 0
     assert "pendulum" in proc.stdout and "slider_crank" in proc.stdout
+
+
+def test_generic_elements_section(tmp_path):
+    """Any element type by class name, with unit strings converted to SI."""
+    text = BLOCK + textwrap.dedent("""
+        [[elements]]
+        type = "SpringDamper"
+        name = "extra"
+        marker_a = "anchor"
+        marker_b = "slider"
+        stiffness = "0.2 kN/m"
+        free_length = "100 cm"
+    """)
+    model = load_model(_write(tmp_path, text))
+    res = dd.simulate(model, 0.3)
+    # two equal springs in parallel: omega = sqrt(2 k / m) = sqrt(200) rad/s
+    z = res["block.position"].values[:, 2] - 1.0
+    np.testing.assert_allclose(z, 0.1 * np.cos(np.sqrt(200.0) * res.time), atol=2e-4)
+    bad = text.replace('stiffness = "0.2 kN/m"', 'stiffnes = 200')
+    with pytest.raises(dd.ModelError, match=r"elements\[0\] \(extra\): unknown parameter\(s\) "
+                                            "stiffnes for SpringDamper"):
+        load_model(_write(tmp_path, bad, "bad.toml"))
+    bad = text.replace('type = "SpringDamper"', 'type = "Spring"')
+    with pytest.raises(dd.ModelError, match="unknown element type 'Spring'"):
+        load_model(_write(tmp_path, bad, "bad2.toml"))

@@ -231,7 +231,66 @@ def build_spec(mf: S.ModelFile) -> Spec:
                                          _function(d.function, funcs,
                                                    f"speed_difference_drivers.{d.name}"),
                                          d.k, d.p))
+    for i, e in enumerate(mf.elements):
+        spec.add(_generic_element(e, funcs, f"elements[{i}] ({e.name})"))
     return spec
+
+
+def element_types() -> dict[str, type]:
+    """Class name -> element spec class of every registered element family."""
+    import dataclasses
+
+    from drivedyn import elements as E  # noqa: N812
+
+    out: dict[str, type] = {}
+    stack = list(E.ElementSpec.__subclasses__())
+    while stack:
+        cls = stack.pop()
+        stack += cls.__subclasses__()
+        if dataclasses.is_dataclass(cls) and getattr(cls, "family", "") \
+                and not cls.__name__.startswith("_"):
+            out[cls.__name__] = cls
+    return dict(sorted(out.items()))
+
+
+def _si_values(value: Any) -> Any:
+    """Unit strings ('3 mm') -> SI floats, recursively in lists; other values unchanged."""
+    from drivedyn.config.units import _QUANTITY, parse_unit
+
+    if isinstance(value, list):
+        return [_si_values(v) for v in value]
+    if isinstance(value, str):
+        m = _QUANTITY.match(value)
+        if m and m.group(2):
+            factor, _dim = parse_unit(m.group(2))
+            return float(m.group(1)) * factor
+    return value
+
+
+def _generic_element(e: S.GenericElementFile, funcs: dict, where: str) -> Any:
+    import dataclasses
+
+    types = element_types()
+    cls = types.get(e.type)
+    if cls is None:
+        raise ModelError(f"{where}.type: unknown element type {e.type!r} (known: "
+                         f"{', '.join(types)})")
+    params = {k: v for k, v in (e.model_extra or {}).items()}
+    fields = {f.name for f in dataclasses.fields(cls) if f.init}
+    unknown = sorted(set(params) - fields)
+    if unknown:
+        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type} "
+                         f"(parameters: {', '.join(sorted(fields - {'name'}))})")
+    kwargs = {}
+    for k, v in params.items():
+        if k == "function" or k.endswith("_function"):
+            kwargs[k] = _function(v, funcs, where)
+        else:
+            kwargs[k] = _si_values(v)
+    try:
+        return cls(name=e.name, **kwargs)
+    except TypeError as exc:
+        raise ModelError(f"{where}: {exc}") from None
 
 
 def scenario_of(mf: S.ModelFile) -> Scenario:

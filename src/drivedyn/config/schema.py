@@ -17,6 +17,8 @@ File layout (every section optional except what the model needs)::
     [[forces]] / [[torques]]
     [[drivers]]            # prescribed joint angle or speed
     [[speed_difference_drivers]]
+    [[elements]]           # any other element type by class name (gears, contacts...):
+                           # type = "GearPair", name = ..., its constructor's parameters
     [functions]            # named time functions, referenced by name
     [solver]               # t_end, rho_inf, step, newton
     [output]               # dt or times, variables
@@ -228,6 +230,16 @@ class SpeedDifferenceDriverFile(_Strict):
     p: float | None = Field(default=None, ge=0)
 
 
+class GenericElementFile(BaseModel):
+    """Any registered element type by its class name; the other keys are its parameters
+    (numbers in SI or strings with units, converted to SI; dimensions are checked by the
+    element's own validation)."""
+
+    model_config = ConfigDict(extra="allow")
+    type: str
+    name: str
+
+
 class FixedStepFile(_Strict):
     mode: Literal["fixed"] = "fixed"
     h: Time = 1e-3
@@ -277,6 +289,7 @@ class ModelFile(_Strict):
     torques: list[TorqueFile] = Field(default_factory=list)
     drivers: list[DriverFile] = Field(default_factory=list)
     speed_difference_drivers: list[SpeedDifferenceDriverFile] = Field(default_factory=list)
+    elements: list[GenericElementFile] = Field(default_factory=list)
     functions: dict[str, FunctionField] = Field(default_factory=dict)
     solver: SolverFile = Field(default_factory=SolverFile)
     output: OutputFile = Field(default_factory=OutputFile)
