@@ -2,7 +2,17 @@
 
 from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
 from drivedyn.elements.base import REGISTRY, ElementSpec, Family, Group, register
+from drivedyn.elements.contact import (
+    FrictionLaw,
+    JournalContact,
+    NormalLaw,
+    PlaneContact,
+    SqueezeFilm,
+    ThrustWasherContact,
+    UnilateralContact,
+)
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver
+from drivedyn.elements.gears import GearPair
 from drivedyn.elements.joints import (
     Cylindrical,
     Fixed,
@@ -22,16 +32,24 @@ __all__ = [
     "Family",
     "Fixed",
     "Force",
+    "FrictionLaw",
+    "GearPair",
     "Group",
     "Hinge",
     "JointDriver",
+    "JournalContact",
+    "NormalLaw",
+    "PlaneContact",
     "Prismatic",
     "Screw",
     "SpeedDifferenceDriver",
     "Spherical",
     "SpringDamper",
+    "SqueezeFilm",
+    "ThrustWasherContact",
     "Torque",
     "TorsionalSpringDamper",
+    "UnilateralContact",
     "Universal",
     "register",
 ]

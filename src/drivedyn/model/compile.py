@@ -113,8 +113,9 @@ def _node_layout(spec: Spec):
 
 def _local_pairs(g, neq: int) -> tuple[np.ndarray, np.ndarray]:
     """CSC keys ``col * neq + row`` of every local matrix entry of a group (nel, nloc^2) and
-    the mask of those stored (both dofs exist; multiplier-multiplier entries are always
-    zero and left out, except the diagonal)."""
+    the mask of those stored (both dofs exist; multiplier-multiplier entries are zero and
+    left out, except the diagonal, unless the group sets ``extra["coupled_multipliers"]``:
+    a frictional contact's slip rows depend on its normal multiplier)."""
     d = g.dofs
     rows = np.repeat(d, g.nloc, axis=1)
     cols = np.tile(d, (1, g.nloc))
@@ -122,6 +123,8 @@ def _local_pairs(g, neq: int) -> tuple[np.ndarray, np.ndarray]:
     li = np.repeat(np.arange(g.nloc), g.nloc)
     lj = np.tile(np.arange(g.nloc), g.nloc)
     both_mult = (li >= nodal) & (lj >= nodal) & (li != lj)
+    if g.extra.get("coupled_multipliers", False):
+        both_mult[:] = False
     mask = (rows >= 0) & (cols >= 0) & ~both_mult[None, :]
     return cols * neq + rows, mask
 

@@ -29,7 +29,7 @@ from drivedyn.solver.settings import (
     StepOutcome,
     StepStatus,
 )
-from drivedyn.solver.stepper import Stepper
+from drivedyn.solver.stepper import FLOOR_REL, Stepper, residual_norms
 
 log = logging.getLogger("drivedyn")
 
@@ -67,9 +67,32 @@ def consistent_initial_state(model: Model, st: State, sys: System | None = None,
             f"constraint Jacobian is singular ({exc}); check for massless nodes without "
             "stiffness or redundant constraints") from None
     st.vd[:] = sol[:nd]
-    st.a[:] = st.vd
     st.lam[:] = sol[nd:]
+    if any(g.extra.get("active_set", False) for g in model.groups):
+        _settle_active_set(model, st, sys, lin)
+    st.a[:] = st.vd
     return st
+
+
+def _settle_active_set(model: Model, st: State, sys: System, lin: LinearSolver,
+                       max_iter: int = 20) -> None:
+    """Re-solve the acceleration-level equations while elements whose rows depend on the
+    multipliers (frictional contacts choosing stick or slip) change their choice: Newton on
+    these piecewise-smooth equations from the linear solution (linear rows are already
+    satisfied, so for them nothing changes)."""
+    nd = model.nd
+    for _ in range(max_iter):
+        sys.evaluate(st, 1.0, 0.0, 0.0, MODE_ACC, True)
+        rq, ph, finite = residual_norms(sys.r, sys.rabs, sys.kscale, nd, FLOOR_REL)
+        if not finite or (rq <= 1e-12 and ph <= 1e-14):
+            return
+        try:
+            lin.factor(sys.matrix())
+        except np.linalg.LinAlgError:
+            return
+        d = lin.solve(-sys.r)
+        st.vd += d[:nd]
+        st.lam += d[nd:]
 
 
 def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.ndarray:

@@ -197,6 +197,10 @@ class Stepper:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
+                if it >= 3 and self.factorizations == nfac0:
+                    # converged, but slowly, on a factorisation from an earlier step: it is
+                    # stale (contacts or gear flanks changed since); refresh it next step
+                    self.lu_h = None
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it > 0 and last <= stall:
                 # the correction is at round-off of the positions: nothing left to gain

@@ -1,0 +1,250 @@
+"""Helpers shared by the contact elements (kernels and group building); see
+:mod:`drivedyn.elements.contact` for the formulation."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements.base import Group
+from drivedyn.elements.friction import FrictionLaw, friction_arrays
+from drivedyn.elements.impact_laws import (
+    NSTATE,
+    ST_COUNT,
+    ST_FLAG,
+    ST_REBOUND,
+    ST_VS,
+    NormalLaw,
+    law_arrays,
+)
+from drivedyn.model.spec import ModelError
+
+
+@njit(cache=True, inline="always")
+def omega_projection(RA, RB, abar, G, D, full, M3):
+    """Relative spin about an axis of A: ``(omega_B - omega_A) . (R_A abar) = G . v``.
+
+    ``G`` (12,) is ``[0, -abar, 0, R_B^T R_A abar]`` on the local dofs ``[x_A, theta_A, x_B,
+    theta_B]`` (body-frame angular velocities); if ``full``, ``D = dG/dq`` (12, 12), non-zero
+    in rows 9..11: ``-R_B^T R_A abar~`` (columns theta_A) and ``u~`` with
+    ``u = R_B^T R_A abar`` (columns theta_B). ``M3`` is a (3, 3) work array.
+    """
+    for i in range(3):
+        for j in range(3):
+            M3[i, j] = RB[0, i] * RA[0, j] + RB[1, i] * RA[1, j] + RB[2, i] * RA[2, j]
+    u0 = M3[0, 0] * abar[0] + M3[0, 1] * abar[1] + M3[0, 2] * abar[2]
+    u1 = M3[1, 0] * abar[0] + M3[1, 1] * abar[1] + M3[1, 2] * abar[2]
+    u2 = M3[2, 0] * abar[0] + M3[2, 1] * abar[1] + M3[2, 2] * abar[2]
+    for i in range(12):
+        G[i] = 0.0
+    G[3] = -abar[0]
+    G[4] = -abar[1]
+    G[5] = -abar[2]
+    G[9] = u0
+    G[10] = u1
+    G[11] = u2
+    if full:
+        D[:, :] = 0.0
+        for i in range(3):
+            m0 = M3[i, 0]
+            m1 = M3[i, 1]
+            m2 = M3[i, 2]
+            # -(M abar~) row i = -(M[i,:] x abar)
+            D[9 + i, 3] = -(m1 * abar[2] - m2 * abar[1])
+            D[9 + i, 4] = -(m2 * abar[0] - m0 * abar[2])
+            D[9 + i, 5] = -(m0 * abar[1] - m1 * abar[0])
+        D[9, 10] = -u2
+        D[9, 11] = u1
+        D[10, 9] = u2
+        D[10, 11] = -u0
+        D[11, 9] = -u1
+        D[11, 10] = u0
+
+
+@njit(cache=True, inline="always")
+def transpose_times(H, vl, out):
+    """out[b] = sum_a H[a, b] vl[a]: the derivative of ``g . v`` when ``H = dg/dq``."""
+    for b in range(12):
+        s = 0.0
+        for a in range(12):
+            s += H[a, b] * vl[a]
+        out[b] = s
+
+
+@njit(cache=True, inline="always")
+def add_normal(F, Fd, Fr, sgn, g, H, Hv, rq, K, C, dFq, dFv, full):
+    """Normal force ``F(delta, deltadot)`` with ``delta = sgn phi + const``, ``grad phi = g``,
+    ``d g/dq = H``, ``Hv = H^T v``: ``rq += F sgn g``; fills ``dFq = dF/dq``,
+    ``dFv = dF/dv``; ``K += sgn (F H + g dFq^T)``, ``C += sgn g dFv^T``."""
+    for a in range(12):
+        rq[a] += sgn * F * g[a]
+    if full:
+        for b in range(12):
+            dFq[b] = sgn * (Fd * g[b] + Fr * Hv[b])
+            dFv[b] = sgn * Fr * g[b]
+        for a in range(12):
+            ga = sgn * g[a]
+            for b in range(12):
+                K[a, b] += sgn * F * H[a, b] + ga * dFq[b]
+                C[a, b] += ga * dFv[b]
+
+
+@njit(cache=True, inline="always")
+def add_velocity_force(f, dfds, dfdF, J, dJ, Jv, dFq, dFv, rq, K, C, full):
+    """A force ``f(s, F)`` on a sliding rate ``s = J(q) . v`` (``Jv = dJ^T v``) with the
+    normal force derivatives ``dFq, dFv``: ``rq += f J``,
+    ``K += f dJ + J (dfds Jv + dfdF dFq)^T``, ``C += J (dfds J + dfdF dFv)^T``."""
+    for a in range(12):
+        rq[a] += f * J[a]
+    if full:
+        for a in range(12):
+            ja = J[a]
+            for b in range(12):
+                K[a, b] += f * dJ[a, b] + ja * (dfds * Jv[b] + dfdF * dFq[b])
+                C[a, b] += ja * (dfds * J[b] + dfdF * dFv[b])
+
+
+
+# --- specs and groups ----------------------------------------------------------------------
+
+
+def positive(what: str, label: str, value: Any, allow_zero: bool = False) -> float:
+    try:
+        val = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"{what}.{label}: expected a number [m], got {value!r}") from None
+    if not math.isfinite(val) or val < 0.0 or (val == 0.0 and not allow_zero):
+        raise ModelError(f"{what}.{label}: must be {'>= 0' if allow_zero else '> 0'}, got "
+                         f"{value!r}")
+    return val
+
+
+def coerce_laws(spec: Any, what: str, law_field: str = "law") -> None:
+    """Turn mappings given for the normal law and the friction law (model files: TOML tables)
+    into :class:`NormalLaw` / :class:`FrictionLaw` on a frozen spec (in ``__post_init__``)."""
+    for fname, cls in ((law_field, NormalLaw), ("friction", FrictionLaw)):
+        val = getattr(spec, fname)
+        if isinstance(val, dict):
+            try:
+                object.__setattr__(spec, fname, cls(**val))
+            except TypeError as exc:
+                raise ModelError(f"{what}.{fname}: {exc}") from None
+
+
+def check_laws(spec: Any, what: str) -> None:
+    if not isinstance(spec.law, NormalLaw):
+        raise ModelError(f"{what}.law: expected a NormalLaw, got {type(spec.law).__name__}")
+    spec.law.validate(what)
+    if spec.friction is not None:
+        if not isinstance(spec.friction, FrictionLaw):
+            raise ModelError(f"{what}.friction: expected a FrictionLaw or None, got "
+                             f"{type(spec.friction).__name__}")
+        spec.friction.validate(what)
+
+
+def washer_friction_radius(r_int: float, r_ext: float) -> float:
+    """Friction radius of an annulus under uniform pressure [m]:
+    ``2 pi mu (F/S)(r_ext^3 - r_int^3)/3 = mu F r_m``."""
+    return 2.0 * (r_ext**3 - r_int**3) / (3.0 * (r_ext**2 - r_int**2))
+
+
+def marker_motion(ctx: Any, node: int, p: np.ndarray) -> tuple[np.ndarray, np.ndarray,
+                                                               np.ndarray, np.ndarray]:
+    """Initial position [m], velocity [m/s], rotation and angular velocity [rad/s] (global)
+    of the point at offset ``p`` (node frame) on ``node`` (``ctx.nn`` = ground), from the
+    spec's initial velocities."""
+    R = ctx.R0[node]
+    xp = ctx.x0[node] + R @ p
+    vn = np.zeros(3)
+    w = np.zeros(3)
+    if node < ctx.nn:
+        name = next(k for k, i in ctx.node_index.items() if i == node)
+        spec = ctx.spec
+        if name in spec.bodies:
+            b = spec.bodies[name]
+            w = np.asarray(b.angular_velocity, float)
+            vn = b.velocity + np.cross(w, b.rotation @ b.com)
+        else:
+            nd = spec.nodes[name]
+            w = np.asarray(nd.angular_velocity, float)
+            vn = np.asarray(nd.velocity, float)
+    return xp, vn + np.cross(w, R @ p), R, w
+
+
+def axial_motion(ctx: Any, nA: int, pA: np.ndarray, abar: np.ndarray, nB: int,
+                 pB: np.ndarray) -> tuple[float, float]:
+    """Initial value and rate of ``(x_mB - x_mA) . (R_A abar)``."""
+    xa, va, RA, wa = marker_motion(ctx, nA, pA)
+    xb, vb, _, _ = marker_motion(ctx, nB, pB)
+    a = RA @ abar
+    d = xb - xa
+    return float(d @ a), float((vb - va) @ a + d @ np.cross(wa, a))
+
+
+def two_markers(specs: list[Any], ctx: Any) -> tuple[np.ndarray, ...]:
+    """Marker offsets and frames, node pairs and local dofs of a group of two-marker
+    elements (both markers on different bodies; either may be on the ground)."""
+    nel = len(specs)
+    pA = np.zeros((nel, 3))
+    pB = np.zeros((nel, 3))
+    RmA = np.zeros((nel, 3, 3))
+    RmB = np.zeros((nel, 3, 3))
+    lnodes = np.zeros((nel, 2), np.int64)
+    for e, s in enumerate(specs):
+        what = f"{type(s).__name__} {s.name!r}"
+        nA, pA[e], RmA[e] = ctx.marker(s.marker_a, what)
+        nB, pB[e], RmB[e] = ctx.marker(s.marker_b, what)
+        if nA == nB:
+            where = "the ground" if nA == ctx.nn else "one body"
+            raise ModelError(f"{what}: both markers {s.marker_a!r} and {s.marker_b!r} are on "
+                             f"{where}; a contact must connect two different bodies")
+        lnodes[e] = (nA, nB)
+    return pA, pB, RmA, RmB, lnodes
+
+
+def make_commit(c0: int, n: int):
+    """A ``commit(group, state)`` copying ``aux[:, c0:c0+n]`` into each element's state."""
+    cols = np.arange(n)
+
+    def commit(group: Group, state: Any) -> None:
+        state.es[group.eoff[:, None] + cols] = group.aux[:, c0:c0 + n]
+
+    return commit
+
+
+STATE_OUTPUTS = (
+    ("impact_speed", "m/s", "approach speed at first contact of the current or last contact"),
+    ("rebound_speed", "m/s", "separation speed of the last finished contact"),
+    ("impacts", "1", "number of contacts started"),
+    ("in_contact", "1", "1 while in contact, else 0"),
+)
+
+
+def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tuple,
+                  laws: list[NormalLaw], frictions: list[FrictionLaw | None],
+                  states: list[list[float]], outputs: tuple[tuple[str, str, str], ...],
+                  lnodes: np.ndarray) -> Group:
+    """The :class:`Group` of a force-type contact family: kernel parameters
+    ``(*geom, *law arrays, *friction arrays, na)``, the impact state block of each element
+    written by the kernel into hidden aux columns ``na .. na + NSTATE`` and committed from
+    there; exported outputs ``outputs`` (columns 0..) plus :data:`STATE_OUTPUTS`."""
+    nel = len(specs)
+    dofs = np.zeros((nel, 12), np.int64)
+    eoff = np.zeros(nel, np.int64)
+    for e in range(nel):
+        dofs[e] = ctx.local_dofs(list(lnodes[e]), 0, 0)
+        eoff[e] = ctx.alloc_state(states[e])
+    na = len(outputs)
+    cols = tuple(range(na)) + tuple(na + c for c in (ST_VS, ST_REBOUND, ST_COUNT, ST_FLAG))
+    allout = outputs + STATE_OUTPUTS
+    return Group(
+        family=family, names=[s.name for s in specs], kernel=kernel,
+        params=(*geom, *law_arrays(laws), *friction_arrays(frictions), na),
+        lnodes=lnodes, nmult=0, dofs=dofs, eoff=eoff, nstate=NSTATE,
+        aux_names=tuple(o[0] for o in allout), aux_units=tuple(o[1] for o in allout),
+        aux_desc=tuple(o[2] for o in allout), commit=make_commit(na, NSTATE),
+        naux=na + NSTATE, aux_cols=cols, dissipative=True,
+    )

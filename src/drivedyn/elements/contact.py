@@ -1,0 +1,725 @@
+"""Force-type contact elements between two markers (families ``plane_contact``,
+``thrust_washer_contact``, ``journal_contact``).
+
+Every contact computes a penetration ``delta`` [m] from the marker frames, a normal force from
+a :class:`~drivedyn.elements.impact_laws.NormalLaw` (penalty or continuous impact, with the
+approach speed at first contact kept in the State) and a friction force or torque from a
+:class:`~drivedyn.elements.friction.FrictionLaw`. It reports its normal force, gap, sliding
+velocity, friction force or torque and dissipated power, puts the contact spring's potential
+energy into the energy account and counts the impact damping and friction power as
+dissipated (physics.md 3, seeds 000-002). Markers on the ground are allowed on either side.
+
+* :class:`PlaneContact`: a point (or sphere of radius ``radius``) at the origin of marker B
+  against the plane through the origin of marker A with normal ``n = z_A`` (B on the +z side).
+  ``delta = radius - (x_B - x_A) . n``. Friction on the sliding velocity of the contact point
+  ``x_B - radius n``: ``s = (v_B(x_c) - v_A(x_c))`` projected on the plane, force
+  ``mu_R(|s|) F s/|s|`` opposing it (a sphere that rolls without slipping feels none).
+* :class:`ThrustWasherContact`: the annular face of a gear (marker B) on a thrust washer
+  (marker A, normal ``z_A``), radii ``r_int < r_ext``: axial penetration
+  ``delta = -(x_B - x_A) . n``, uniform pressure ``F/S``, ``S = pi (r_ext^2 - r_int^2)``, and
+  the friction torque on the relative spin ``omega = (omega_B - omega_A) . n``::
+
+      M = 2 pi mu_R (F/S) (r_ext^3 - r_int^3)/3 = mu_R F r_m,
+      r_m = 2 (r_ext^3 - r_int^3) / (3 (r_ext^2 - r_int^2))
+
+  with the coefficient taken at the sliding speed ``r_m omega`` [m/s] at the friction radius.
+  Radial sliding of the faces is not resisted (the gears are centred by their joints).
+* :class:`JournalContact`: a pin (marker B, radius ``pin_radius``) in a bore (marker A, axis
+  ``z_A``, radius ``bore_radius``), or gear tips in a housing pocket. With ``e`` the offset of
+  the pin centre from the bore axis (its component normal to ``z_A``),
+  ``delta = |e| - (bore_radius - pin_radius)``; the normal force acts along ``e``. Friction
+  acts at the contact point on the sliding velocity along the circumference,
+  ``s = r_p (omega_B - omega_A) . z_A + (whirl of the pin centre)``, as a force
+  ``f = mu_R(s) F`` there: on the pin it is a friction torque ``f r_p`` about its axis plus a
+  tangential force, reported as ``friction_force`` and ``friction_torque``. The contact lies
+  in the plane of marker B's origin (model a long journal with several elements).
+
+Formulation: the residual is a sum of scalar forces times gradients of kinematic functions
+(:mod:`drivedyn.elements.primitives`): ``delta`` (distance along a marker axis, or the norm
+of two of them for the journal) and velocity-level sliding rates ``s = J(q) . v``, for which
+``J`` and ``dJ/dq`` are known (relative spin projected on a marker axis,
+:func:`~drivedyn.elements._contact_common.omega_projection`). The stiffness is
+``F d2delta/dq2 + grad(delta) (dF/dq)^T`` plus the friction terms ``f dJ/dq + J (df/dq)^T``,
+the damping ``grad(delta) (dF/dv)^T + J (df/dv)^T``; both are non-symmetric, as the Newton
+matrix allows.
+
+Per-contact state (:data:`~drivedyn.elements.impact_laws.NSTATE` floats in ``State.es``):
+contact flag, approach speed at first contact, last penetration, rate, time and acceleration,
+last separation speed, number of contacts; the kernel writes the values of an accepted step
+into hidden ``aux`` columns and the group's ``commit`` copies them (never during Newton
+iterations).
+
+Laws may be given as mappings (model files: TOML tables), e.g.
+``law = {stiffness = 1e10, exponent = 1.5, law = "lankarani-nikravesh", restitution = 0.8}``.
+
+This module also re-exports the rest of the contact family's public API (:class:`NormalLaw`,
+:class:`FrictionLaw`, :class:`~drivedyn.elements.squeeze_film.SqueezeFilm`,
+:class:`~drivedyn.elements.unilateral.UnilateralContact`); importing it registers all of them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements._contact_common import (
+    add_normal,
+    add_velocity_force,
+    axial_motion,
+    check_laws,
+    coerce_laws,
+    contact_group,
+    omega_projection,
+    positive,
+    transpose_times,
+    two_markers,
+    washer_friction_radius,
+)
+from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_element
+from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar
+from drivedyn.elements.impact_laws import (
+    NormalLaw,
+    impact_speed,
+    impact_state,
+    initial_state,
+    normal_force,
+)
+from drivedyn.elements.primitives import gather_v, prim_axial
+from drivedyn.model.spec import ModelError
+
+# --- point / sphere on plane ----------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def _plane_contact_element(P, I, S, Cc, O, W, full):
+    (pA, pB, RmA, radius, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na) = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    (nel, rq, rl, M, C, K, G, gn, Hn, J1, dJ1, J2, dJ2, Go, Do, vl, Hv, S1, S2, dFq, dFv,
+     df1q, df2q, ws, wv, M3) = W
+    for e in range(nel):
+        nA = lnodes[e, 0]
+        nB = lnodes[e, 1]
+        o = eoff[e]
+        RA = R[nA]
+        RB = R[nB]
+        rho = radius[e]
+        gather_v(v, dofs[e], 12, vl)
+        for a in range(12):
+            rq[a] = 0.0
+        if full:
+            K[:, :] = 0.0
+            C[:, :] = 0.0
+        phin = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, full,
+                          ws, wv)
+        delta = rho - phin
+        rate = 0.0
+        for a in range(12):
+            rate -= gn[a] * vl[a]
+        vs = impact_speed(es, o, lvmin[e])
+        F, Fd, Fr, V, Pn = normal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
+        if full:
+            transpose_times(Hn, vl, Hv)
+        add_normal(F, Fd, Fr, -1.0, gn, Hn, Hv, rq, K, C, dFq, dFv, full)
+        sp = 0.0
+        ftot = 0.0
+        mu_now = 0.0
+        Pf = 0.0
+        if F > 0.0 and fmu[e] + fmus[e] > 0.0:
+            prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 0], J1, dJ1, full, ws, wv)
+            prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 1], J2, dJ2, full, ws, wv)
+            if rho != 0.0:
+                # contact point below the centre: slip = centre slip -/+ rho (w_B - w_A).t2/t1
+                omega_projection(RA, RB, RmA[e, :, 1], Go, Do, full, M3)
+                for a in range(12):
+                    J1[a] -= rho * Go[a]
+                if full:
+                    for a in range(12):
+                        for b in range(12):
+                            dJ1[a, b] -= rho * Do[a, b]
+                omega_projection(RA, RB, RmA[e, :, 0], Go, Do, full, M3)
+                for a in range(12):
+                    J2[a] += rho * Go[a]
+                if full:
+                    for a in range(12):
+                        for b in range(12):
+                            dJ2[a, b] += rho * Do[a, b]
+            s1 = 0.0
+            s2 = 0.0
+            for a in range(12):
+                s1 += J1[a] * vl[a]
+                s2 += J2[a] * vl[a]
+            sp = np.sqrt(s1 * s1 + s2 * s2)
+            ph, dph = friction_phi(sp, fkind[e], fmu[e], fmus[e], fvst[e], feps[e])
+            f1 = F * ph * s1
+            f2 = F * ph * s2
+            mu_now = ph * sp
+            ftot = F * mu_now
+            Pf = F * ph * sp * sp
+            for a in range(12):
+                rq[a] += f1 * J1[a] + f2 * J2[a]
+            if full:
+                a11 = ph
+                a22 = ph
+                a12 = 0.0
+                if sp > 0.0:
+                    q = dph / sp
+                    a11 += q * s1 * s1
+                    a22 += q * s2 * s2
+                    a12 = q * s1 * s2
+                transpose_times(dJ1, vl, S1)
+                transpose_times(dJ2, vl, S2)
+                for b in range(12):
+                    df1q[b] = F * (a11 * S1[b] + a12 * S2[b]) + ph * s1 * dFq[b]
+                    df2q[b] = F * (a12 * S1[b] + a22 * S2[b]) + ph * s2 * dFq[b]
+                for a in range(12):
+                    j1 = J1[a]
+                    j2 = J2[a]
+                    for b in range(12):
+                        K[a, b] += f1 * dJ1[a, b] + f2 * dJ2[a, b] + j1 * df1q[b] + j2 * df2q[b]
+                        C[a, b] += (j1 * (F * (a11 * J1[b] + a12 * J2[b]) + ph * s1 * dFv[b])
+                                    + j2 * (F * (a12 * J1[b] + a22 * J2[b]) + ph * s2 * dFv[b]))
+        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
+                        mode, want, full, r, rabs, data)
+        eout[e, 0] = 0.0
+        eout[e, 1] = V
+        eout[e, 2] = 0.0
+        eout[e, 3] = Pn + Pf
+        aux[e, 0] = F
+        aux[e, 1] = -delta
+        aux[e, 2] = -rate
+        aux[e, 3] = sp
+        aux[e, 4] = ftot
+        aux[e, 5] = mu_now
+        aux[e, 6] = Pn + Pf
+        impact_state(delta, rate, vs, t, es, o, aux, e, na)
+
+
+@njit(cache=True)
+def plane_contact_kernel(
+    pA, pB, RmA, radius, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = pA.shape[0]
+    rq = np.zeros(12)
+    rl = np.zeros(0)
+    M = np.zeros((12, 12))
+    C = np.zeros((12, 12))
+    K = np.zeros((12, 12))
+    G = np.zeros((0, 12))
+    gn = np.zeros(12)
+    Hn = np.zeros((12, 12))
+    J1 = np.zeros(12)
+    dJ1 = np.zeros((12, 12))
+    J2 = np.zeros(12)
+    dJ2 = np.zeros((12, 12))
+    Go = np.zeros(12)
+    Do = np.zeros((12, 12))
+    vl = np.zeros(12)
+    Hv = np.zeros(12)
+    S1 = np.zeros(12)
+    S2 = np.zeros(12)
+    dFq = np.zeros(12)
+    dFv = np.zeros(12)
+    df1q = np.zeros(12)
+    df2q = np.zeros(12)
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
+    M3 = np.empty((3, 3))
+    P = (pA, pB, RmA, radius, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, rq, rl, M, C, K, G, gn, Hn, J1, dJ1, J2, dJ2, Go, Do, vl, Hv, S1, S2, dFq, dFv,
+         df1q, df2q, ws, wv, M3)
+    if want or mode == MODE_ACC:
+        _plane_contact_element(P, I, S, Cc, O, W, True)
+    else:
+        _plane_contact_element(P, I, S, Cc, O, W, False)
+
+
+# --- annular face on thrust washer ----------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def _washer_contact_element(P, I, S, Cc, O, W, full):
+    (pA, pB, RmA, rm, area, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na) = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    (nel, rq, rl, M, C, K, G, gn, Hn, Gs, Ds, vl, Hv, Dv, dFq, dFv, ws, wv, M3) = W
+    for e in range(nel):
+        nA = lnodes[e, 0]
+        nB = lnodes[e, 1]
+        o = eoff[e]
+        RA = R[nA]
+        RB = R[nB]
+        gather_v(v, dofs[e], 12, vl)
+        for a in range(12):
+            rq[a] = 0.0
+        if full:
+            K[:, :] = 0.0
+            C[:, :] = 0.0
+        phin = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, full,
+                          ws, wv)
+        delta = -phin
+        rate = 0.0
+        for a in range(12):
+            rate -= gn[a] * vl[a]
+        vs = impact_speed(es, o, lvmin[e])
+        F, Fd, Fr, V, Pn = normal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
+        if full:
+            transpose_times(Hn, vl, Hv)
+        add_normal(F, Fd, Fr, -1.0, gn, Hn, Hv, rq, K, C, dFq, dFv, full)
+        omega_projection(RA, RB, RmA[e, :, 2], Gs, Ds, full, M3)
+        w = 0.0
+        for a in range(12):
+            w += Gs[a] * vl[a]
+        Mf = 0.0
+        mu_now = 0.0
+        Pf = 0.0
+        if F > 0.0 and fmu[e] + fmus[e] > 0.0:
+            mu_now, dmu = friction_scalar(rm[e] * w, fkind[e], fmu[e], fmus[e], fvst[e],
+                                          feps[e])
+            Mf = mu_now * F * rm[e]
+            Pf = Mf * w
+            if full:
+                transpose_times(Ds, vl, Dv)
+            add_velocity_force(Mf, dmu * F * rm[e] * rm[e], mu_now * rm[e], Gs, Ds, Dv, dFq,
+                               dFv, rq, K, C, full)
+        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
+                        mode, want, full, r, rabs, data)
+        eout[e, 0] = 0.0
+        eout[e, 1] = V
+        eout[e, 2] = 0.0
+        eout[e, 3] = Pn + Pf
+        aux[e, 0] = F
+        aux[e, 1] = -delta
+        aux[e, 2] = -rate
+        aux[e, 3] = F / area[e]
+        aux[e, 4] = w
+        aux[e, 5] = rm[e] * w
+        aux[e, 6] = mu_now
+        aux[e, 7] = Mf
+        aux[e, 8] = Pn + Pf
+        impact_state(delta, rate, vs, t, es, o, aux, e, na)
+
+
+@njit(cache=True)
+def washer_contact_kernel(
+    pA, pB, RmA, rm, area, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = pA.shape[0]
+    rq = np.zeros(12)
+    rl = np.zeros(0)
+    M = np.zeros((12, 12))
+    C = np.zeros((12, 12))
+    K = np.zeros((12, 12))
+    G = np.zeros((0, 12))
+    gn = np.zeros(12)
+    Hn = np.zeros((12, 12))
+    Gs = np.zeros(12)
+    Ds = np.zeros((12, 12))
+    vl = np.zeros(12)
+    Hv = np.zeros(12)
+    Dv = np.zeros(12)
+    dFq = np.zeros(12)
+    dFv = np.zeros(12)
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
+    M3 = np.empty((3, 3))
+    P = (pA, pB, RmA, rm, area, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, rq, rl, M, C, K, G, gn, Hn, Gs, Ds, vl, Hv, Dv, dFq, dFv, ws, wv, M3)
+    if want or mode == MODE_ACC:
+        _washer_contact_element(P, I, S, Cc, O, W, True)
+    else:
+        _washer_contact_element(P, I, S, Cc, O, W, False)
+
+
+# --- journal: pin in bore -------------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def _journal_contact_element(P, I, S, Cc, O, W, full):
+    (pA, pB, RmA, clear, rpin, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na) = P
+    lnodes, dofs, kmap, eoff = I
+    x, R, v, vd, lam, es, tfv, t = S
+    Tn, cM, cC, cK, mode, want = Cc
+    r, rabs, data, eout, aux = O
+    (nel, rq, rl, M, C, K, G, g1, H1, g2, H2, gd, Hd, Js, dJs, Gz, Dz, vl, Hv, Jv, dFq, dFv,
+     ws, wv, M3) = W
+    for e in range(nel):
+        nA = lnodes[e, 0]
+        nB = lnodes[e, 1]
+        o = eoff[e]
+        RA = R[nA]
+        RB = R[nB]
+        gather_v(v, dofs[e], 12, vl)
+        for a in range(12):
+            rq[a] = 0.0
+        if full:
+            K[:, :] = 0.0
+            C[:, :] = 0.0
+        p1 = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 0], g1, H1, full, ws, wv)
+        p2 = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 1], g2, H2, full, ws, wv)
+        roff = np.sqrt(p1 * p1 + p2 * p2)
+        delta = roff - clear[e]
+        rate = 0.0
+        if roff > 0.0:
+            for a in range(12):
+                gd[a] = (p1 * g1[a] + p2 * g2[a]) / roff
+                rate += gd[a] * vl[a]
+        F = 0.0
+        V = 0.0
+        Pn = 0.0
+        vs = 0.0
+        sv = 0.0
+        mu_now = 0.0
+        f = 0.0
+        Pf = 0.0
+        if delta > 0.0:
+            vs = impact_speed(es, o, lvmin[e])
+            F, Fd, Fr, V, Pn = normal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
+            if full:
+                for a in range(12):
+                    for b in range(12):
+                        Hd[a, b] = (g1[a] * g1[b] + p1 * H1[a, b] + g2[a] * g2[b]
+                                    + p2 * H2[a, b] - gd[a] * gd[b]) / roff
+                transpose_times(Hd, vl, Hv)
+            add_normal(F, Fd, Fr, 1.0, gd, Hd, Hv, rq, K, C, dFq, dFv, full)
+            if F > 0.0 and fmu[e] + fmus[e] > 0.0:
+                omega_projection(RA, RB, RmA[e, :, 2], Gz, Dz, full, M3)
+                rp = rpin[e]
+                for a in range(12):
+                    Js[a] = (p1 * g2[a] - p2 * g1[a]) / roff + rp * Gz[a]
+                    sv += Js[a] * vl[a]
+                if full:
+                    for a in range(12):
+                        ta = (p1 * g2[a] - p2 * g1[a]) / roff
+                        for b in range(12):
+                            dJs[a, b] = ((g2[a] * g1[b] - g1[a] * g2[b] + p1 * H2[a, b]
+                                          - p2 * H1[a, b]) / roff - ta * gd[b] / roff
+                                         + rp * Dz[a, b])
+                    transpose_times(dJs, vl, Jv)
+                mu_now, dmu = friction_scalar(sv, fkind[e], fmu[e], fmus[e], fvst[e], feps[e])
+                f = mu_now * F
+                Pf = f * sv
+                add_velocity_force(f, dmu * F, mu_now, Js, dJs, Jv, dFq, dFv, rq, K, C, full)
+        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
+                        mode, want, full, r, rabs, data)
+        eout[e, 0] = 0.0
+        eout[e, 1] = V
+        eout[e, 2] = 0.0
+        eout[e, 3] = Pn + Pf
+        aux[e, 0] = F
+        aux[e, 1] = -delta
+        aux[e, 2] = -rate
+        aux[e, 3] = sv
+        aux[e, 4] = mu_now
+        aux[e, 5] = f
+        aux[e, 6] = f * rpin[e]
+        aux[e, 7] = Pn + Pf
+        impact_state(delta, rate, vs, t, es, o, aux, e, na)
+
+
+@njit(cache=True)
+def journal_contact_kernel(
+    pA, pB, RmA, clear, rpin, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nel = pA.shape[0]
+    rq = np.zeros(12)
+    rl = np.zeros(0)
+    M = np.zeros((12, 12))
+    C = np.zeros((12, 12))
+    K = np.zeros((12, 12))
+    G = np.zeros((0, 12))
+    g1 = np.zeros(12)
+    H1 = np.zeros((12, 12))
+    g2 = np.zeros(12)
+    H2 = np.zeros((12, 12))
+    gd = np.zeros(12)
+    Hd = np.zeros((12, 12))
+    Js = np.zeros(12)
+    dJs = np.zeros((12, 12))
+    Gz = np.zeros(12)
+    Dz = np.zeros((12, 12))
+    vl = np.zeros(12)
+    Hv = np.zeros(12)
+    Jv = np.zeros(12)
+    dFq = np.zeros(12)
+    dFv = np.zeros(12)
+    ws = np.empty((8, 3, 3))
+    wv = np.empty((8, 3))
+    M3 = np.empty((3, 3))
+    P = (pA, pB, RmA, clear, rpin, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na)
+    I = (lnodes, dofs, kmap, eoff)
+    S = (x, R, v, vd, lam, es, tfv, t)
+    Cc = (Tn, cM, cC, cK, mode, want)
+    O = (r, rabs, data, eout, aux)
+    W = (nel, rq, rl, M, C, K, G, g1, H1, g2, H2, gd, Hd, Js, dJs, Gz, Dz, vl, Hv, Jv, dFq,
+         dFv, ws, wv, M3)
+    if want or mode == MODE_ACC:
+        _journal_contact_element(P, I, S, Cc, O, W, True)
+    else:
+        _journal_contact_element(P, I, S, Cc, O, W, False)
+
+
+# --- specs ------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PlaneContact(ElementSpec):
+    """Point or sphere (origin of ``marker_b``) against the plane of ``marker_a``.
+
+    Attributes:
+        name: unique element name.
+        marker_a: the plane: through the marker origin, normal = its z axis, pointing to the
+            side where marker B is free.
+        marker_b: the point, or the centre of the sphere.
+        law: normal force law (:class:`NormalLaw`).
+        friction: :class:`FrictionLaw` or None (frictionless).
+        radius: sphere radius [m] >= 0 (0: a point).
+    """
+
+    name: str
+    marker_a: str
+    marker_b: str
+    law: NormalLaw = field(default_factory=lambda: NormalLaw(1e8))
+    friction: FrictionLaw | None = None
+    radius: float = 0.0
+    family: ClassVar[str] = "plane_contact"
+
+    def __post_init__(self) -> None:
+        coerce_laws(self, f"PlaneContact {self.name!r}")
+
+    def markers(self) -> tuple[str, ...]:
+        return (self.marker_a, self.marker_b)
+
+    def validate(self) -> None:
+        what = f"PlaneContact {self.name!r}"
+        positive(what, "radius", self.radius, allow_zero=True)
+        check_laws(self, what)
+
+
+@dataclass(frozen=True)
+class ThrustWasherContact(ElementSpec):
+    """Annular face (``marker_b``, e.g. a gear face) on a thrust washer (``marker_a``).
+
+    Attributes:
+        name: unique element name.
+        marker_a: washer face: origin on the face, z axis = washer normal towards B.
+        marker_b: the other face (origin on it, on the axis).
+        law: normal force law of the axial contact.
+        r_int, r_ext: inner and outer radii of the annulus [m], 0 <= r_int < r_ext.
+        friction: :class:`FrictionLaw` of this face (each face its own), or None.
+    """
+
+    name: str
+    marker_a: str
+    marker_b: str
+    law: NormalLaw = field(default_factory=lambda: NormalLaw(1e9, 1.0))
+    r_int: float = 0.0
+    r_ext: float = 0.0
+    friction: FrictionLaw | None = None
+    family: ClassVar[str] = "thrust_washer_contact"
+
+    def __post_init__(self) -> None:
+        coerce_laws(self, f"ThrustWasherContact {self.name!r}")
+
+    def markers(self) -> tuple[str, ...]:
+        return (self.marker_a, self.marker_b)
+
+    def validate(self) -> None:
+        what = f"ThrustWasherContact {self.name!r}"
+        ri = positive(what, "r_int", self.r_int, allow_zero=True)
+        re = positive(what, "r_ext", self.r_ext)
+        if ri >= re:
+            raise ModelError(f"{what}: r_int = {self.r_int!r} must be < r_ext = {self.r_ext!r}")
+        check_laws(self, what)
+
+    @property
+    def area(self) -> float:
+        """Face area S = pi (r_ext^2 - r_int^2) [m^2]."""
+        return math.pi * (self.r_ext**2 - self.r_int**2)
+
+    @property
+    def friction_radius(self) -> float:
+        """r_m = 2 (r_ext^3 - r_int^3) / (3 (r_ext^2 - r_int^2)) [m]: M = mu F r_m."""
+        return washer_friction_radius(self.r_int, self.r_ext)
+
+
+@dataclass(frozen=True)
+class JournalContact(ElementSpec):
+    """Pin (``marker_b``, its origin the pin centre) in a bore (``marker_a``, z = bore axis).
+
+    Attributes:
+        name: unique element name.
+        marker_a: bore: origin on the bore axis, z axis along it.
+        marker_b: pin centre (in the contact plane).
+        law: normal force law of the radial contact.
+        bore_radius: [m] > pin_radius.
+        pin_radius: [m] > 0 (for gear tips in a pocket: the tip radius).
+        friction: :class:`FrictionLaw` or None.
+    """
+
+    name: str
+    marker_a: str
+    marker_b: str
+    law: NormalLaw = field(default_factory=lambda: NormalLaw(1e9, 1.0))
+    bore_radius: float = 0.0
+    pin_radius: float = 0.0
+    friction: FrictionLaw | None = None
+    family: ClassVar[str] = "journal_contact"
+
+    def __post_init__(self) -> None:
+        coerce_laws(self, f"JournalContact {self.name!r}")
+
+    def markers(self) -> tuple[str, ...]:
+        return (self.marker_a, self.marker_b)
+
+    def validate(self) -> None:
+        what = f"JournalContact {self.name!r}"
+        rb = positive(what, "bore_radius", self.bore_radius)
+        rp = positive(what, "pin_radius", self.pin_radius)
+        if rp >= rb:
+            raise ModelError(f"{what}: pin_radius = {self.pin_radius!r} must be < bore_radius "
+                             f"= {self.bore_radius!r} (a clearance is needed)")
+        check_laws(self, what)
+
+
+# --- building ---------------------------------------------------------------------------------
+
+
+class PlaneContactFamily(Family):
+    """Registry entry of :class:`PlaneContact`."""
+
+    name = "plane_contact"
+
+    def build(self, specs, ctx) -> Group:
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        states = []
+        for e, s in enumerate(specs):
+            phi, rate = axial_motion(ctx, lnodes[e, 0], pA[e], RmA[e][:, 2], lnodes[e, 1], pB[e])
+            states.append(initial_state(s.radius - phi, -rate, s.law.min_impact_speed))
+        radius = np.array([s.radius for s in specs], float)
+        outputs = (
+            ("normal_force", "N", "normal contact force (>= 0)"),
+            ("gap", "m", "distance of the point (sphere surface) from the plane; < 0: "
+             "penetration"),
+            ("gap_rate", "m/s", "rate of the gap (< 0: approaching)"),
+            ("sliding_speed", "m/s", "sliding speed of the contact point in the plane"),
+            ("friction_force", "N", "friction force magnitude"),
+            ("friction_coefficient", "1", "regularised friction coefficient mu_R"),
+            ("dissipated_power", "W", "impact damping + friction power"),
+        )
+        return contact_group(self.name, specs, ctx, plane_contact_kernel,
+                             (pA, pB, RmA, radius), [s.law for s in specs],
+                             [s.friction for s in specs], states, outputs, lnodes)
+
+    def tangent_cases(self):
+        from drivedyn.elements import _contact_cases as cc
+
+        return [cc.plane_case, cc.sphere_case, cc.plane_ground_case]
+
+
+class ThrustWasherContactFamily(Family):
+    """Registry entry of :class:`ThrustWasherContact`."""
+
+    name = "thrust_washer_contact"
+
+    def build(self, specs, ctx) -> Group:
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        states = []
+        for e, s in enumerate(specs):
+            phi, rate = axial_motion(ctx, lnodes[e, 0], pA[e], RmA[e][:, 2], lnodes[e, 1], pB[e])
+            states.append(initial_state(-phi, -rate, s.law.min_impact_speed))
+        rm = np.array([s.friction_radius for s in specs], float)
+        area = np.array([s.area for s in specs], float)
+        outputs = (
+            ("normal_force", "N", "axial contact force (>= 0)"),
+            ("gap", "m", "axial gap between the faces along the washer normal; < 0: "
+             "penetration"),
+            ("gap_rate", "m/s", "rate of the gap"),
+            ("pressure", "Pa", "mean contact pressure F/S"),
+            ("relative_spin", "rad/s", "spin of B relative to A about the washer normal"),
+            ("sliding_speed", "m/s", "sliding speed at the friction radius r_m"),
+            ("friction_coefficient", "1", "regularised friction coefficient mu_R"),
+            ("friction_torque", "N m", "friction torque resisting the relative spin"),
+            ("dissipated_power", "W", "impact damping + friction power"),
+        )
+        return contact_group(self.name, specs, ctx, washer_contact_kernel,
+                             (pA, pB, RmA, rm, area), [s.law for s in specs],
+                             [s.friction for s in specs], states, outputs, lnodes)
+
+    def tangent_cases(self):
+        from drivedyn.elements import _contact_cases as cc
+
+        return [cc.washer_case, cc.washer_ground_case]
+
+
+class JournalContactFamily(Family):
+    """Registry entry of :class:`JournalContact`."""
+
+    name = "journal_contact"
+
+    def build(self, specs, ctx) -> Group:
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        states = []
+        for e, s in enumerate(specs):
+            nA, nB = lnodes[e]
+            p1, r1 = axial_motion(ctx, nA, pA[e], RmA[e][:, 0], nB, pB[e])
+            p2, r2 = axial_motion(ctx, nA, pA[e], RmA[e][:, 1], nB, pB[e])
+            roff = math.hypot(p1, p2)
+            rate = (p1 * r1 + p2 * r2) / roff if roff > 0 else 0.0
+            states.append(initial_state(roff - (s.bore_radius - s.pin_radius), rate,
+                                        s.law.min_impact_speed))
+        clear = np.array([s.bore_radius - s.pin_radius for s in specs], float)
+        rpin = np.array([s.pin_radius for s in specs], float)
+        outputs = (
+            ("normal_force", "N", "radial contact force (>= 0)"),
+            ("gap", "m", "radial clearance left (bore - pin radius - offset); < 0: "
+             "penetration"),
+            ("gap_rate", "m/s", "rate of the gap"),
+            ("sliding_speed", "m/s", "circumferential sliding speed at the contact point"),
+            ("friction_coefficient", "1", "regularised friction coefficient mu_R"),
+            ("friction_force", "N", "circumferential friction force at the contact point"),
+            ("friction_torque", "N m", "friction torque on the pin about its axis (f r_pin)"),
+            ("dissipated_power", "W", "impact damping + friction power"),
+        )
+        return contact_group(self.name, specs, ctx, journal_contact_kernel,
+                             (pA, pB, RmA, clear, rpin), [s.law for s in specs],
+                             [s.friction for s in specs], states, outputs, lnodes)
+
+    def tangent_cases(self):
+        from drivedyn.elements import _contact_cases as cc
+
+        return [cc.journal_case, cc.journal_ground_case]
+
+
+register(PlaneContactFamily())
+register(ThrustWasherContactFamily())
+register(JournalContactFamily())
+
+# the rest of the contact family (importing this module registers all of it)
+from drivedyn.elements.squeeze_film import SqueezeFilm  # noqa: E402
+from drivedyn.elements.unilateral import UnilateralContact  # noqa: E402
+
+__all__ = ["FrictionLaw", "JournalContact", "NormalLaw", "PlaneContact", "SqueezeFilm",
+           "ThrustWasherContact", "UnilateralContact"]
