@@ -49,8 +49,8 @@ def _wheel(spec: Spec, name: str, centre, frame, body_rot, body_pos, ground: boo
 def parallel_case(internal: str | None = None, ground_a: bool = False,
                   flip_b: bool = False) -> Spec:
     """Helical pair with parallel axes (external, or internal with ring ``internal``)."""
-    from drivedyn.elements.gears import GearPair
     from drivedyn.elements.gear_geometry import CylindricalPair
+    from drivedyn.elements.gears import GearPair
 
     spec = Spec(gravity=(0.0, 0.0, -9.81))
     za, zb = (20, 31) if internal is None else ((20, 47) if internal == "b" else (47, 20))
@@ -68,8 +68,8 @@ def parallel_case(internal: str | None = None, ground_a: bool = False,
     if flip_b:
         FB = FB @ _ry(np.pi)  # wheel B's marker z against A's
     cB = c0 + geo.centre_distance * _RM[:, 0]
-    a = _wheel(spec, "A", c0, FA, _RA, c0 + (0.05, 0.0, -0.03), ground_a)
-    b = _wheel(spec, "B", cB, FB, _RB, cB + (-0.02, 0.04, 0.01), False)
+    a = _wheel(spec, "A", c0, FA, _RA, c0 + np.array([0.05, 0.0, -0.03]), ground_a)
+    b = _wheel(spec, "B", cB, FB, _RB, cB + np.array([-0.02, 0.04, 0.01]), False)
     spec.add(GearPair("g", a, b, za, zb, mn, 0.04, pressure_angle=an,
                       helix_angle=beta if internal is None else -beta, internal=internal,
                       stiffness=2.0e6, stiffness_variation=True, variation_smoothing=0.5,
@@ -94,8 +94,8 @@ def bevel_case() -> Spec:
     cB = O + Rm * np.cos(gB) * bo
     FA = _RM @ _rz(0.2)
     FB = _RM @ _ry(-np.pi / 2)  # z along -bo (towards the apex)
-    a = _wheel(spec, "A", cA, FA, _RA, cA + (0.02, 0.0, 0.01), False)
-    b = _wheel(spec, "B", cB, FB, _RB, cB + (0.0, -0.03, 0.02), False)
+    a = _wheel(spec, "A", cA, FA, _RA, cA + np.array([0.02, 0.0, 0.01]), False)
+    b = _wheel(spec, "B", cB, FB, _RB, cB + np.array([0.0, -0.03, 0.02]), False)
     spec.add(GearPair("g", a, b, za, zb, mn, 0.05, helix_angle=beta, kind="bevel",
                       cone_angle_a=gA, cone_angle_b=gB, stiffness=3.0e6, damping=200.0,
                       backlash=1e-3, friction=0.15, friction_velocity=1e-3))
@@ -121,9 +121,9 @@ def crossed_case() -> Spec:
     Sig = -(bA + bB)
     FB = _RM @ np.array([[1.0, 0, 0], [0, np.cos(Sig), -np.sin(Sig)],
                          [0, np.sin(Sig), np.cos(Sig)]]) @ _rz(0.7)
-    cB = c0 + (rA + rB) * e
-    a = _wheel(spec, "A", c0, FA, _RA, c0 + (0.0, 0.02, 0.03), False)
-    b = _wheel(spec, "B", cB, FB, _RB, cB + (0.01, 0.0, -0.02), False)
+    cB = c0 + np.array([rA + rB]) * e
+    a = _wheel(spec, "A", c0, FA, _RA, c0 + np.array([0.0, 0.02, 0.03]), False)
+    b = _wheel(spec, "B", cB, FB, _RB, cB + np.array([0.01, 0.0, -0.02]), False)
     spec.add(GearPair("g", a, b, za, zb, mn, 0.03, helix_angle=bA, helix_angle_b=bB,
                       kind="crossed", stiffness=1.5e6, damping=150.0, backlash=5e-4,
                       initial_gap=1e-4, friction=0.1, friction_velocity=5.0))

@@ -25,6 +25,7 @@ Contents:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 
@@ -272,7 +273,7 @@ def effective_sliding_arm(eps_1: float, eps_2: float, p_bt: float) -> float:
     cuts = np.concatenate([[0.0, 1.0], (s1 - s0) / p_bt - j, -s0 / p_bt - j])
     cuts = np.unique(cuts[(cuts >= 0.0) & (cuts <= 1.0)])
     total = 0.0
-    for ta, tb in zip(cuts[:-1], cuts[1:], strict=True):
+    for ta, tb in pairwise(cuts):
         pos = s0 + (0.5 * (ta + tb) + j) * p_bt
         pos = pos[pos < s1]
         if pos.size:

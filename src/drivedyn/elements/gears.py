@@ -38,7 +38,13 @@ the initial drive-flank gap. Each flank is a unilateral spring-damper::
 with the potential ``V = k_m u^2 / 2`` per flank (the seeds' ``k_m [[u + x_err]]^2 / 2``
 with the hoop backlash operator ``[[.]]`` when the centre distance is nominal). The
 generalised force is ``F du/dq`` plus, for a stiffness that varies over the mesh cycle,
-``V'(phi_A)`` (a conservative formulation: the energy balance closes exactly).
+``V'(phi_A)`` (a conservative formulation: the energy balance closes exactly). The damper
+acts on the rate of the whole flank deflection (transmission error included) and only in
+contact; it is not clipped, so at separation it may briefly pull (Kelvin-Voigt contact).
+The varying stiffness is ``k' (0.75 n + 0.25)`` with ``n`` tooth pairs in contact (n and
+n + 1 over the fractions set by ``eps_alpha``; its cycle mean is ISO's
+``c' (0.75 eps_alpha + 0.25)``), with quintic-smoothed steps; the mesh phase is
+``z_A (phi_A - phi_A0) / 2 pi``.
 
 Tooth friction (regularised Coulomb law of the seeds, ``physics.md`` section 3) acts on the
 sliding velocity vector ``v_s = W s_dot`` (2 components, m/s): sliding at the pitch point
@@ -50,14 +56,27 @@ see :func:`~drivedyn.elements.gear_geometry.effective_sliding_arm`)::
     Q_fric = mu_R(|v_s|) / |v_s| F_N  W^T v_s,    F_N = |F_drive| + |F_coast|
 
 Its power ``mu_R(|v_s|) F_N |v_s|`` is reported as dissipated power, like the damping power.
+The profile-sliding part is a couple on the two wheels (it changes the torque ratio, i.e.
+the efficiency, not the mesh force); the trace part acts at the pitch point.
 
 Sign conventions: the *drive flank* is the one that wheel A loads when it turns positively
 about its axis (marker A's z); forces are reported on wheel B, in the global frame and in the
 gear frame of wheel A at the pitch point: tangential ``t = a x e`` (direction of A's surface
 motion), radial ``e`` (from A's axis towards the pitch point; positive radial force
-separates the wheels) and axial ``a``. Helix (spiral) angles are positive for a right hand
-(the tooth trace ``cos(beta) a + sin(beta) t`` turns positively about the axis as it
-advances along it); external parallel pairs need opposite hands, internal pairs the same.
+separates the wheels) and axial ``a``; with these, a parallel pair gives
+``F_a = -F_t tan(beta_A)``, ``F_r = |F_t| tan(alpha_n) / cos(beta)``. Helix (spiral) angles
+are positive for a right hand (the tooth trace ``cos(beta) a + sin(beta) t`` turns
+positively about the axis as it advances along it); external parallel pairs need opposite
+hands, internal pairs the same. ``torque_a``/``torque_b`` are the mesh torques on the wheels
+about their own axes (friction included).
+
+Numerics: contact status changes the iteration matrix, so a flank within ``TANGENT_BAND``
+(10 nm) of contact while neither flank is loaded lends its stiffness to the matrix (not to
+the residual): a zero-backlash mesh that is unloaded when the matrix is factorised (at
+t = 0, say) would otherwise enter it with no stiffness. The code that only bevel and
+crossed pairs need, and the assembly of the matrices, are compiled out of line (inlined,
+they made the parallel-axes residual loop 1.5x slower and the compilation 3x longer); the
+residual-only loop over parallel pairs is a separate copy without those calls.
 
 What is simplified (documented limits): one mean contact point (no line-contact
 distribution over the face width, so misalignment changes the load but not its distribution);
@@ -264,11 +283,129 @@ def _mesh_stiffness(dphi, kst):
             dk * (h2 - a2 + b2) * dp * dp)
 
 
+@njit(cache=True)
+def _skew_coords(RA, RB, RmA, RmB, p, gp, Hp, Sj, Spp, s, ref_a, ref_b, full, ws, wv):
+    """Bevel and crossed pairs: the primitives ``b . a1, b . a2, a . b1, a . b2`` (p[3:7])
+    and the mesh coordinates phi_A, phi_B (from the other wheel's axis), delta (in the frame
+    of A's axis and b projected on A's plane) with their first and (if ``full``) second
+    derivatives in p. Returns the components of f_r on A's x and y axes. Out of line, so that
+    the parallel-axes loop stays small and fast."""
+    p[3] = prim_dot(RA, RB, RmA[:, 0], RmB[:, 2], gp[3], Hp[3], full, ws, wv)
+    p[4] = prim_dot(RA, RB, RmA[:, 1], RmB[:, 2], gp[4], Hp[4], full, ws, wv)
+    p[5] = prim_dot(RA, RB, RmA[:, 2], RmB[:, 0], gp[5], Hp[5], full, ws, wv)
+    p[6] = prim_dot(RA, RB, RmA[:, 2], RmB[:, 1], gp[6], Hp[6], full, ws, wv)
+    s[0] = unwrap(_atan_row(Sj, Spp, 0, 3, 4, p[3], p[4], full), ref_a)
+    s[1] = unwrap(_atan_row(Sj, Spp, 1, 5, 6, p[5], p[6], full), ref_b)
+    s[2] = p[2]
+    Sj[2, 2] = 1.0
+    rho2 = p[3] * p[3] + p[4] * p[4]
+    rh = np.sqrt(rho2)
+    cp = p[3] / rh
+    sp = p[4] / rh
+    dr = p[0] * cp + p[1] * sp
+    dt = p[1] * cp - p[0] * sp
+    s[3] = dr
+    s[4] = dt
+    ps3 = -sp / rh  # d psi / d p3, psi = atan2(p4, p3)
+    ps4 = cp / rh
+    Sj[3, 0] = cp
+    Sj[3, 1] = sp
+    Sj[3, 3] = dt * ps3
+    Sj[3, 4] = dt * ps4
+    Sj[4, 0] = -sp
+    Sj[4, 1] = cp
+    Sj[4, 3] = -dr * ps3
+    Sj[4, 4] = -dr * ps4
+    if full:
+        r4 = rho2 * rho2
+        p33 = 2.0 * p[3] * p[4] / r4
+        p44 = -p33
+        p34 = (p[4] * p[4] - p[3] * p[3]) / r4
+        # delta_r: f_p0psi = -sp, f_p1psi = cp, f_psipsi = -dr, f_psi = dt
+        # delta_t: f_p0psi = -cp, f_p1psi = -sp, f_psipsi = -dt, f_psi = -dr
+        for row in range(3, 5):
+            if row == 3:
+                f0, f1, fpp, fp = -sp, cp, -dr, dt
+            else:
+                f0, f1, fpp, fp = -cp, -sp, -dt, -dr
+            Spp[row, 0, 3] = f0 * ps3
+            Spp[row, 0, 4] = f0 * ps4
+            Spp[row, 1, 3] = f1 * ps3
+            Spp[row, 1, 4] = f1 * ps4
+            Spp[row, 3, 0] = Spp[row, 0, 3]
+            Spp[row, 4, 0] = Spp[row, 0, 4]
+            Spp[row, 3, 1] = Spp[row, 1, 3]
+            Spp[row, 4, 1] = Spp[row, 1, 4]
+            Spp[row, 3, 3] = fpp * ps3 * ps3 + fp * p33
+            Spp[row, 4, 4] = fpp * ps4 * ps4 + fp * p44
+            Spp[row, 3, 4] = fpp * ps3 * ps4 + fp * p34
+            Spp[row, 4, 3] = Spp[row, 3, 4]
+    return cp, sp  # f_r = (p3 a1 + p4 a2) / rho
+
+
+@njit(cache=True)
+def _matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K, C):
+    """K and C of one element from the mesh law's derivatives in s (``dQs``, ``dQd``), the
+    map s(p) (``Sj``, ``Spp``) and the primitives p(q) (``gp``, ``Hp``): with
+    ``Q_p = S^T Q_s`` and ``p_dot = G v``, ``K = sum_i Q_p,i H_i + G^T (A G + B H^T v)`` and
+    ``C = G^T B G``, ``A = dQ_p/dp``, ``B = dQ_p/dp_dot``. Out of line: only the matrix path
+    calls it, and inlining it tripled the kernel's compile time."""
+    # Tm[l, k] = sum_m Spp[l, m, k] pd[m]  (d s_dot / d p at fixed p_dot)
+    for l_ in range(NS):
+        for kk in range(nprim):
+            acc = 0.0
+            for m in range(nprim):
+                acc += Spp[l_, m, kk] * pd[m]
+            Tm[l_, kk] = acc
+    # Ap = sum_j Qs_j Spp_j + S^T dQs S + S^T dQd Tm ;  Bp = S^T dQd S
+    for i in range(nprim):
+        for kk in range(nprim):
+            acc = 0.0
+            accb = 0.0
+            for j in range(NS):
+                acc += Qs[j] * Spp[j, i, kk]
+                sji = Sj[j, i]
+                if sji != 0.0:
+                    for l_ in range(NS):
+                        acc += sji * (dQs[j, l_] * Sj[l_, kk] + dQd[j, l_] * Tm[l_, kk])
+                        accb += sji * dQd[j, l_] * Sj[l_, kk]
+            Ap[i, kk] = acc
+            Bp[i, kk] = accb
+    # AG = Ap G + Bp (H^T v) ; K = sum_i Qp_i H_i + G^T AG ; C = G^T Bp G
+    for i in range(nprim):
+        for b in range(12):
+            acc = 0.0
+            for kk in range(nprim):
+                hv = 0.0
+                for a in range(12):
+                    hv += Hp[kk, a, b] * vl[a]
+                acc += Ap[i, kk] * gp[kk, b] + Bp[i, kk] * hv
+            AG[i, b] = acc
+    for a in range(12):
+        for b in range(12):
+            acc = 0.0
+            for i in range(nprim):
+                acc += Qp[i] * Hp[i, a, b] + gp[i, a] * AG[i, b]
+            K[a, b] = acc
+    for i in range(nprim):
+        for b in range(12):
+            acc = 0.0
+            for kk in range(nprim):
+                acc += Bp[i, kk] * gp[kk, b]
+            AG[i, b] = acc
+    for a in range(12):
+        for b in range(12):
+            acc = 0.0
+            for i in range(nprim):
+                acc += gp[i, a] * AG[i, b]
+            C[a, b] = acc
+
+
 @njit(cache=True, inline="always")
-def _gear_kernel_element(P, I, S_, Cc, O, W, full, which):
-    """Element loop. ``which`` (a literal): 0 parallel elements only, 1 bevel/crossed only,
-    2 all (kind decided per element); the specialised copies drop the other kind's code,
-    which makes the residual-only loop ~1.5x faster."""
+def _gear_kernel_element(P, I, S_, Cc, O, W, full, skew, idx):
+    """Loop over the elements ``idx``. ``full`` and ``skew`` are literals; the copy with
+    ``skew=False`` handles parallel pairs only, with the kind a compile-time constant (fixed
+    loop lengths, ~1.5x faster) and without the call to the bevel/crossed code."""
     (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
      idx_par, idx_skew) = P
     lnodes, dofs, kmap, eoff = I
@@ -277,22 +414,12 @@ def _gear_kernel_element(P, I, S_, Cc, O, W, full, which):
     r, rabs, data, eout, aux = O
     (nel, rq, rl, M, C, K, G, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap, Bp,
      Tm, AG, gx, gr, gu, dF, dFN, dFNd, WTv, wk, ws, wv) = W
-    if which == 0:
-        nloop = idx_par.shape[0]
-    elif which == 1:
-        nloop = idx_skew.shape[0]
-    else:
-        nloop = nel
-    for ie in range(nloop):
-        if which == 0:
-            e = idx_par[ie]
-            par = True
-        elif which == 1:
-            e = idx_skew[ie]
-            par = False
-        else:
-            e = ie
+    for ie in range(idx.shape[0]):
+        e = idx[ie]
+        if skew:
             par = kind[e] == KIND_PARALLEL
+        else:
+            par = True  # constant in this copy: fixed loop trip counts (nprim = 5)
         nA = lnodes[e, 0]
         nB = lnodes[e, 1]
         nprim = 5 if par else 7
@@ -302,15 +429,11 @@ def _gear_kernel_element(P, I, S_, Cc, O, W, full, which):
         # -- kinematic primitives p (gradients gp, Hessians Hp) ------------------------------
         _projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e], par, p, gp, Hp,
                      Ht, full, wk, ws)
-        if not par:
-            # b . a1, b . a2, a . b1, a . b2
-            p[3] = prim_dot(R[nA], R[nB], RmA[e, :, 0], RmB[e, :, 2], gp[3], Hp[3], full, ws, wv)
-            p[4] = prim_dot(R[nA], R[nB], RmA[e, :, 1], RmB[e, :, 2], gp[4], Hp[4], full, ws, wv)
-            p[5] = prim_dot(R[nA], R[nB], RmA[e, :, 2], RmB[e, :, 0], gp[5], Hp[5], full, ws, wv)
-            p[6] = prim_dot(R[nA], R[nB], RmA[e, :, 2], RmB[e, :, 1], gp[6], Hp[6], full, ws, wv)
         # -- mesh coordinates s(p) with Jacobian Sj and second derivatives Spp ---------------
         off = eoff[e]
-        ac = 1.0  # (typed on every path of the specialised copies)
+        ac = 1.0
+        fr_c0 = 1.0
+        fr_c1 = 0.0
         if par:
             s[0] = unwrap(_atan_row(Sj, Spp, 0, 0, 1, p[0], p[1], full), es[off])
             s[1] = unwrap(_atan_row(Sj, Spp, 1, 3, 4, p[3], p[4], full), es[off + 1])
@@ -329,55 +452,9 @@ def _gear_kernel_element(P, I, S_, Cc, O, W, full, which):
                 Spp[3, 1, 0] = Spp[3, 0, 1]
             fr_c0 = p[0] / ac  # f_r = (p0 a1 + p1 a2) / a_c
             fr_c1 = p[1] / ac
-        else:
-            s[0] = unwrap(_atan_row(Sj, Spp, 0, 3, 4, p[3], p[4], full), es[off])
-            s[1] = unwrap(_atan_row(Sj, Spp, 1, 5, 6, p[5], p[6], full), es[off + 1])
-            s[2] = p[2]
-            Sj[2, 2] = 1.0
-            rho2 = p[3] * p[3] + p[4] * p[4]
-            rh = np.sqrt(rho2)
-            cp = p[3] / rh
-            sp = p[4] / rh
-            dr = p[0] * cp + p[1] * sp
-            dt = p[1] * cp - p[0] * sp
-            s[3] = dr
-            s[4] = dt
-            ps3 = -sp / rh  # d psi / d p3, psi = atan2(p4, p3)
-            ps4 = cp / rh
-            Sj[3, 0] = cp
-            Sj[3, 1] = sp
-            Sj[3, 3] = dt * ps3
-            Sj[3, 4] = dt * ps4
-            Sj[4, 0] = -sp
-            Sj[4, 1] = cp
-            Sj[4, 3] = -dr * ps3
-            Sj[4, 4] = -dr * ps4
-            if full:
-                r4 = rho2 * rho2
-                p33 = 2.0 * p[3] * p[4] / r4
-                p44 = -p33
-                p34 = (p[4] * p[4] - p[3] * p[3]) / r4
-                # delta_r: f_p0psi = -sp, f_p1psi = cp, f_psipsi = -dr, f_psi = dt
-                # delta_t: f_p0psi = -cp, f_p1psi = -sp, f_psipsi = -dt, f_psi = -dr
-                for row in range(3, 5):
-                    if row == 3:
-                        f0, f1, fpp, fp = -sp, cp, -dr, dt
-                    else:
-                        f0, f1, fpp, fp = -cp, -sp, -dt, -dr
-                    Spp[row, 0, 3] = f0 * ps3
-                    Spp[row, 0, 4] = f0 * ps4
-                    Spp[row, 1, 3] = f1 * ps3
-                    Spp[row, 1, 4] = f1 * ps4
-                    Spp[row, 3, 0] = Spp[row, 0, 3]
-                    Spp[row, 4, 0] = Spp[row, 0, 4]
-                    Spp[row, 3, 1] = Spp[row, 1, 3]
-                    Spp[row, 4, 1] = Spp[row, 1, 4]
-                    Spp[row, 3, 3] = fpp * ps3 * ps3 + fp * p33
-                    Spp[row, 4, 4] = fpp * ps4 * ps4 + fp * p44
-                    Spp[row, 3, 4] = fpp * ps3 * ps4 + fp * p34
-                    Spp[row, 4, 3] = Spp[row, 3, 4]
-            fr_c0 = cp  # f_r = (p3 a1 + p4 a2) / rho
-            fr_c1 = sp
+        elif skew:
+            fr_c0, fr_c1 = _skew_coords(R[nA], R[nB], RmA[e], RmB[e], p, gp, Hp, Sj, Spp, s,
+                                        es[off], es[off + 1], full, ws, wv)
         # -- rates --------------------------------------------------------------------------
         gather_v(v, dofs[e], 12, vl)
         for i in range(nprim):
@@ -541,55 +618,7 @@ def _gear_kernel_element(P, I, S_, Cc, O, W, full, which):
                 acc += gp[i, a] * Qp[i]
             rq[a] = acc
         if full:
-            # Tm[l, k] = sum_m Spp[l, m, k] pd[m]  (d s_dot / d p at fixed p_dot)
-            for l_ in range(NS):
-                for kk in range(nprim):
-                    acc = 0.0
-                    for m in range(nprim):
-                        acc += Spp[l_, m, kk] * pd[m]
-                    Tm[l_, kk] = acc
-            # Ap = sum_j Qs_j Spp_j + S^T dQs S + S^T dQd Tm ;  Bp = S^T dQd S
-            for i in range(nprim):
-                for kk in range(nprim):
-                    acc = 0.0
-                    accb = 0.0
-                    for j in range(NS):
-                        acc += Qs[j] * Spp[j, i, kk]
-                        sji = Sj[j, i]
-                        if sji != 0.0:
-                            for l_ in range(NS):
-                                acc += sji * (dQs[j, l_] * Sj[l_, kk] + dQd[j, l_] * Tm[l_, kk])
-                                accb += sji * dQd[j, l_] * Sj[l_, kk]
-                    Ap[i, kk] = acc
-                    Bp[i, kk] = accb
-            # AG = Ap G + Bp (H^T v) ; K = sum_i Qp_i H_i + G^T AG ; C = G^T Bp G
-            for i in range(nprim):
-                for b in range(12):
-                    acc = 0.0
-                    for kk in range(nprim):
-                        hv = 0.0
-                        for a in range(12):
-                            hv += Hp[kk, a, b] * vl[a]
-                        acc += Ap[i, kk] * gp[kk, b] + Bp[i, kk] * hv
-                    AG[i, b] = acc
-            for a in range(12):
-                for b in range(12):
-                    acc = 0.0
-                    for i in range(nprim):
-                        acc += Qp[i] * Hp[i, a, b] + gp[i, a] * AG[i, b]
-                    K[a, b] = acc
-            for i in range(nprim):
-                for b in range(12):
-                    acc = 0.0
-                    for kk in range(nprim):
-                        acc += Bp[i, kk] * gp[kk, b]
-                    AG[i, b] = acc
-            for a in range(12):
-                for b in range(12):
-                    acc = 0.0
-                    for i in range(nprim):
-                        acc += gp[i, a] * AG[i, b]
-                    C[a, b] = acc
+            _matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K, C)
         scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
                         mode, want, full, r, rabs, data)
         # -- outputs ------------------------------------------------------------------------
@@ -641,6 +670,29 @@ def gear_kernel(
     idx_par, idx_skew, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    """All gear pairs of a model (``nel`` elements; trailing arguments: see
+    :mod:`drivedyn.elements.base`).
+
+    Parameters (per element ``e``; lengths in m, angles in rad):
+        kind (nel,): KIND_PARALLEL or KIND_SKEW (bevel, crossed axes).
+        pA, pB (nel, 3): marker origins in their node frames; RmA, RmB (nel, 3, 3) marker
+            rotations in their node frames (z = wheel axis).
+        cof (nel, 5): coefficients of the odd approach x in the mesh coordinates
+            (c_A, c_B [m/rad], cx [1] for delta_a, delta_r, delta_t).
+        crf (nel, 3): coefficients of the even approach rho in delta (skew pairs).
+        inv (nel, 3): involute term of parallel pairs: (-/+ cos beta_b, R = r_bA +/- r_bB,
+            sqrt(a_c0^2 - R^2)).
+        s0 (nel, 5): mesh coordinates in the initial configuration.
+        x0 (nel,): -initial drive-flank gap (normal); bn (nel,): normal backlash.
+        kst (nel, 6): stiffness law (k_low, k_high [N/m], fraction of the cycle at k_high,
+            smoothing width [cycles], z_A, phase at t = 0 [cycles]).
+        cdamp (nel,): damping [N s/m]; terr (nel,): transmission error amplitude X.
+        fric (nel, 2): (mu, eps_v [m/s]); Wf (nel, 2, 5): sliding velocity rows W [m/rad, 1].
+        Mf (nel, 3, 3): gear frame (t, e, a) in the mesh frame (f_a, f_r, f_t).
+        idx_par, idx_skew: indices of the parallel and of the bevel/crossed elements.
+    State: ``es[eoff[e]], es[eoff[e] + 1]`` hold the accumulated wheel angles phi_A, phi_B
+    of the last accepted step (see :data:`GEAR_AUX` for the outputs).
+    """
     nel = kind.shape[0]
     rq = np.zeros(12)
     rl = np.zeros(0)
@@ -685,12 +737,11 @@ def gear_kernel(
     W = (nel, rq, rl, M, C, K, G, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap,
          Bp, Tm, AG, gx, gr, gu, dF, dFN, dFNd, WTv, wk, ws, wv)
     if want or mode == MODE_ACC:
-        _gear_kernel_element(P, I, S_, Cc, O, W, True, 2)
+        _gear_kernel_element(P, I, S_, Cc, O, W, True, True, np.arange(nel))
     else:
-        if idx_par.shape[0] > 0:
-            _gear_kernel_element(P, I, S_, Cc, O, W, False, 0)
+        _gear_kernel_element(P, I, S_, Cc, O, W, False, False, idx_par)
         if idx_skew.shape[0] > 0:
-            _gear_kernel_element(P, I, S_, Cc, O, W, False, 1)
+            _gear_kernel_element(P, I, S_, Cc, O, W, False, True, idx_skew)
 
 
 # ---------------------------------------------------------------------------------------------
