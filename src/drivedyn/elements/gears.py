@@ -74,9 +74,9 @@ Numerics: contact status changes the iteration matrix, so a flank within ``TANGE
 (10 nm) of contact while neither flank is loaded lends its stiffness to the matrix (not to
 the residual): a zero-backlash mesh that is unloaded when the matrix is factorised (at
 t = 0, say) would otherwise enter it with no stiffness. The code that only bevel and
-crossed pairs need, and the assembly of the matrices, are compiled out of line (inlined,
-they made the parallel-axes residual loop 1.5x slower and the compilation 3x longer); the
-residual-only loop over parallel pairs is a separate copy without those calls.
+crossed pairs need and the assembly of the matrices are compiled out of line (first
+compilation ~70 s instead of ~2 min), and the residual-only loop over parallel pairs is a
+separate copy with the kind a compile-time constant (fixed loop lengths: 1.5x faster).
 
 What is simplified (documented limits): one mean contact point (no line-contact
 distribution over the face width, so misalignment changes the load but not its distribution);
@@ -349,7 +349,7 @@ def _matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, 
     map s(p) (``Sj``, ``Spp``) and the primitives p(q) (``gp``, ``Hp``): with
     ``Q_p = S^T Q_s`` and ``p_dot = G v``, ``K = sum_i Q_p,i H_i + G^T (A G + B H^T v)`` and
     ``C = G^T B G``, ``A = dQ_p/dp``, ``B = dQ_p/dp_dot``. Out of line: only the matrix path
-    calls it, and inlining it tripled the kernel's compile time."""
+    calls it, and inlined it added ~25 s to the kernel's first compilation."""
     # Tm[l, k] = sum_m Spp[l, m, k] pd[m]  (d s_dot / d p at fixed p_dot)
     for l_ in range(NS):
         for kk in range(nprim):
@@ -1262,9 +1262,9 @@ class GearPairFamily(Family):
             terr[e] = s.transmission_error
             fric[e] = (s.friction, s.friction_velocity)
             info.append({"stiffness": float(km), "damping": float(cdamp[e]),
-                         "contact_ratio": float(eps), "sliding_arm": md.s_eff,
-                         "radius_a": md.radius_a, "radius_b": md.radius_b,
-                         "base_radius_a": md.base_radius_a, "coef_a": float(md.cof[0]),
+                         "contact_ratio": float(eps), "sliding_arm": float(md.s_eff),
+                         "radius_a": float(md.radius_a), "radius_b": float(md.radius_b),
+                         "base_radius_a": float(md.base_radius_a), "coef_a": float(md.cof[0]),
                          "coef_b": float(md.cof[1]), "normal_backlash": float(bn[e])})
         params = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf,
                   Mf, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64),
