@@ -25,7 +25,7 @@ from rich.table import Table
 import drivedyn
 from drivedyn.validation import base as vbase
 
-COMPILE_NOTE = ("note: the first run compiles the numba kernels (about a minute); they are "
+COMPILE_NOTE = ("note: the first run compiles the numba kernels (a few minutes); they are "
                 "cached afterwards.")
 
 HELP = """drivedyn: flexible multibody simulation of automotive drivelines.

@@ -101,7 +101,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     if t_final <= 0:
         _bad_input(f"--t-end must be > 0 s, got {t_final}")
     if not kernels_cached():
-        _err("note: first run: compiling the numba kernels (about a minute, cached afterwards)")
+        _err("note: first run: compiling the numba kernels (a few minutes, cached afterwards)")
     name = model.meta.get("model_name", "model")
     _err(f"simulating {name} to t = {t_final:g} s")
     try:
