@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import resource
-import time
+
+from _common import record, timed_run, warmup
 
 import drivedyn as dd
 
@@ -68,28 +68,13 @@ def build_spec(n: int) -> dd.Spec:
 
 def run(n: int, step: dd.FixedStep, t_end: float) -> dict:
     """Build and simulate the row; return the figures of the run."""
-    t0 = time.perf_counter()
-    model = dd.compile_model(build_spec(n))
-    build_s = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    res = dd.simulate(model, t_end, integrator=INTEGRATOR, step=step, output_dt=OUTPUT_DT)
-    wall = time.perf_counter() - t0
-    omega_last = float(res.final(f"gear{n - 1}.angular_velocity")[2])  # about global z
-    return {
-        "N": n,
-        "step_mode": "fixed",
-        "wall_s": round(wall, 4),
-        "steps": res.stats.steps,
-        "newton_iterations": res.stats.newton_iterations,
-        "factorizations": res.stats.factorizations,
-        "omega_last": omega_last,
-        "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        "build_s": round(build_s, 4),
-        "rejected": res.stats.rejected,
-        "success": res.success,
-        "mesh_torque_first": float(res.final("mesh1.torque_a")),
-        "mesh_torque_last": float(res.final(f"mesh{n - 1}.torque_b")),
-    }
+    res, build_s, wall = timed_run(build_spec(n), t_end, integrator=INTEGRATOR, step=step,
+                                   output_dt=OUTPUT_DT)
+    omega_last = float(res.final(f"gear{n - 1}.angular_velocity")[2])
+    out = record(n, step, res, build_s, wall, omega_last)
+    out["mesh_torque_first"] = float(res.final("mesh1.torque_a"))
+    out["mesh_torque_last"] = float(res.final(f"mesh{n - 1}.torque_b"))
+    return out
 
 
 def main() -> None:
@@ -101,9 +86,8 @@ def main() -> None:
 
     # Warm-up: compiles (first run ever) or loads (cached) the numba kernels, so that the
     # timed runs below measure the simulation only.
-    t0 = time.perf_counter()
-    run(2, dd.FixedStep(1e-4), 5e-4)
-    print(json.dumps({"warmup_compile_s": round(time.perf_counter() - t0, 3)}), flush=True)
+    t = warmup(lambda: run(2, dd.FixedStep(1e-4), 5e-4))
+    print(json.dumps({"warmup_compile_s": t}), flush=True)
 
     for n in args.n:
         print(json.dumps(run(n, FIXED, args.t_end)), flush=True)

@@ -22,8 +22,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import resource
-import time
+
+from _common import record, timed_run, warmup
 
 import drivedyn as dd
 
@@ -64,26 +64,11 @@ def build_spec(n: int) -> dd.Spec:
 
 def run(n: int, step: dd.FixedStep | dd.AdaptiveStep, t_end: float) -> dict:
     """Build and simulate the chain; return the figures of the run."""
-    t0 = time.perf_counter()
-    model = dd.compile_model(build_spec(n))
-    build_s = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    res = dd.simulate(model, t_end, integrator=INTEGRATOR, step=step, output_dt=OUTPUT_DT)
-    wall = time.perf_counter() - t0
-    omega_last = float(res.final(f"disk{n - 1}.angular_velocity")[0])  # about global x
-    return {
-        "N": n,
-        "step_mode": "fixed" if isinstance(step, dd.FixedStep) else "adaptive",
-        "wall_s": round(wall, 4),
-        "steps": res.stats.steps,
-        "newton_iterations": res.stats.newton_iterations,
-        "factorizations": res.stats.factorizations,
-        "omega_last": omega_last,
-        "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
-        "build_s": round(build_s, 4),
-        "rejected": res.stats.rejected,
-        "success": res.success,
-    }
+    res, build_s, wall = timed_run(build_spec(n), t_end, integrator=INTEGRATOR, step=step,
+                                   output_dt=OUTPUT_DT)
+    omega_last = float(res.final(f"disk{n - 1}.angular_velocity")[0])
+    out = record(n, step, res, build_s, wall, omega_last)
+    return out
 
 
 def main() -> None:
@@ -95,10 +80,9 @@ def main() -> None:
 
     # Warm-up: compiles (first run ever) or loads (cached) the numba kernels of both step
     # modes, so that the timed runs below measure the simulation only.
-    t0 = time.perf_counter()
-    run(2, dd.FixedStep(1e-4), 5e-4)
-    run(2, dd.AdaptiveStep(h0=1e-4, h_max=1e-4), 5e-4)
-    print(json.dumps({"warmup_compile_s": round(time.perf_counter() - t0, 3)}), flush=True)
+    t = warmup(lambda: run(2, dd.FixedStep(1e-4), 5e-4),
+               lambda: run(2, dd.AdaptiveStep(h0=1e-4, h_max=1e-4), 5e-4))
+    print(json.dumps({"warmup_compile_s": t}), flush=True)
 
     for n in args.n:
         for step in (FIXED, ADAPTIVE):

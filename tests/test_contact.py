@@ -16,46 +16,13 @@ import pytest
 
 import drivedyn as dd
 from drivedyn.elements import _contact_cases as cc
-from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.base import MODE_ACC, MODE_VEL
 from drivedyn.elements.impact_laws import NSTATE, ST_ACC, ST_FLAG, ST_PEN, ST_RATE
 from drivedyn.library import bouncing_ball as bb
 from drivedyn.model.spec import ModelError
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System
-
-EPS = 1e-6
-
-
-def _residual(sys, st, mode=MODE_DYN):
-    sys.evaluate(st, 0.0, 0.0, 1.0, mode, False)
-    return sys.r.copy()
-
-
-def _perturb(st, j, eps, nd):
-    s = st.copy()
-    if j < nd:
-        node, c = divmod(j, 6)
-        if c < 3:
-            s.x[node, c] += eps
-        else:
-            e = np.zeros(3)
-            e[c - 3] = eps
-            s.R[node] = s.R[node] @ exp_so3(e)
-    else:
-        s.lam[j - nd] += eps
-    return s
-
-
-def _matrix(sys, st, cM, cC, cK, mode=MODE_DYN):
-    sys.reset_tangent()
-    sys.evaluate(st, cM, cC, cK, mode, True)
-    return sys.matrix().toarray()
-
-
-def _close(A, F, what, rmax):
-    scale = max(1.0, np.abs(F).max())
-    err = np.abs(A - F).max()
-    assert err <= 1e-6 * scale + 1e-15 * rmax / EPS, f"{what}: max |analytic - FD| = {err:.3g}"
+from fdcheck import EPS, assembled, check, perturb, residual
 
 
 def check_tangents(model, st, acc_vel: bool = False) -> None:
@@ -64,26 +31,26 @@ def check_tangents(model, st, acc_vel: bool = False) -> None:
     constraint Jacobians."""
     sys = System(model)
     nd, neq = model.nd, model.neq
-    rmax = np.abs(_residual(sys, st)).max()
-    K = _matrix(sys, st, 0.0, 0.0, 1.0)
+    rmax = np.abs(residual(sys, st)).max()
+    K = assembled(sys, st, 0.0, 0.0, 1.0)
     F = np.zeros((neq, neq))
     for j in range(neq):
-        F[:, j] = (_residual(sys, _perturb(st, j, EPS, nd))
-                   - _residual(sys, _perturb(st, j, -EPS, nd))) / (2 * EPS)
-    _close(K, F, "stiffness", rmax)
-    C = _matrix(sys, st, 0.0, 1.0, 0.0)[:nd, :nd]
-    M = _matrix(sys, st, 1.0, 0.0, 0.0)[:nd, :nd]
+        F[:, j] = (residual(sys, perturb(st, j, EPS, nd))
+                   - residual(sys, perturb(st, j, -EPS, nd))) / (2 * EPS)
+    check(K, F, "stiffness", rmax)
+    C = assembled(sys, st, 0.0, 1.0, 0.0)[:nd, :nd]
+    M = assembled(sys, st, 1.0, 0.0, 0.0)[:nd, :nd]
     for what, A, attr in (("damping", C, "v"), ("mass", M, "vd")):
         F = np.zeros((nd, nd))
         for j in range(nd):
             sp, sm = st.copy(), st.copy()
             getattr(sp, attr)[j] += EPS
             getattr(sm, attr)[j] -= EPS
-            F[:, j] = (_residual(sys, sp) - _residual(sys, sm))[:nd] / (2 * EPS)
-        _close(A, F, what, rmax)
+            F[:, j] = (residual(sys, sp) - residual(sys, sm))[:nd] / (2 * EPS)
+        check(A, F, what, rmax)
     if acc_vel:
         for mode, attr in ((MODE_ACC, "vd"), (MODE_VEL, "v")):
-            A = _matrix(sys, st, 1.0, 0.0, 0.0, mode)
+            A = assembled(sys, st, 1.0, 0.0, 0.0, mode)
             F = np.zeros((neq, neq))
             for j in range(neq):
                 if j < nd:
@@ -91,13 +58,13 @@ def check_tangents(model, st, acc_vel: bool = False) -> None:
                     getattr(sp, attr)[j] += EPS
                     getattr(sm, attr)[j] -= EPS
                 else:
-                    sp, sm = _perturb(st, j, EPS, nd), _perturb(st, j, -EPS, nd)
-                F[:, j] = (_residual(sys, sp, mode) - _residual(sys, sm, mode)) / (2 * EPS)
+                    sp, sm = perturb(st, j, EPS, nd), perturb(st, j, -EPS, nd)
+                F[:, j] = (residual(sys, sp, mode) - residual(sys, sm, mode)) / (2 * EPS)
             if mode == MODE_ACC:
-                _close(A, F, "acceleration-level matrix", rmax)
+                check(A, F, "acceleration-level matrix", rmax)
             else:  # velocity projection: constraint rows and multiplier columns
-                _close(A[nd:], F[nd:], "velocity-level rows", rmax)
-                _close(A[:nd, nd:], F[:nd, nd:], "velocity-level multiplier columns", rmax)
+                check(A[nd:], F[nd:], "velocity-level rows", rmax)
+                check(A[:nd, nd:], F[:nd, nd:], "velocity-level multiplier columns", rmax)
 
 
 def random_state(model, seed=7, scale_v=1.0):

@@ -228,14 +228,16 @@ def test_failed_run_exits_1_and_keeps_partial_results(tmp_path):
 def test_interrupted_run_leaves_a_readable_partial_result(tmp_path):
     path = _write(tmp_path, BLOCK.replace('t_end = "0.5 s"', 't_end = "1000 s"'))
     proc = subprocess.Popen([sys.executable, "-m", "drivedyn.cli", "run", str(path), "--out",
-                             str(tmp_path / "long.nc")], stdout=subprocess.PIPE,
+                             str(tmp_path / "long.nc"), "--verbose"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
-    # wait until the run has started (the command announces it), then let it integrate
+    # --verbose logs every accepted step ("t = ... s ..."): interrupt only once the time loop
+    # is well under way (not while kernels load or the initial state is computed)
     deadline = time.time() + 300
-    line = ""
-    while "simulating" not in line and time.time() < deadline:
+    t_run = 0.0
+    while t_run < 0.5 and time.time() < deadline and proc.poll() is None:
         line = proc.stderr.readline()
-    time.sleep(2.0)
+        if line.startswith("t = "):
+            t_run = float(line.split()[2])
     proc.send_signal(signal.SIGINT)
     _out, err = proc.communicate(timeout=120)
     assert proc.returncode == 1, err

@@ -21,9 +21,7 @@ from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System
 from drivedyn.solver.settings import GeneralizedAlpha, Newton
 from drivedyn.solver.stepper import Stepper
-
-EPS = 1e-6
-RTOL = 1e-6
+from fdcheck import EPS, assembled, check, perturb, residual
 
 
 def _cases():
@@ -51,44 +49,6 @@ def _perturbed_state(model, rng):
     return st
 
 
-def _residual(sys, st, mode=MODE_DYN):
-    sys.evaluate(st, 0.0, 0.0, 1.0, mode, False)
-    return sys.r.copy()
-
-
-def _perturb(st, j, eps, nd):
-    """Copy of ``st`` with unknown j moved by eps (Lie update for rotations)."""
-    s = st.copy()
-    if j < nd:
-        node, c = divmod(j, 6)
-        if c < 3:
-            s.x[node, c] += eps
-        else:
-            e = np.zeros(3)
-            e[c - 3] = eps
-            s.R[node] = s.R[node] @ exp_so3(e)
-    else:
-        s.lam[j - nd] += eps
-    return s
-
-
-def _assembled(sys, st, cM, cC, cK, mode=MODE_DYN):
-    sys.reset_tangent()
-    sys.evaluate(st, cM, cC, cK, mode, True)
-    return sys.matrix().toarray()
-
-
-def _check(A, F, what, rmax=0.0):
-    """``rmax``: largest residual magnitude; central differences lose about
-    1e-16 * rmax / EPS to round-off, allowed for with a factor 10."""
-    scale = max(1.0, np.abs(F).max())
-    err = np.abs(A - F).max()
-    i, j = np.unravel_index(np.argmax(np.abs(A - F)), A.shape)
-    tol = RTOL * scale + 10 * 1e-16 * rmax / EPS
-    assert err <= tol, (f"{what}: max |analytic - FD| = {err:.3g} at {(i, j)} (analytic "
-                        f"{A[i, j]:.6g}, FD {F[i, j]:.6g}, scale {scale:.3g})")
-
-
 def test_every_family_has_tangent_cases():
     missing = [n for n, f in REGISTRY.items() if not f.tangent_cases()]
     assert not missing, f"element families without tangent cases: {missing}"
@@ -106,49 +66,49 @@ def test_tangents_against_finite_differences(family, case):
     nd, neq = model.nd, model.neq
 
     # K (and G, G^T): derivative of the full residual w.r.t. positions and multipliers
-    rmax = np.abs(_residual(sys, st)).max()
-    K = _assembled(sys, st, 0.0, 0.0, 1.0)
+    rmax = np.abs(residual(sys, st)).max()
+    K = assembled(sys, st, 0.0, 0.0, 1.0)
     F = np.zeros((neq, neq))
     for j in range(neq):
-        F[:, j] = (_residual(sys, _perturb(st, j, EPS, nd)) -
-                   _residual(sys, _perturb(st, j, -EPS, nd))) / (2 * EPS)
-    _check(K, F, f"{family}: stiffness/constraint tangent", rmax)
+        F[:, j] = (residual(sys, perturb(st, j, EPS, nd)) -
+                   residual(sys, perturb(st, j, -EPS, nd))) / (2 * EPS)
+    check(K, F, f"{family}: stiffness/constraint tangent", rmax)
 
     # C: derivative w.r.t. velocities (node rows and columns)
-    C = _assembled(sys, st, 0.0, 1.0, 0.0)[:nd, :nd]
+    C = assembled(sys, st, 0.0, 1.0, 0.0)[:nd, :nd]
     F = np.zeros((nd, nd))
     for j in range(nd):
         sp, sm = st.copy(), st.copy()
         sp.v[j] += EPS
         sm.v[j] -= EPS
-        F[:, j] = (_residual(sys, sp) - _residual(sys, sm))[:nd] / (2 * EPS)
-    _check(C, F, f"{family}: damping tangent", rmax)
+        F[:, j] = (residual(sys, sp) - residual(sys, sm))[:nd] / (2 * EPS)
+    check(C, F, f"{family}: damping tangent", rmax)
 
     # M: derivative w.r.t. accelerations
-    M = _assembled(sys, st, 1.0, 0.0, 0.0)[:nd, :nd]
+    M = assembled(sys, st, 1.0, 0.0, 0.0)[:nd, :nd]
     F = np.zeros((nd, nd))
     for j in range(nd):
         sp, sm = st.copy(), st.copy()
         sp.vd[j] += EPS
         sm.vd[j] -= EPS
-        F[:, j] = (_residual(sys, sp) - _residual(sys, sm))[:nd] / (2 * EPS)
-    _check(M, F, f"{family}: mass matrix", rmax)
+        F[:, j] = (residual(sys, sp) - residual(sys, sm))[:nd] / (2 * EPS)
+    check(M, F, f"{family}: mass matrix", rmax)
 
     # acceleration- and velocity-level constraint rows are linear in vd and v with the
     # same gradient G, and their convective term equals d^2 Phi / dt^2 along the motion
     if model.nm:
-        A = _assembled(sys, st, 1.0, 0.0, 0.0, MODE_ACC)
+        A = assembled(sys, st, 1.0, 0.0, 0.0, MODE_ACC)
         G = A[nd:, :nd]
         sp, sm = st.copy(), st.copy()
         d = rng.standard_normal(nd)
         sp.vd += EPS * d
         sm.vd -= EPS * d
-        dr = (_residual(sys, sp, MODE_ACC) - _residual(sys, sm, MODE_ACC))[nd:] / (2 * EPS)
+        dr = (residual(sys, sp, MODE_ACC) - residual(sys, sm, MODE_ACC))[nd:] / (2 * EPS)
         np.testing.assert_allclose(dr, G @ d, rtol=1e-6, atol=1e-6 * np.abs(G @ d).max())
         sp, sm = st.copy(), st.copy()
         sp.v += EPS * d
         sm.v -= EPS * d
-        dr = (_residual(sys, sp, MODE_VEL) - _residual(sys, sm, MODE_VEL))[nd:] / (2 * EPS)
+        dr = (residual(sys, sp, MODE_VEL) - residual(sys, sm, MODE_VEL))[nd:] / (2 * EPS)
         np.testing.assert_allclose(dr, G @ d, rtol=1e-6, atol=1e-6 * np.abs(G @ d).max())
 
 
@@ -172,11 +132,11 @@ def test_second_time_derivative_of_constraints(family, case):
             s.x[i] = st0.x[i] + inc[:3]
             s.R[i] = st0.R[i] @ exp_so3(inc[3:])
         # states (accumulated angles) follow the motion continuously for small tau
-        return _residual(sys, s)[nd:]
+        return residual(sys, s)[nd:]
 
     h = 1e-4
     d2 = (phi_at(h) - 2 * phi_at(0.0) + phi_at(-h)) / h**2
-    acc = _residual(sys, st0, MODE_ACC)[nd:]
+    acc = residual(sys, st0, MODE_ACC)[nd:]
     np.testing.assert_allclose(acc, d2, rtol=1e-5, atol=1e-5 * max(1.0, np.abs(d2).max()))
 
 
@@ -225,4 +185,4 @@ def test_newton_matrix_of_a_step_against_finite_differences():
         e = np.zeros(model.neq)
         e[j] = EPS
         F[:, j] = (res(e) - res(-e)) / (2 * EPS)
-    _check(A, F, "generalized-alpha iteration matrix")
+    check(A, F, "generalized-alpha iteration matrix")

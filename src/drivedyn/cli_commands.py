@@ -109,6 +109,9 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
             res = simulate(model, t_final, progress=cb)
     except InitializationError as exc:
         _bad_input(str(exc))
+    except KeyboardInterrupt:  # before the time loop (kernel loading, initial state)
+        _err("interrupted before the first step: nothing to write")
+        sys.exit(EXIT_FAILED)
     res.dataset.attrs["model_file"] = model.meta["model_file"]
     res.dataset.attrs["model_source"] = model.meta["source"]
     res.dataset.attrs["overrides"] = json.dumps(list(sets))

@@ -80,6 +80,14 @@ def scatter_local(
         _scatter_matrix(M, C, K, G, nnode, nm, lnodes, kmap, Tn, cM, cC, cK, mode, data)
 
 
+@njit(cache=True)
+def local_arrays(nd, nm):
+    """Work arrays of one element for :func:`scatter_local`: ``rq`` (nd,), ``rl`` (nm,),
+    ``M, C, K`` (nd, nd) and ``G`` (nm, nd); allocated once per kernel call."""
+    return (np.zeros(nd), np.zeros(nm), np.zeros((nd, nd)), np.zeros((nd, nd)),
+            np.zeros((nd, nd)), np.zeros((nm, nd)))
+
+
 @njit(cache=True, inline="always")
 def scatter_element(
     rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, full, r, rabs,

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, Family, Group, register, scatter_element
+from drivedyn.elements.base import MODE_ACC, Family, Group, local_arrays, register, scatter_element
 
 
 @njit(cache=True, inline="always")
@@ -88,12 +88,7 @@ def rigid_body_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = mass.shape[0]
-    rq = np.zeros(6)
-    rl = np.zeros(0)
-    M = np.zeros((6, 6))
-    C = np.zeros((6, 6))
-    K = np.zeros((6, 6))
-    G = np.zeros((0, 6))
+    rq, rl, M, C, K, G = local_arrays(6, 0)
     JOm = np.zeros(3)
     JOd = np.zeros(3)
     P = (mass, inertia, gravity)

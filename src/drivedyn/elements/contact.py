@@ -79,7 +79,15 @@ from drivedyn.elements._contact_common import (
     two_markers,
     washer_friction_radius,
 )
-from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_element
+from drivedyn.elements.base import (
+    MODE_ACC,
+    ElementSpec,
+    Family,
+    Group,
+    local_arrays,
+    register,
+    scatter_element,
+)
 from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar
 from drivedyn.elements.impact_laws import (
     NormalLaw,
@@ -208,12 +216,7 @@ def plane_contact_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = pA.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(0)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((0, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 0)
     gn = np.zeros(12)
     Hn = np.zeros((12, 12))
     J1 = np.zeros(12)
@@ -321,12 +324,7 @@ def washer_contact_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = pA.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(0)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((0, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 0)
     gn = np.zeros(12)
     Hn = np.zeros((12, 12))
     Gs = np.zeros(12)
@@ -444,12 +442,7 @@ def journal_contact_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = pA.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(0)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((0, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 0)
     g1 = np.zeros(12)
     H1 = np.zeros((12, 12))
     g2 = np.zeros(12)

@@ -27,6 +27,7 @@ from drivedyn.elements.base import (
     ElementSpec,
     Family,
     Group,
+    local_arrays,
     register,
     scatter_element,
 )
@@ -184,12 +185,7 @@ def speed_difference_kernel(
 ):
     nel = kk.shape[0]
     nd = 24
-    rq = np.zeros(nd)
-    rl = np.zeros(1)
-    M = np.zeros((nd, nd))
-    C = np.zeros((nd, nd))
-    K = np.zeros((nd, nd))
-    G = np.zeros((1, nd))
+    rq, rl, M, C, K, G = local_arrays(nd, 1)
     g1 = np.zeros(12)
     H1 = np.zeros((12, 12))
     g2 = np.zeros(12)

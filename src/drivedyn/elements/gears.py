@@ -94,7 +94,15 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_element
+from drivedyn.elements.base import (
+    MODE_ACC,
+    ElementSpec,
+    Family,
+    Group,
+    local_arrays,
+    register,
+    scatter_element,
+)
 from drivedyn.elements.gear_geometry import (
     CylindricalPair,
     effective_sliding_arm,
@@ -694,12 +702,7 @@ def gear_kernel(
     of the last accepted step (see :data:`GEAR_AUX` for the outputs).
     """
     nel = kind.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(0)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((0, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 0)
     p = np.zeros(NP)
     gp = np.zeros((NP, 12))
     Hp = np.zeros((NP, 12, 12))

@@ -41,6 +41,7 @@ from drivedyn.elements.base import (
     ElementSpec,
     Family,
     Group,
+    local_arrays,
     register,
     scatter_element,
 )
@@ -184,12 +185,7 @@ def constraint_kernel(
 ):
     nel = pA.shape[0]
     nr = rtype.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(nr)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((nr, 12))
+    rq, rl, M, C, K, G = local_arrays(12, nr)
     g = np.zeros(12)
     H = np.zeros((12, 12))
     gth = np.zeros(12)

@@ -19,6 +19,7 @@ from drivedyn.elements.base import (
     ElementSpec,
     Family,
     Group,
+    local_arrays,
     register,
     scatter_element,
 )
@@ -105,12 +106,7 @@ def load_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = vec.shape[0]
-    rq = np.zeros(6)
-    rl = np.zeros(0)
-    M = np.zeros((6, 6))
-    C = np.zeros((6, 6))
-    K = np.zeros((6, 6))
-    G = np.zeros((0, 6))
+    rq, rl, M, C, K, G = local_arrays(6, 0)
     ws = np.empty((8, 3, 3))
     wv = np.empty((8, 3))
     P = (is_torque, follower, p, Rm, vec, tfid)

@@ -19,7 +19,15 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_element
+from drivedyn.elements.base import (
+    MODE_ACC,
+    ElementSpec,
+    Family,
+    Group,
+    local_arrays,
+    register,
+    scatter_element,
+)
 from drivedyn.elements.joints import relative_angle
 from drivedyn.elements.primitives import gather_v, prim_angle, prim_distance, unwrap
 from drivedyn.model.spec import ModelError
@@ -81,12 +89,7 @@ def scalar_spring_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = stiff.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(0)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((0, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 0)
     g = np.zeros(12)
     H = np.zeros((12, 12))
     w1 = np.zeros(12)

@@ -60,7 +60,15 @@ from drivedyn.elements._contact_common import (
     two_markers,
     washer_friction_radius,
 )
-from drivedyn.elements.base import MODE_ACC, ElementSpec, Family, Group, register, scatter_element
+from drivedyn.elements.base import (
+    MODE_ACC,
+    ElementSpec,
+    Family,
+    Group,
+    local_arrays,
+    register,
+    scatter_element,
+)
 from drivedyn.elements.friction import FrictionLaw, friction_scalar
 from drivedyn.elements.impact_laws import NormalLaw, impact_speed, impact_state, initial_state
 from drivedyn.elements.impact_laws import normal_force as metal_force
@@ -197,12 +205,7 @@ def squeeze_film_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nel = pA.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(0)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((0, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 0)
     gn = np.zeros(12)
     Hn = np.zeros((12, 12))
     Gs = np.zeros(12)

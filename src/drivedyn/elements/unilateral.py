@@ -64,6 +64,7 @@ from drivedyn.elements.base import (
     ElementSpec,
     Family,
     Group,
+    local_arrays,
     register,
     scatter_element,
 )
@@ -341,12 +342,7 @@ def unilateral_kernel(
 ):
     nel = pA.shape[0]
     nd_glob = r.shape[0] - lam.shape[0]
-    rq = np.zeros(12)
-    rl = np.zeros(3)
-    M = np.zeros((12, 12))
-    C = np.zeros((12, 12))
-    K = np.zeros((12, 12))
-    G = np.zeros((3, 12))
+    rq, rl, M, C, K, G = local_arrays(12, 3)
     B = np.zeros((12, 3))
     Gq = np.zeros((3, 12))
     D = np.zeros((3, 3))
