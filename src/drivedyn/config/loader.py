@@ -205,7 +205,8 @@ def build_spec(mf: S.ModelFile) -> Spec:
                         axis=m.axis)
     joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
                    "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
-                   "universal": E.Universal, "screw": E.Screw}
+                   "universal": E.Universal, "planar": E.Planar,
+                   "screw": E.Screw}
     for j in mf.joints:
         kw = {"pitch": j.pitch} if j.type == "screw" else {}
         spec.add(joint_types[j.type](j.name, j.marker_a, j.marker_b, k=j.k, p=j.p, **kw))

@@ -11,7 +11,7 @@ File layout (every section optional except what the model needs)::
     [[nodes]]              # massless 6-dof nodes
     [[markers]]            # frames on bodies, nodes or "ground"
     [[joints]]             # type = spherical | fixed | hinge | cylindrical | prismatic |
-                           #        universal | screw
+                           #        universal | planar | screw
     [[springs]]            # linear spring-dampers
     [[torsional_springs]]  # torsional spring-dampers
     [[forces]] / [[torques]]
@@ -156,7 +156,7 @@ class MarkerFile(_Strict):
 
 
 class JointFile(_Strict):
-    type: Literal["spherical", "fixed", "hinge", "cylindrical", "prismatic", "universal",
+    type: Literal["spherical", "fixed", "hinge", "cylindrical", "prismatic", "universal", "planar",
                   "screw"]
     name: str
     marker_a: str

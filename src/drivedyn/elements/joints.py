@@ -14,6 +14,8 @@ Cylindrical   d.a1, d.a2, a3.b1, a3.b2                             rotation and 
 Prismatic     d.a1, d.a2, a3.b1, a3.b2, a1.b2                      slide along a3
 Screw         Cylindrical + d.a3 - pitch theta / (2 pi) - c0        coupled screw motion
 Universal     d.a1, d.a2, d.a3, a1.b2                              about a1 and b2
+Planar        d.a3, a3.b1, a3.b2                                   slide in the a1-a2 plane,
+                                                                   rotation about a3
 ============  ==================================================  ==================
 
 The joint axis is the z axis of marker A (the markers must be assembled: B's axes as the
@@ -323,6 +325,19 @@ class Universal(Joint):
 
 
 @dataclass(frozen=True)
+class Planar(Joint):
+    """Plane-on-plane: B slides in the x-y plane of marker A and turns about its z axis.
+
+    Holds a floating gear axially and against tilting while leaving its centre free to
+    move radially, e.g. a TORSEN planet in its housing pocket, where a
+    :class:`~drivedyn.elements.contact.JournalContact` takes the radial load.
+    """
+
+    family: ClassVar[str] = "planar"
+    rows: ClassVar = ((_A, 2, 0), (_D, 2, 0), (_D, 2, 1))
+
+
+@dataclass(frozen=True)
 class Screw(Joint):
     """Screw: cylindrical joint whose slide is ``pitch * theta / (2 pi)`` [m].
 
@@ -442,5 +457,5 @@ class JointFamily(Family):
                 lambda: tc.joint_case(self.spec_type, ground_a=True)]
 
 
-for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Screw):
+for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, Screw):
     register(JointFamily(_t))

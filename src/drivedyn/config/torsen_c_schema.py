@@ -1,0 +1,189 @@
+"""Schema of the parametric TORSEN Type C model file (``library = "torsen_c"``).
+
+Every value is SI or a string with units (``"1.5 mm"``, ``"30 deg"``, ``"20 rpm"``); keys are
+checked (unknown keys are refused) and every problem is reported with its key path. The
+geometry itself (tooth counts against the planet count, radii against the gears) is checked
+when the model is built (:func:`drivedyn.library.torsen_c.check_parameters`).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from drivedyn.config import units as U  # noqa: N812
+from drivedyn.config.schema import (
+    AdaptiveStepFile,
+    Angle,
+    Inertia,
+    Mass,
+    NewtonFile,
+    NonNegLength,
+    PositiveLength,
+    Time,
+    _scalar,
+    _Strict,
+)
+
+AngularVelocity = Annotated[float, _scalar(U.ANGULAR_VELOCITY)]
+TorqueValue = Annotated[float, _scalar(U.TORQUE)]
+PositiveVelocity = Annotated[float, _scalar(U.VELOCITY, positive=True)]
+PositiveTime = Time
+Coefficient = Annotated[float, Field(ge=0.0, le=1.0)]
+
+
+class Info(_Strict):
+    library: Literal["torsen_c"]
+    name: str = "torsen-c"
+    description: str = ""
+    notes: dict[str, str] = Field(default_factory=dict)
+
+
+class Gears(_Strict):
+    """Epicyclic set: sun (front output), planets in housing pockets, internal gear."""
+
+    teeth_sun: int = Field(gt=0)
+    teeth_planet: int = Field(gt=0)
+    teeth_ring: int = Field(gt=0)
+    planets: int = Field(ge=2, le=12)
+    module: PositiveLength
+    helix_angle: Angle  # of the sun, > 0 right hand
+    pressure_angle: Angle = 0.3490658503988659
+    face_width: PositiveLength
+    damping_ratio: float = Field(default=0.05, ge=0.0)
+    stiffness: Annotated[float, _scalar(U.STIFFNESS, positive=True)] | None = None
+    youngs_modulus: Annotated[float, _scalar((-1, 1, -2, 0), positive=True)] = 206e9
+
+
+class Spline(_Strict):
+    """Helical spline between internal gear and coupling (the seeds' screw joint)."""
+
+    radius: PositiveLength
+    helix_angle: Angle  # > 0: lead of the same sign as the sun's helix
+
+
+class Washer(_Strict):
+    """One thrust-washer contact: annular face r_int..r_ext, axial play, friction."""
+
+    r_int: NonNegLength
+    r_ext: PositiveLength
+    mu: Coefficient
+    gap: NonNegLength = 5e-5
+
+
+class Washers(_Strict):
+    sun_housing: Washer
+    sun_coupling: Washer
+    coupling_case: Washer
+    ring_housing: Washer
+    ring_case: Washer
+
+
+class Pockets(_Strict):
+    """Planet tips in the housing pockets (radial clearance, friction)."""
+
+    clearance: PositiveLength
+    mu: Coefficient
+
+
+class Contact(_Strict):
+    """Normal law of every washer and pocket contact, and the friction regularisation."""
+
+    stiffness: Annotated[float, Field(gt=0)] = 1e10
+    exponent: float = Field(default=1.5, ge=1.0, le=3.0)
+    law: str = "hunt-crossley"
+    restitution: float = Field(default=0.5, gt=0.0, le=1.0)
+    eps_v: PositiveVelocity = 1e-3
+
+
+class Body(_Strict):
+    mass: Mass
+    inertia: Inertia
+
+
+class Bodies(_Strict):
+    housing: Body
+    case: Body
+    sun: Body
+    ring: Body
+    coupling: Body
+    planet: Body
+
+
+class Bench(_Strict):
+    """Test-bench protocol (seed 003): drive then coast in one run, steady windows."""
+
+    torque: TorqueValue = 125.0
+    speed_diff: AngularVelocity = 2.0943951023931953
+    ramp: PositiveTime = 0.3
+    transition: tuple[Time, Time] = (1.2, 2.0)
+    t_end: PositiveTime = 3.0
+    window_drive: tuple[Time, Time] = (0.4, 1.0)
+    window_coast: tuple[Time, Time] = (2.2, 2.8)
+
+
+class Vehicle(_Strict):
+    """Vehicle configuration: torque on the housing, both output speeds prescribed.
+
+    ``torque_levels`` [N m] are held in turn (``hold`` each, ``ramp`` between), positive =
+    drive; ``speed_diff`` is the rear-minus-front speed [rad/s] of each level; ``speed`` is
+    the mean output speed (positive = forward, about +z)."""
+
+    speed: AngularVelocity = 30.0
+    torque_levels: list[float] = Field(default_factory=lambda: [
+        0.0, 60.0, 125.0, 60.0, -60.0, -125.0, -60.0, 60.0, 125.0, 60.0, -60.0, -125.0, 0.0])
+    speed_diff: list[float] = Field(default_factory=lambda: [
+        -2.0, -2.0, -2.0, -2.0, -2.0, -2.0, -2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0])
+    hold: PositiveTime = 0.6
+    ramp: PositiveTime = 0.25
+
+
+class Solver(_Strict):
+    rho_inf: float = Field(default=0.8, ge=0.0, le=1.0)
+    step: AdaptiveStepFile = Field(default_factory=lambda: AdaptiveStepFile(
+        mode="adaptive", h0=1e-4, h_min=1e-9, h_max=2e-3, rtol=1e-3, atol=1e-6))
+    newton: NewtonFile = Field(default_factory=NewtonFile)
+    output_dt: PositiveTime = 5e-3
+
+
+class Calibration(_Strict):
+    """What was fitted to what (written by ``drivedyn calibrate``)."""
+
+    fitted: list[str] = Field(default_factory=list)
+    targets: dict[str, float] = Field(default_factory=dict)
+    source: str = ""
+    command: str = ""
+    method: str = ""
+    result: dict[str, float] = Field(default_factory=dict)
+
+
+class Experiment(_Strict):
+    """Measured TDR of the four modes and the seeds' simulated values (seed 003, Table 1)."""
+
+    tdr: dict[str, float] = Field(default_factory=dict)
+    seeds: dict[str, float] = Field(default_factory=dict)
+    source: str = ""
+
+
+class Scenario(_Strict):
+    kind: Literal["vehicle", "bench"] = "vehicle"
+    modes: Literal["rear", "front"] = "rear"
+
+
+class TorsenCFile(_Strict):
+    """The whole ``torsen-c`` model file."""
+
+    model: Info
+    gears: Gears
+    spline: Spline
+    washers: Washers
+    pockets: Pockets
+    contact: Contact = Field(default_factory=Contact)
+    bodies: Bodies
+    bench: Bench = Field(default_factory=Bench)
+    vehicle: Vehicle = Field(default_factory=Vehicle)
+    solver: Solver = Field(default_factory=Solver)
+    scenario: Scenario = Field(default_factory=Scenario)
+    experiment: Experiment = Field(default_factory=Experiment)
+    calibration: Calibration = Field(default_factory=Calibration)

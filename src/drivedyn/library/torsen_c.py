@@ -1,0 +1,365 @@
+"""Parametric TORSEN Type C (epicyclic, central) differential, after seed 003.
+
+Parts (axis = global z, front = -z, forward rotation = +z)::
+
+    housing   carrier with one pocket per planet; hinge to the ground (the gearbox)
+    case      bolted to the housing (fixed joint); carries the rear thrust washers
+    sun       front output; cylindrical joint to the ground bearing (turns, slides)
+    planets   in the housing pockets: planar joint (held axially and against tilting),
+              radial load and tip friction by a JournalContact with the pocket bore
+    ring      internal gear; helical spline to the coupling (the seeds' screw joint)
+    coupling  rear output; cylindrical joint to the ground bearing
+
+Gear pairs: sun-planet (external) and planet-ring (internal) for each planet: 2 n meshes
+(8 for the seeds' four planets), ISO 6336 stiffness, helical.
+
+Thrust washers (rigid, continuous contact law, friction on the face with the lower
+coefficient; the washer is part of the body on its other face, as in the seeds)::
+
+    W1 sun_housing     sun front face   on the housing washer     (relative spin sun - housing)
+    W2 sun_coupling    sun rear washer  on the coupling front face (sun - coupling)
+    W3 coupling_case   coupling rear    on the case washer         (coupling - housing)
+    W4 ring_housing    ring front face  on the housing washer      (ring - housing)
+    W5 ring_case       ring rear face   on the case washer         (ring - housing)
+
+Thrust paths. A right-hand sun (``gears.helix_angle > 0``) is pushed to the front when it
+drives forward (drive); the ring's mesh thrust is opposite. The torque through the helical
+spline pushes the coupling the same way as the sun and the ring the other way, so the sun
+and the coupling always travel together (seed 003, Fig. 11) and stay in contact:
+
+    drive (sun, coupling -> front):  W1 = A_s + A_c,  W2 = A_c,  W5 = A_r + A_c
+    coast (sun, coupling -> rear):   W2 = A_s,  W3 = A_s + A_c,  W4 = A_r + A_c
+
+with ``A_s``, ``A_r`` the mesh thrusts of sun and ring (F_t tan beta summed over the planets)
+and ``A_c = 2 pi T_spline / lead`` the spline thrust. A left-hand set mirrors this (drive and
+coast exchange their washers); spline and sun must have the same hand.
+
+The model is built from a validated :class:`~drivedyn.config.torsen_c_schema.TorsenCFile`
+(the shipped ``torsen-c`` file) for two scenarios: :func:`bench_spec` (housing held, torque on
+one output, speed of the other prescribed) and :func:`vehicle_spec` (torque on the housing,
+both output speeds prescribed).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from drivedyn.config.torsen_c_schema import TorsenCFile
+from drivedyn.elements import (
+    Cylindrical,
+    Fixed,
+    GearPair,
+    Hinge,
+    JointDriver,
+    Planar,
+    Prismatic,
+    Screw,
+    Torque,
+)
+from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.model.spec import ModelError, Spec
+from drivedyn.timefunctions import Constant, SmoothStep, Sum, TimeFunction
+
+Z = (0.0, 0.0, 1.0)
+MZ = (0.0, 0.0, -1.0)
+WASHERS = ("sun_housing", "sun_coupling", "coupling_case", "ring_housing", "ring_case")
+COUPLING_LENGTH = 0.03  # axial length of the coupling hub [m] (position of its rear face)
+
+#: the four locking modes: (number, name, loaded output, drive?)
+MODES = (
+    (1, "drive, bias rear", "rear", True),
+    (2, "coast, bias rear", "rear", False),
+    (3, "drive, bias front", "front", True),
+    (4, "coast, bias front", "front", False),
+)
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Derived geometry [m, rad] of a parameter set.
+
+    Attributes:
+        r_sun, r_planet, r_ring: reference (pitch) radii.
+        r_tip_planet: planet tip radius (addendum = module).
+        carrier_radius: distance of the planet axes from the main axis.
+        rho: z_ring / z_sun (nominal rear/front torque ratio).
+        lead: spline lead [m/rev], signed like the spline helix (inf: straight spline).
+        hand: +1 right-hand sun, -1 left-hand.
+        washer_radius: friction radius r_m of each washer (name -> m).
+    """
+
+    r_sun: float
+    r_planet: float
+    r_ring: float
+    r_tip_planet: float
+    carrier_radius: float
+    rho: float
+    lead: float
+    hand: float
+    washer_radius: dict[str, float]
+
+
+def geometry(p: TorsenCFile) -> Geometry:
+    """The derived geometry of ``p`` (no checks; see :func:`check_parameters`)."""
+    g = p.gears
+    cb = math.cos(g.helix_angle)
+    rs, rp, rr = (z * g.module / (2 * cb) for z in (g.teeth_sun, g.teeth_planet, g.teeth_ring))
+    ts = math.tan(p.spline.helix_angle)
+    lead = 2 * math.pi * p.spline.radius / ts if ts != 0 else math.inf
+    wr = {}
+    for name in WASHERS:
+        w = getattr(p.washers, name)
+        wr[name] = 2 * (w.r_ext**3 - w.r_int**3) / (3 * (w.r_ext**2 - w.r_int**2)) \
+            if w.r_ext > w.r_int else 0.0
+    return Geometry(rs, rp, rr, rp + g.module, rs + rp, g.teeth_ring / g.teeth_sun, lead,
+                    1.0 if g.helix_angle >= 0 else -1.0, wr)
+
+
+def check_parameters(p: TorsenCFile) -> Geometry:
+    """Refuse inconsistent or impossible parameter sets (:class:`ModelError` naming the key,
+    the value and what is expected); returns the geometry."""
+    g = p.gears
+    geo = geometry(p)
+
+    def fail(key: str, value: Any, msg: str) -> None:
+        raise ModelError(f"torsen_c: {key} = {value!r}: {msg}")
+
+    if g.teeth_ring != g.teeth_sun + 2 * g.teeth_planet:
+        fail("gears.teeth_ring", g.teeth_ring,
+             f"must equal teeth_sun + 2 teeth_planet = {g.teeth_sun + 2 * g.teeth_planet} "
+             "(coaxial set without profile shift)")
+    if (g.teeth_sun + g.teeth_ring) % g.planets:
+        fail("gears.planets", g.planets,
+             f"(teeth_sun + teeth_ring) = {g.teeth_sun + g.teeth_ring} must be divisible by the "
+             "number of planets for equally spaced planets")
+    if not 0 < abs(g.helix_angle) < math.radians(45):
+        fail("gears.helix_angle", g.helix_angle, "expected 0 < |beta| < 45 deg (helical gears "
+             "make the thrusts that lock the differential)")
+    if not math.radians(10) < g.pressure_angle < math.radians(30):
+        fail("gears.pressure_angle", g.pressure_angle, "expected 10..30 deg")
+    gap = 2 * geo.carrier_radius * math.sin(math.pi / g.planets) - 2 * (
+        geo.r_tip_planet + p.pockets.clearance)
+    if gap <= 0:
+        fail("gears.planets", g.planets, f"the pockets overlap ({gap * 1e3:.2f} mm between "
+             "neighbouring pockets); fewer or smaller planets")
+    if p.spline.helix_angle != 0 and math.copysign(1, p.spline.helix_angle) != geo.hand:
+        fail("spline.helix_angle", p.spline.helix_angle,
+             "must have the hand (sign) of gears.helix_angle so that the spline pushes the "
+             "coupling with the sun (else the sun leaves the coupling)")
+    if abs(p.spline.helix_angle) >= math.radians(60):
+        fail("spline.helix_angle", p.spline.helix_angle, "expected |angle| < 60 deg")
+    if p.spline.radius <= geo.r_ring:
+        fail("spline.radius", p.spline.radius, f"must exceed the ring pitch radius "
+             f"{geo.r_ring * 1e3:.2f} mm (the spline is on the outside of the internal gear)")
+    for name in WASHERS:
+        w = getattr(p.washers, name)
+        if w.r_int >= w.r_ext:
+            fail(f"washers.{name}.r_int", w.r_int, f"must be < r_ext = {w.r_ext!r}")
+    for name in ("sun_housing", "sun_coupling"):
+        w = getattr(p.washers, name)
+        if w.r_ext > geo.r_sun + g.module:
+            fail(f"washers.{name}.r_ext", w.r_ext, "larger than the sun gear's tip radius "
+                 f"{(geo.r_sun + g.module) * 1e3:.2f} mm")
+    for name in ("ring_housing", "ring_case"):
+        w = getattr(p.washers, name)
+        if w.r_int < geo.r_ring - g.module:
+            fail(f"washers.{name}.r_int", w.r_int, "inside the ring's tip circle "
+                 f"{(geo.r_ring - g.module) * 1e3:.2f} mm (the face would cut the teeth)")
+    if p.pockets.clearance > 0.2 * g.module:
+        fail("pockets.clearance", p.pockets.clearance, "expected a small radial clearance "
+             f"(< 0.2 module = {0.2 * g.module * 1e3:.3f} mm)")
+    return geo
+
+
+# -- building ----------------------------------------------------------------------------
+
+
+def _friction(mu: float, p: TorsenCFile, scale: float) -> FrictionLaw | None:
+    m = mu * scale
+    return FrictionLaw(m, p.contact.eps_v) if m > 0 else None
+
+
+def _law(p: TorsenCFile) -> NormalLaw:
+    c = p.contact
+    return NormalLaw(c.stiffness, c.exponent, law=c.law, restitution=c.restitution)
+
+
+def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.0),
+               friction_scale: float = 1.0) -> tuple[Spec, Geometry]:
+    """The differential without loads or drivers.
+
+    Args:
+        p: validated parameters.
+        omega: initial speeds (housing, sun, coupling) [rad/s] about +z; the planets' spin
+            follows from Willis' equation so that the meshes start unloaded.
+        friction_scale: factor on every friction coefficient (washers, pockets).
+    Returns:
+        (spec, geometry). Joints: ``housing_bearing`` (hinge), ``sun_bearing`` and
+        ``coupling_bearing`` (cylindrical, to the ground), ``spline`` (screw ring/coupling).
+    """
+    geo = check_parameters(p)
+    g, b = p.gears, p.gears.face_width
+    wh, ws, wc = omega
+    n = g.planets
+    sp = Spec()
+    B = p.bodies
+    half = b / 2
+    w = p.washers
+    zc = half + w.sun_coupling.gap + COUPLING_LENGTH / 2
+    sp.add_rigid_body("housing", B.housing.mass, B.housing.inertia,
+                      angular_velocity=(0, 0, wh))
+    sp.add_rigid_body("case", B.case.mass, B.case.inertia, position=(0, 0, zc),
+                      angular_velocity=(0, 0, wh))
+    sp.add_rigid_body("sun", B.sun.mass, B.sun.inertia, angular_velocity=(0, 0, ws))
+    sp.add_rigid_body("ring", B.ring.mass, B.ring.inertia, angular_velocity=(0, 0, wc))
+    sp.add_rigid_body("coupling", B.coupling.mass, B.coupling.inertia, position=(0, 0, zc),
+                      angular_velocity=(0, 0, wc))
+    # bearings and fixings
+    for name, body, z in (("housing", "housing", 0.0), ("sun", "sun", 0.0),
+                          ("coupling", "coupling", zc)):
+        sp.add_marker(f"g_{name}", "ground", position=(0, 0, z), axis=Z)
+        sp.add_marker(f"b_{name}", body, axis=Z)
+    sp.add(Hinge("housing_bearing", "g_housing", "b_housing"))
+    sp.add(Cylindrical("sun_bearing", "g_sun", "b_sun"))
+    sp.add(Cylindrical("coupling_bearing", "g_coupling", "b_coupling"))
+    sp.add_marker("h_case", "housing", position=(0, 0, zc), axis=Z)
+    sp.add_marker("c_case", "case", axis=Z)
+    sp.add(Fixed("case_bolts", "h_case", "c_case"))
+    sp.add_marker("cp_spline", "coupling", position=(0, 0, -zc), axis=Z)
+    sp.add_marker("r_spline", "ring", axis=Z)
+    if math.isinf(geo.lead):
+        sp.add(Prismatic("spline", "cp_spline", "r_spline"))
+    else:
+        sp.add(Screw("spline", "cp_spline", "r_spline", pitch=geo.lead))
+    # gear markers
+    sp.add_marker("m_sun", "sun", axis=Z)
+    sp.add_marker("m_ring", "ring", axis=Z)
+    a = geo.carrier_radius
+    gear_kw = dict(module=g.module, face_width=b, pressure_angle=g.pressure_angle,
+                   damping_ratio=g.damping_ratio, stiffness=g.stiffness,
+                   youngs_modulus=g.youngs_modulus)
+    wp = wh - (ws - wh) * g.teeth_sun / g.teeth_planet  # Willis, planet spin
+    for k in range(n):
+        th = 2 * math.pi * k / n
+        pos = np.array([a * math.cos(th), a * math.sin(th), 0.0])
+        vel = wh * np.cross(Z, pos)
+        pl = f"planet{k + 1}"
+        sp.add_rigid_body(pl, B.planet.mass, B.planet.inertia, position=pos, velocity=vel,
+                          angular_velocity=(0, 0, wp))
+        sp.add_marker(f"pocket{k + 1}", "housing", position=pos, axis=Z)
+        sp.add_marker(f"m_{pl}", pl, axis=Z)
+        sp.add(Planar(f"{pl}_guide", f"pocket{k + 1}", f"m_{pl}"))
+        sp.add(JournalContact(f"{pl}_pocket", f"pocket{k + 1}", f"m_{pl}", law=_law(p),
+                              bore_radius=geo.r_tip_planet + p.pockets.clearance,
+                              pin_radius=geo.r_tip_planet,
+                              friction=_friction(p.pockets.mu, p, friction_scale)))
+        sp.add(GearPair(f"sun_{pl}", "m_sun", f"m_{pl}", g.teeth_sun, g.teeth_planet,
+                        helix_angle=g.helix_angle, **gear_kw))
+        sp.add(GearPair(f"{pl}_ring", f"m_{pl}", "m_ring", g.teeth_planet, g.teeth_ring,
+                        helix_angle=-g.helix_angle, internal="b", **gear_kw))
+    # thrust washers: marker A = washer face (z = normal towards B), marker B = the other face
+    faces = {
+        "sun_housing": (("housing", -half - w.sun_housing.gap, Z), ("sun", -half)),
+        "sun_coupling": (("sun", half, Z), ("coupling", half + w.sun_coupling.gap)),
+        "coupling_case": (("case", zc + COUPLING_LENGTH / 2 + w.coupling_case.gap, MZ),
+                          ("coupling", zc + COUPLING_LENGTH / 2)),
+        "ring_housing": (("housing", -half - w.ring_housing.gap, Z), ("ring", -half)),
+        "ring_case": (("case", half + w.ring_case.gap, MZ), ("ring", half)),
+    }
+    z_body = {"housing": 0.0, "case": zc, "sun": 0.0, "ring": 0.0, "coupling": zc}
+    for name in WASHERS:
+        (ba, za, axis), (bb, zb) = faces[name]
+        wd = getattr(w, name)
+        sp.add_marker(f"w_{name}", ba, position=(0, 0, za - z_body[ba]), axis=axis)
+        sp.add_marker(f"f_{name}", bb, position=(0, 0, zb - z_body[bb]), axis=Z)
+        sp.add(ThrustWasherContact(name, f"w_{name}", f"f_{name}", law=_law(p),
+                                   r_int=wd.r_int, r_ext=wd.r_ext,
+                                   friction=_friction(wd.mu, p, friction_scale)))
+    return sp, geo
+
+
+# -- scenarios ---------------------------------------------------------------------------
+
+
+def bench_profile(p: TorsenCFile) -> TimeFunction:
+    """s(t): 0 -> +1 (drive) over ``bench.ramp``, +1 -> -1 (coast) over
+    ``bench.transition``, smooth (C^1) steps."""
+    bn = p.bench
+    t1, t2 = bn.transition
+    return Sum([SmoothStep(0.0, bn.ramp, 0.0, 1.0), SmoothStep(t1, t2, 0.0, -2.0)])
+
+
+def bench_spec(p: TorsenCFile, side: str, torque: float | None = None,
+               speed_diff: float | None = None, friction_scale: float = 1.0
+               ) -> tuple[Spec, Geometry]:
+    """Test bench (seed 003, Fig. 7a): housing held, torque on the ``side`` output
+    (``"rear"``: coupling, ``"front"``: sun), speed of the other output prescribed so that
+    the outputs differ by ``speed_diff`` [rad/s]; drive first, then coast.
+
+    Sign convention (forward = +z): in drive the axle torques resist forward motion, so the
+    applied torque is ``-torque s(t)``; the loaded output turns with its torque (it is the
+    input of the gear train seen from the housing), which makes the mode "bias ``side``".
+    Outputs: the applied torque is the load ``applied_torque``; the resistant torque is the
+    ``speed_control`` driver's torque.
+    """
+    if side not in ("rear", "front"):
+        raise ModelError(f"bench side must be 'rear' or 'front', got {side!r}")
+    T0 = p.bench.torque if torque is None else torque
+    dw = p.bench.speed_diff if speed_diff is None else speed_diff
+    if not T0 > 0:
+        raise ModelError(f"bench torque must be > 0 N m, got {T0!r}")
+    if not dw > 0:
+        raise ModelError(f"bench speed difference must be > 0 rad/s, got {dw!r}")
+    sp, geo = build_spec(p, friction_scale=friction_scale)
+    rho = geo.rho
+    # housing fixed: z_s w_s = -z_r w_r, |w_r - w_s| = dw
+    w_ring = dw / (1 + rho)
+    w_sun = rho * dw / (1 + rho)
+    s = bench_profile(p)
+    sp.add(JointDriver("hold_housing", "housing_bearing", 0.0, quantity="angle"))
+    if side == "rear":
+        sp.add(Torque("applied_torque", "b_coupling", vector=(0, 0, -T0), function=s))
+        # coupling turns with -s (input); the sun the other way
+        sp.add(JointDriver("speed_control", "sun_bearing", s * w_sun, quantity="speed"))
+    else:
+        sp.add(Torque("applied_torque", "b_sun", vector=(0, 0, -T0), function=s))
+        sp.add(JointDriver("speed_control", "coupling_bearing", s * w_ring, quantity="speed"))
+    return sp, geo
+
+
+def vehicle_profile(p: TorsenCFile) -> tuple[TimeFunction, TimeFunction, float]:
+    """(housing torque T(t) [N m], rear-minus-front speed difference d(t) [rad/s], t_end):
+    levels held for ``vehicle.hold`` and joined by smooth steps over ``vehicle.ramp``."""
+    v = p.vehicle
+    if len(v.torque_levels) != len(v.speed_diff) or len(v.torque_levels) < 2:
+        raise ModelError("vehicle.torque_levels and vehicle.speed_diff must have the same "
+                         f"length >= 2, got {len(v.torque_levels)} and {len(v.speed_diff)}")
+    tq: list[Any] = [Constant(v.torque_levels[0])]
+    dd: list[Any] = [Constant(v.speed_diff[0])]
+    t = v.hold
+    for i in range(1, len(v.torque_levels)):
+        tq.append(SmoothStep(t, t + v.ramp, 0.0, v.torque_levels[i] - v.torque_levels[i - 1]))
+        dd.append(SmoothStep(t, t + v.ramp, 0.0, v.speed_diff[i] - v.speed_diff[i - 1]))
+        t += v.ramp + v.hold
+    return Sum(tq), Sum(dd), t
+
+
+def vehicle_spec(p: TorsenCFile, friction_scale: float = 1.0) -> tuple[Spec, Geometry, float]:
+    """Vehicle configuration (seed 003, Fig. 7b and 10): engine torque on the housing, both
+    output speeds prescribed (mean ``vehicle.speed``, rear - front = d(t)). Returns
+    (spec, geometry, t_end)."""
+    T, d, t_end = vehicle_profile(p)
+    g = p.gears
+    w0 = p.vehicle.speed
+    d0 = p.vehicle.speed_diff[0]
+    ws0, wc0 = w0 - d0 / 2, w0 + d0 / 2
+    wh0 = (g.teeth_sun * ws0 + g.teeth_ring * wc0) / (g.teeth_sun + g.teeth_ring)
+    sp, geo = build_spec(p, omega=(wh0, ws0, wc0), friction_scale=friction_scale)
+    sp.add(Torque("engine_torque", "b_housing", vector=(0, 0, 1.0), function=T))
+    sp.add(JointDriver("front_speed", "sun_bearing", Sum([w0, d * -0.5]), quantity="speed"))
+    sp.add(JointDriver("rear_speed", "coupling_bearing", Sum([w0, d * 0.5]), quantity="speed"))
+    return sp, geo, t_end
