@@ -338,8 +338,9 @@ def bounce(law: str, e: float, n: float, k: float, mass: float, h0: float, gravi
 def _attach_commands() -> None:
     """Commands on model and results files live in :mod:`drivedyn.cli_commands`."""
     from drivedyn.cli_commands import COMMANDS
+    from drivedyn.cli_torsen import COMMANDS as TORSEN_COMMANDS
 
-    for cmd in COMMANDS:
+    for cmd in COMMANDS + TORSEN_COMMANDS:
         main.add_command(cmd)
 
 

@@ -203,7 +203,7 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
         x0 += [Ts0 / T0]
     else:
         x0 += [geo.rho * Ts0 / T0]
-    x, info, ier, msg = fsolve(equations, np.array(x0, float), full_output=True, xtol=1e-13)
+    x, _info, ier, msg = fsolve(equations, np.array(x0, float), full_output=True, xtol=1e-13)
     res = float(np.max(np.abs(equations(x))))
     if ier != 1 and res > 1e-9:
         raise RuntimeError(f"analytic TDR: equilibrium not found ({msg.strip()}; residual "

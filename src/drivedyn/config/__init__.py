@@ -5,6 +5,7 @@ from drivedyn.config.loader import (
     Scenario,
     load_model,
     parse_override,
+    read_library_file,
     read_model_file,
     shipped_models,
 )
@@ -16,6 +17,7 @@ __all__ = [
     "UnitError",
     "load_model",
     "parse_override",
+    "read_library_file",
     "read_model_file",
     "shipped_models",
     "to_si",

@@ -314,9 +314,8 @@ def scenario_of(mf: S.ModelFile) -> Scenario:
     )
 
 
-def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
-                    ) -> tuple[S.ModelFile, dict, str]:
-    """Read, override and validate a model file: (schema object, raw data, source name)."""
+def _read_data(path: str | Path, overrides: list[str] | dict[str, Any] | None
+               ) -> tuple[dict, str]:
     p = resolve_path(path)
     source = str(path)
     try:
@@ -328,11 +327,47 @@ def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | No
         [parse_override(o) for o in (overrides or [])]
     for k, v in items:
         apply_override(data, k, v)
+    return data, source
+
+
+def library_of(data: dict) -> str | None:
+    """The parametric library model a file describes (``[model] library = ...``), or None
+    for a plain bodies-and-elements file."""
+    model = data.get("model")
+    return model.get("library") if isinstance(model, dict) else None
+
+
+def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
+                    ) -> tuple[S.ModelFile, dict, str]:
+    """Read, override and validate a model file: (schema object, raw data, source name)."""
+    data, source = _read_data(path, overrides)
+    if library_of(data) is not None:
+        raise ModelFileError(f"{source}: a parametric {library_of(data)!r} model file; read it "
+                             "with read_library_file or load_model")
     try:
         mf = S.ModelFile.model_validate(data)
     except ValidationError as exc:
         raise ModelFileError(format_validation_error(source, data, exc)) from None
     return mf, data, source
+
+
+def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
+                      ) -> tuple[Any, dict, str]:
+    """Read, override and validate a parametric model file (``[model] library``, e.g. the
+    shipped ``torsen-c``): (parameters, raw data, source name)."""
+    from drivedyn.config.torsen_c_schema import TorsenCFile
+
+    data, source = _read_data(path, overrides)
+    lib = library_of(data)
+    schemas = {"torsen_c": TorsenCFile}
+    if lib not in schemas:
+        raise ModelFileError(f"{source}: model.library = {lib!r}: expected one of "
+                             f"{', '.join(schemas)}")
+    try:
+        params = schemas[lib].model_validate(data)
+    except ValidationError as exc:
+        raise ModelFileError(format_validation_error(source, data, exc)) from None
+    return params, data, source
 
 
 def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = None) -> Model:
@@ -344,6 +379,9 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
     """
     from drivedyn.model.compile import compile_model
 
+    data, _ = _read_data(path, overrides)
+    if library_of(data) is not None:
+        return _load_library_model(path, overrides)
     mf, data, source = read_model_file(path, overrides)
     try:
         model = compile_model(build_spec(mf))
@@ -353,4 +391,34 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = mf.model.name
+    return model
+
+
+def _load_library_model(path: str | Path, overrides) -> Model:
+    """A parametric file's scenario (``[scenario] kind``) as a compiled model."""
+    from drivedyn.library import torsen_c as tc
+    from drivedyn.model.compile import compile_model
+    from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
+
+    params, data, source = read_library_file(path, overrides)
+    try:
+        if params.scenario.kind == "bench":
+            spec, _ = tc.bench_spec(params, params.scenario.modes)
+            t_end = params.bench.t_end
+        else:
+            spec, _, t_end = tc.vehicle_spec(params)
+        model = compile_model(spec)
+    except ModelError as exc:
+        raise ModelError(f"{source}: {exc}") from None
+    s = params.solver
+    st, nw = s.step, s.newton
+    model.meta["scenario"] = Scenario(
+        t_end=t_end, integrator=GeneralizedAlpha(s.rho_inf),
+        step=AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol),
+        newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
+        output_dt=s.output_dt, output_times=None, variables=None)
+    model.meta["source"] = source
+    model.meta["model_file"] = json.dumps(data, indent=1, default=str)
+    model.meta["model_name"] = params.model.name
+    model.meta["library"] = params
     return model

@@ -1,0 +1,118 @@
+"""Torque distribution ratio on the simulated test bench (seed 003 protocol).
+
+One bench run per loaded side covers two modes (drive, then coast, smooth transition):
+``side = "rear"`` gives modes 1 and 2, ``"front"`` modes 3 and 4. The TDR of a mode is the
+applied torque over the resistant torque (the speed-control driver's torque), each averaged
+over the mode's steady window (``bench.window_drive``, ``bench.window_coast``).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from drivedyn.config.torsen_c_schema import TorsenCFile
+from drivedyn.library.torsen_c import MODES, bench_spec
+
+#: modes of each bench side, in the order they run (drive first)
+SIDE_MODES = {"rear": (1, 2), "front": (3, 4)}
+
+
+@dataclass
+class BenchRun:
+    """One simulated bench run (two modes).
+
+    Attributes:
+        side: ``"rear"`` or ``"front"`` (output carrying the applied torque).
+        tdr: mode number -> TDR.
+        applied, resistant: mode -> window-mean torques [N m].
+        ripple: mode -> peak-to-peak of the instantaneous ratio in the window / TDR.
+        results: the :class:`~drivedyn.results.results.Results` of the run.
+        wall_s: wall time of the run [s] (compilation included).
+        success: the run reached its end.
+        message: solver message when it did not.
+    """
+
+    side: str
+    tdr: dict[int, float] = field(default_factory=dict)
+    applied: dict[int, float] = field(default_factory=dict)
+    resistant: dict[int, float] = field(default_factory=dict)
+    ripple: dict[int, float] = field(default_factory=dict)
+    results: object = None
+    wall_s: float = 0.0
+    success: bool = True
+    message: str = ""
+
+
+def window_tdr(results, window: tuple[float, float]) -> tuple[float, float, float, float]:
+    """(TDR, applied mean, resistant mean, relative ripple) over ``window`` [s] of a bench
+    run's results."""
+    t = results["time"].values
+    k = (t >= window[0] - 1e-12) & (t <= window[1] + 1e-12)
+    if k.sum() < 2:
+        raise ValueError(f"window {window} holds fewer than two output samples")
+    ta = results["applied_torque.torque_z"].values[k]
+    tr = results["speed_control.torque"].values[k]
+    tdr = abs(ta.mean() / tr.mean())
+    ratio = np.abs(ta / np.where(tr == 0, np.nan, tr))
+    return float(tdr), float(ta.mean()), float(tr.mean()), float(np.ptp(ratio) / tdr)
+
+
+def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
+              speed_diff: float | None = None, friction_scale: float = 1.0,
+              progress=None, output_dt: float | None = None) -> BenchRun:
+    """Simulate one bench side and extract the TDR of its two modes.
+
+    Args:
+        p: parameters.
+        side: ``"rear"`` (modes 1, 2) or ``"front"`` (modes 3, 4).
+        torque: applied torque [N m] (default ``bench.torque``).
+        speed_diff: output speed difference [rad/s] (default ``bench.speed_diff``).
+        friction_scale: factor on every friction coefficient.
+        progress: ``progress(t, h, steps)`` callback.
+        output_dt: sampling interval [s] (default ``solver.output_dt``).
+    """
+    from drivedyn.model.compile import compile_model
+    from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
+    from drivedyn.solver.simulate import simulate
+
+    t0 = time.perf_counter()
+    sp, _ = bench_spec(p, side, torque, speed_diff, friction_scale)
+    model = compile_model(sp)
+    s = p.solver
+    st = s.step
+    nw = s.newton
+    res = simulate(model, p.bench.t_end,
+                   integrator=GeneralizedAlpha(s.rho_inf),
+                   step=AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol),
+                   newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
+                   output_dt=output_dt or s.output_dt, progress=progress)
+    run = BenchRun(side, results=res, wall_s=time.perf_counter() - t0,
+                   success=bool(res.success), message="" if res.success else str(res.message))
+    windows = (p.bench.window_drive, p.bench.window_coast)
+    for mode, win in zip(SIDE_MODES[side], windows, strict=True):
+        if not res.success and res["time"].values[-1] < win[1]:
+            continue
+        run.tdr[mode], run.applied[mode], run.resistant[mode], run.ripple[mode] = \
+            window_tdr(res, win)
+    return run
+
+
+def mode_name(mode: int) -> str:
+    """``"drive, bias rear"`` etc."""
+    return MODES[mode - 1][1]
+
+
+def experimental(p: TorsenCFile) -> dict[int, float]:
+    """Measured TDR of each mode from the model file's ``[experiment]`` table."""
+    out = {}
+    for key, val in p.experiment.tdr.items():
+        out[int(key.removeprefix("mode"))] = float(val)
+    return out
+
+
+def seeds_simulation(p: TorsenCFile) -> dict[int, float]:
+    """The seeds' simulated TDR of each mode (``[experiment] seeds``)."""
+    return {int(k.removeprefix("mode")): float(v) for k, v in p.experiment.seeds.items()}

@@ -1,0 +1,282 @@
+"""Commands on the parametric differential models: ``drivedyn tdr`` and ``drivedyn calibrate``.
+
+Exit codes: 0 success, 1 a simulation failed (the TDRs computed so far are printed), 2 bad
+input (file, key, value).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shlex
+import sys
+import time
+from pathlib import Path
+
+import click
+
+from drivedyn.cli_commands import _bad_input, _err
+
+RPM = 2 * math.pi / 60
+
+
+def _params(model_file: str, sets: tuple[str, ...]):
+    from drivedyn.config import read_library_file
+    from drivedyn.config.loader import ModelFileError
+    from drivedyn.library.torsen_c import check_parameters
+    from drivedyn.model.spec import ModelError
+
+    try:
+        p, _, source = read_library_file(model_file, list(sets))
+        check_parameters(p)
+    except (ModelFileError, ModelError) as exc:
+        _bad_input(str(exc))
+    return p, source
+
+
+def _progress_note(quiet: bool):
+    from drivedyn.progress import kernels_cached
+
+    if not quiet and not kernels_cached():
+        click.echo("note: the first run compiles the numba kernels (a few minutes); they are "
+                   "cached afterwards.", err=True)
+
+
+@click.command()
+@click.argument("model_file", metavar="FILE", default="torsen-c")
+@click.option("--mode", "mode", type=click.Choice(["1", "2", "3", "4", "all"]), default="all",
+              show_default=True, help="Locking mode: 1 drive/bias rear, 2 coast/bias rear, "
+              "3 drive/bias front, 4 coast/bias front.")
+@click.option("--torque", type=float, default=None, metavar="NM",
+              help="Applied torque [N m] (default: the file's bench.torque, 125 N m).")
+@click.option("--speed-diff", type=float, default=None, metavar="RPM",
+              help="Output speed difference [rpm] (default: the file's bench.speed_diff, "
+                   "20 rpm).")
+@click.option("--friction-scale", type=float, default=1.0, show_default=True, metavar="F",
+              help="Multiply every friction coefficient of the model by F.")
+@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
+              help="Override a parameter by its dotted key, e.g. --set pockets.mu=0.12 "
+                   "--set 'gears.helix_angle=\"28 deg\"'. Repeatable.")
+@click.option("--analytic-only", is_flag=True,
+              help="Only the analytic quasi-static TDR (no simulation).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | None,
+        friction_scale: float, sets: tuple[str, ...], analytic_only: bool,
+        as_json: bool) -> None:
+    """Torque distribution ratio of a TORSEN model on the simulated test bench (seed 003).
+
+    Housing held, torque on one output, speed of the other controlled for the speed
+    difference; drive then coast in one run per side, TDR = applied / resistant torque
+    averaged over the steady windows. Prints the simulated, analytic (quasi-static) and
+    measured TDR of each mode.
+
+    \b
+    Examples:
+        drivedyn tdr torsen-c
+        drivedyn tdr torsen-c --mode 1 --torque 250 --speed-diff 10
+        drivedyn tdr torsen-c --friction-scale 0.8 --set pockets.mu=0.12 --json
+    """
+    from drivedyn.analysis import analytic_tdr as at
+    from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench
+
+    p, source = _params(model_file, sets)
+    if torque is not None and not torque > 0:
+        _bad_input(f"--torque: expected a positive torque in N m, got {torque}")
+    if speed_diff is not None and not speed_diff > 0:
+        _bad_input(f"--speed-diff: expected a positive speed difference in rpm, got "
+                   f"{speed_diff}")
+    if not (friction_scale >= 0 and math.isfinite(friction_scale)):
+        _bad_input(f"--friction-scale: expected a factor >= 0, got {friction_scale}")
+    T0 = p.bench.torque if torque is None else torque
+    dw = p.bench.speed_diff if speed_diff is None else speed_diff * RPM
+    modes = [1, 2, 3, 4] if mode == "all" else [int(mode)]
+    exp = experimental(p)
+    t0 = time.perf_counter()
+    sim: dict[int, float] = {}
+    runs = []
+    failed = ""
+    if not analytic_only:
+        _progress_note(as_json)
+        for side, pair in SIDE_MODES.items():
+            if not set(pair) & set(modes):
+                continue
+            if not as_json:
+                click.echo(f"simulating the bench, torque on the {side} output "
+                           f"(modes {pair[0]} and {pair[1]}) ...", err=True)
+            run = run_bench(p, side, T0, dw, friction_scale)
+            runs.append({"side": side, "wall_s": round(run.wall_s, 3),
+                         "steps": int(run.results.stats.steps),
+                         "newton_iterations": int(run.results.stats.newton_iterations),
+                         "success": run.success})
+            sim.update(run.tdr)
+            if not run.success:
+                failed = f"{side} bench run failed: {run.message}"
+                break
+    rows = []
+    for m in modes:
+        ana = at.bench_tdr(p, m, T0, dw, friction_scale)
+        val = sim.get(m, math.nan) if not analytic_only else ana
+        e = exp.get(m)
+        rows.append({
+            "mode": m, "name": mode_name(m), "tdr": val, "analytic": ana,
+            "experimental": e,
+            "error_pct": 100 * (val / e - 1) if e and math.isfinite(val) else None,
+            "sim_vs_analytic_pct": 100 * (val / ana - 1) if math.isfinite(val) else None,
+        })
+    wall = time.perf_counter() - t0
+    if as_json:
+        out = {"model": p.model.name, "source": source, "torque": T0,
+               "speed_diff": dw / RPM, "friction_scale": friction_scale,
+               "simulated": not analytic_only, "modes": rows, "runs": runs,
+               "wall_s": round(wall, 3)}
+        if failed:
+            out["error"] = failed
+        click.echo(json.dumps(_clean(out)))
+    else:
+        _print_table(p.model.name, T0, dw, rows, wall, analytic_only)
+    if failed:
+        _err(failed)
+        sys.exit(1)
+
+
+def _clean(obj):
+    if isinstance(obj, dict):
+        return {k: _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if hasattr(obj, "item"):
+        return _clean(obj.item())
+    return obj
+
+
+def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
+    from rich.table import Table
+
+    from drivedyn.cli import _console
+
+    table = Table(title=f"{name}: TDR on the test bench ({T0:g} N m, {dw / RPM:g} rpm)",
+                  title_justify="left")
+    for col in ("mode", "", "TDR simulated" if not analytic_only else "TDR (analytic only)",
+                "analytic", "experimental", "error vs exp.", "sim. vs analytic"):
+        table.add_column(col, justify="right")
+    for r in rows:
+        def pct(x):
+            return f"{x:+.2f} %" if x is not None else "-"
+        table.add_row(str(r["mode"]), r["name"], f"{r['tdr']:.3f}", f"{r['analytic']:.3f}",
+                      f"{r['experimental']:.2f}" if r["experimental"] else "-",
+                      pct(r["error_pct"]), pct(r["sim_vs_analytic_pct"]))
+    out = _console()
+    out.print(table)
+    out.print(f"wall time {wall:.1f} s")
+
+
+@click.command()
+@click.argument("model_file", metavar="FILE", default="torsen-c")
+@click.option("--free", "free", multiple=True, metavar="KEY",
+              help="Friction coefficient to fit (dotted key, e.g. washers.ring_case.mu). "
+                   "Repeatable. Default: the four washer coefficients other than the seeds' "
+                   "sun-coupling value.")
+@click.option("--target", "targets", multiple=True, metavar="MODE=TDR",
+              help="Measured TDR of a mode, e.g. --target 1=4.02 (default: the file's "
+                   "[experiment] table, all four modes).")
+@click.option("--bounds", nargs=2, type=float, default=(0.02, 0.2), show_default=True,
+              help="Plausible range of the fitted coefficients.")
+@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
+              help="Override a parameter before fitting (dotted key). Repeatable.")
+@click.option("--no-confirm", is_flag=True, help="Skip the confirmation by simulation.")
+@click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the calibrated model file here (comments kept, [calibration] "
+                   "table replaced).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
+              bounds: tuple[float, float], sets: tuple[str, ...], no_confirm: bool,
+              out: Path | None, as_json: bool) -> None:
+    """Fit friction coefficients of a TORSEN model to measured TDRs.
+
+    Bounded least squares on log TDR with the analytic quasi-static model, then the bench is
+    simulated with the fitted values (and the fit corrected by the small model difference if
+    needed). With --out, writes the model file with the fitted values and a [calibration]
+    table stating what was fitted to which data and this command.
+
+    \b
+    Example (reproduces the shipped torsen-c file):
+        drivedyn calibrate torsen-c --out torsen-c.toml
+    """
+    from drivedyn.analysis import calibrate as C  # noqa: N812
+    from drivedyn.analysis.tdr import experimental
+    from drivedyn.config.loader import resolve_path
+
+    p, _ = _params(model_file, sets)
+    keys = list(free) or ["washers.sun_housing.mu", "washers.coupling_case.mu",
+                          "washers.ring_housing.mu", "washers.ring_case.mu"]
+    goal: dict[int, float] = {}
+    for t in targets:
+        m, _, v = t.partition("=")
+        try:
+            goal[int(m)] = float(v)
+        except ValueError:
+            _bad_input(f"--target {t!r}: expected MODE=TDR, e.g. 1=4.02")
+    if not goal:
+        goal = experimental(p)
+        if not goal:
+            _bad_input("no targets: give --target MODE=TDR or an [experiment] tdr table")
+    lo, hi = bounds
+    if not 0 <= lo < hi <= 1:
+        _bad_input(f"--bounds: expected 0 <= low < high <= 1, got {lo} {hi}")
+    t0 = time.perf_counter()
+    if not as_json:
+        _progress_note(False)
+
+    def note(msg: str) -> None:
+        if not as_json:
+            click.echo(msg, err=True)
+
+    try:
+        cal = C.calibrate(p, keys, goal, bounds=(lo, hi), confirm=not no_confirm,
+                          progress=note)
+    except (KeyError, ValueError) as exc:
+        _bad_input(str(exc))
+    except RuntimeError as exc:
+        _err(str(exc))
+        sys.exit(1)
+    wall = time.perf_counter() - t0
+    final = cal.simulated or cal.analytic
+    errors = C.relative_errors(final, goal)
+    command = "drivedyn calibrate " + " ".join(shlex.quote(a) for a in sys.argv[2:]) \
+        if len(sys.argv) > 2 else "drivedyn calibrate torsen-c"
+    if out is not None:
+        text = resolve_path(model_file).read_text()
+        table = C.calibration_table(cal, p.experiment.source or "command-line targets",
+                                    command)
+        try:
+            new = C.update_toml_text(text, cal.values, table)
+        except KeyError as exc:
+            _bad_input(str(exc))
+        # with --set, overridden keys are written too so the file reproduces the fit
+        tmp = out.with_suffix(out.suffix + ".tmp")
+        tmp.write_text(new)
+        tmp.replace(out)
+    if as_json:
+        click.echo(json.dumps(_clean({
+            "model": p.model.name, "free": cal.values, "targets": goal,
+            "analytic": cal.analytic, "simulated": cal.simulated, "error_pct": errors,
+            "at_bound": cal.at_bound, "iterations": cal.iterations,
+            "written": str(out) if out else None, "wall_s": round(wall, 3)})))
+        return
+    click.echo("fitted coefficients:")
+    for k, v in cal.values.items():
+        flag = "  (at a bound)" if k in cal.at_bound else ""
+        click.echo(f"  {k:32s} {v:.4f}{flag}")
+    click.echo("mode  target   analytic  simulated  error")
+    for m in sorted(goal):
+        s = cal.simulated.get(m, math.nan)
+        click.echo(f"  {m}   {goal[m]:6.3f}   {cal.analytic[m]:8.4f}  {s:9.4f}  "
+                   f"{errors.get(m, math.nan):+6.2f} %")
+    if out is not None:
+        click.echo(f"model file written to {out}")
+    click.echo(f"wall time {wall:.1f} s")
+
+
+COMMANDS = (tdr, calibrate)
