@@ -1393,3 +1393,7 @@ def planetary_set(quick: bool = False, figure_dir: str | None = None) -> list[Ca
     out.append(compare(case, "load sharing: spread of the three sun-planet forces / mean", 0.0,
                        float(np.ptp(loads) / np.mean(loads)), "1", 1e-9, "symmetry"))
     return _finish(out, t0, [])
+
+
+# the TORSEN cases live in their own module; importing it registers them
+from drivedyn.validation import torsen_cases  # noqa: E402, F401

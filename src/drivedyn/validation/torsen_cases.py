@@ -1,0 +1,100 @@
+"""Validation of the TORSEN Type C model against seed 003 (Table 1) and the analytic model.
+
+The full seed protocol runs in both the quick and the full validation (two bench runs of
+3 s simulated time, about 10 s with cached kernels): the TDR is a steady-state quantity and a
+shorter protocol would not be a cheaper check of the same thing.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from drivedyn.validation.base import CaseResult, compare, register_case
+
+
+@register_case("torsen_c_tdr")
+def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """TORSEN Type C on the test bench (seed 003 protocol): TDR of the four locking modes
+    against the measurements (5 %), against the analytic quasi-static model (2 %), and the
+    torque balance of the bench."""
+    from drivedyn.analysis import analytic_tdr as at
+    from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench
+    from drivedyn.analysis.tdr import seeds_simulation as seeds_of
+    from drivedyn.config import read_library_file
+    from drivedyn.validation.cases import _failed, _figure, _finish
+
+    t0 = time.perf_counter()
+    case = "torsen_c_tdr"
+    p, _, _ = read_library_file("torsen-c")
+    exp = experimental(p)
+    seeds = seeds_of(p)
+    out: list[CaseResult] = []
+    runs = {}
+    sim: dict[int, float] = {}
+    for side, modes in SIDE_MODES.items():
+        run = run_bench(p, side)
+        runs[side] = run
+        if not run.success:
+            for m in modes:
+                out.append(_failed(case, f"mode {m} TDR", "1", 0.05, "seed 003", run.results))
+            continue
+        sim.update(run.tdr)
+        res = run.results
+        t = res["time"].values
+        # torque balance of the held differential: applied + resistant + housing = 0
+        win = p.bench.window_drive
+        k = (t >= win[0]) & (t <= win[1])
+        ta = res["applied_torque.torque_z"].values[k].mean()
+        tr = res["speed_control.torque"].values[k].mean()
+        th = res["hold_housing.torque"].values[k].mean()
+        out.append(compare(case, f"bench torque balance, {side} side (sum / applied torque)",
+                           0.0, float((ta + tr + th) / abs(ta)), "1", 1e-6,
+                           "moment balance of the whole differential at steady speed"))
+    for m in sorted(sim):
+        e = exp.get(m)
+        s = seeds.get(m)
+        if e:
+            seed_txt = f"; the seeds' simulation {s} ({100 * (s / e - 1):+.2f} %)" if s else ""
+            beside = f" [seeds' simulation {s}]" if s else ""
+            out.append(compare(case, f"mode {m} TDR ({mode_name(m)}) vs measured{beside}", e,
+                               sim[m], "1", 0.05, f"seed 003 Table 1, test bench{seed_txt}"))
+        ana = at.bench_tdr(p, m)
+        out.append(compare(case, f"mode {m} TDR vs analytic quasi-static", ana, sim[m], "1",
+                           0.02, "drivedyn.analysis.analytic_tdr (equilibrium of each part)"))
+    figures: list[str] = []
+    if sim:
+        def bars(fig):
+            ax = fig.add_subplot(111)
+            ms = sorted(sim)
+            x = np.arange(len(ms))
+            for i, (lab, vals) in enumerate((
+                    ("simulated", [sim[m] for m in ms]),
+                    ("analytic", [at.bench_tdr(p, m) for m in ms]),
+                    ("measured (seed 003)", [exp.get(m, np.nan) for m in ms]),
+                    ("seeds' simulation", [seeds.get(m, np.nan) for m in ms]))):
+                ax.bar(x + (i - 1.5) * 0.2, vals, 0.2, label=lab)
+            ax.set_xticks(x, [f"mode {m}\n{mode_name(m)}" for m in ms])
+            ax.set_ylabel("TDR [-]")
+            ax.set_title("TORSEN Type C: torque distribution ratio on the test bench")
+            ax.legend()
+
+        figures += _figure(figure_dir, "torsen_c_tdr", bars)
+        if "rear" in runs and runs["rear"].success:
+            res = runs["rear"].results
+
+            def history(fig):
+                ax = fig.add_subplot(111)
+                t = res["time"].values
+                ax.plot(t, res["applied_torque.torque_z"].values, label="applied (coupling)")
+                ax.plot(t, res["speed_control.torque"].values, label="resistant (sun)")
+                for w in (p.bench.window_drive, p.bench.window_coast):
+                    ax.axvspan(*w, color="0.9")
+                ax.set_xlabel("time [s]")
+                ax.set_ylabel("torque [N m]")
+                ax.set_title("Type C bench, drive then coast to rear (seed 003, Fig. 8)")
+                ax.legend()
+
+            figures += _figure(figure_dir, "torsen_c_bench_rear", history)
+    return _finish(out, t0, figures)
