@@ -169,6 +169,9 @@ def check_parameters(p: TorsenCFile) -> Geometry:
         if w.r_int < geo.r_ring - g.module:
             fail(f"washers.{name}.r_int", w.r_int, "inside the ring's tip circle "
                  f"{(geo.r_ring - g.module) * 1e3:.2f} mm (the face would cut the teeth)")
+        if w.r_ext > p.spline.radius:
+            fail(f"washers.{name}.r_ext", w.r_ext, "outside the internal gear, whose outer "
+                 f"radius is the spline radius {p.spline.radius * 1e3:.2f} mm")
     if p.pockets.clearance > 0.2 * g.module:
         fail("pockets.clearance", p.pockets.clearance, "expected a small radial clearance "
              f"(< 0.2 module = {0.2 * g.module * 1e3:.3f} mm)")
