@@ -70,6 +70,8 @@ def test_tdr_analytic_only_and_overrides(runner: CliRunner) -> None:
     (["--set", "washers.ring_case.mu=2"], "washers.ring_case.mu"),
     (["--set", "spline.helix_angle=\"-40 deg\""], "spline.helix_angle"),
     (["--set", "bodies.sun.mass=\"-1 kg\""], "bodies.sun.mass"),
+    (["--set", "bench.t_end=0.45"], "transition end <= t_end"),
+    (["--set", "bench.window_coast=[2.2, 3.5]"], "window_coast"),
 ])
 def test_tdr_bad_input(runner: CliRunner, args: list[str], needle: str) -> None:
     res = runner.invoke(main, ["tdr", "--analytic-only", *args])

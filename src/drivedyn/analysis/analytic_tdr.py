@@ -250,9 +250,15 @@ def all_modes(p: TorsenCFile, **kw) -> list[float]:
 
 def pocket_only_ratio(rho: float, mu_p: float, r_tip: float, r_pitch: float,
                       ring_drives: bool) -> float:
-    """Rear/front torque ratio with pocket friction only (no radial mesh forces, no
-    centrifugal force): ``rho (1 + b)/(1 - b)`` if the ring drives relative to the housing,
-    ``rho (1 - b)/(1 + b)`` if the sun does, ``b = mu_p r_tip / r_pitch``."""
+    """Textbook estimate of the rear/front torque ratio with pocket friction only:
+    ``rho (1 + b)/(1 - b)`` if the ring drives relative to the housing, ``rho (1 - b)/(1 + b)``
+    if the sun does, ``b = mu_p r_tip / r_pitch``.
+
+    An approximation of :func:`solve`: it neglects the radial mesh forces, the centrifugal
+    force and the tilt of the pocket reaction by the friction angle (it takes the pocket
+    normal force as ``F_s + F_r`` instead of about ``(F_s + F_r) / sqrt(1 + mu_p^2)``); the
+    exact pocket-only value, ``x = b / sqrt(1 + mu_p^2 - b^2 tan^2 alpha_t)`` in place of
+    ``b``, is derived and checked in ``tests/test_torsen_c.py``."""
     b = mu_p * r_tip / r_pitch
     k = (1 + b) / (1 - b)
     return rho * k if ring_drives else rho / k

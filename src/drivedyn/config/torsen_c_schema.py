@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from drivedyn.config import units as U  # noqa: N812
 from drivedyn.config.schema import (
@@ -121,6 +121,20 @@ class Bench(_Strict):
     t_end: PositiveTime = 3.0
     window_drive: tuple[Time, Time] = (0.4, 1.0)
     window_coast: tuple[Time, Time] = (2.2, 2.8)
+
+    @model_validator(mode="after")
+    def _order(self) -> Bench:
+        t1, t2 = self.transition
+        if not self.ramp <= t1 < t2 <= self.t_end:
+            raise ValueError(f"expected ramp <= transition start < transition end <= t_end, got "
+                             f"ramp {self.ramp}, transition {list(self.transition)}, t_end "
+                             f"{self.t_end} [s]")
+        for label, (a, b), lo, hi in (("window_drive", self.window_drive, self.ramp, t1),
+                                      ("window_coast", self.window_coast, t2, self.t_end)):
+            if not lo <= a < b <= hi:
+                raise ValueError(f"{label} = {[a, b]} s must lie in a steady part, within "
+                                 f"[{lo}, {hi}] s")
+        return self
 
 
 class Vehicle(_Strict):
