@@ -402,19 +402,21 @@ def _load_library_model(path: str | Path, overrides) -> Model:
 
     params, data, source = read_library_file(path, overrides)
     try:
+        s = params.solver
+        st, nw = s.step, s.newton
+        h_max = st.h_max
         if params.scenario.kind == "bench":
             spec, _ = tc.bench_spec(params, params.scenario.modes)
             t_end = params.bench.t_end
         else:
             spec, _, t_end = tc.vehicle_spec(params)
+            h_max = min(h_max, params.vehicle.h_max)
         model = compile_model(spec)
     except ModelError as exc:
         raise ModelError(f"{source}: {exc}") from None
-    s = params.solver
-    st, nw = s.step, s.newton
     model.meta["scenario"] = Scenario(
         t_end=t_end, integrator=GeneralizedAlpha(s.rho_inf),
-        step=AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol),
+        step=AdaptiveStep(st.h0, st.h_min, h_max, st.rtol, st.atol),
         newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
         output_dt=s.output_dt, output_times=None, variables=None)
     model.meta["source"] = source

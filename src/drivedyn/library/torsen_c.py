@@ -336,17 +336,21 @@ def bench_spec(p: TorsenCFile, side: str, torque: float | None = None,
 
 def vehicle_profile(p: TorsenCFile) -> tuple[TimeFunction, TimeFunction, float]:
     """(housing torque T(t) [N m], rear-minus-front speed difference d(t) [rad/s], t_end):
-    levels held for ``vehicle.hold`` and joined by smooth steps over ``vehicle.ramp``."""
+    from T = 0 at t = 0, smooth steps over ``vehicle.ramp`` to each level, held for
+    ``vehicle.hold``; level i is held over [(i + 1) ramp + i hold, (i + 1)(ramp + hold)]."""
     v = p.vehicle
-    if len(v.torque_levels) != len(v.speed_diff) or len(v.torque_levels) < 2:
+    if len(v.torque_levels) != len(v.speed_diff) or len(v.torque_levels) < 1:
         raise ModelError("vehicle.torque_levels and vehicle.speed_diff must have the same "
-                         f"length >= 2, got {len(v.torque_levels)} and {len(v.speed_diff)}")
-    tq: list[Any] = [Constant(v.torque_levels[0])]
+                         f"length >= 1, got {len(v.torque_levels)} and {len(v.speed_diff)}")
+    tq: list[Any] = []
     dd: list[Any] = [Constant(v.speed_diff[0])]
-    t = v.hold
-    for i in range(1, len(v.torque_levels)):
-        tq.append(SmoothStep(t, t + v.ramp, 0.0, v.torque_levels[i] - v.torque_levels[i - 1]))
-        dd.append(SmoothStep(t, t + v.ramp, 0.0, v.speed_diff[i] - v.speed_diff[i - 1]))
+    t = 0.0
+    last = 0.0
+    for i, level in enumerate(v.torque_levels):
+        tq.append(SmoothStep(t, t + v.ramp, 0.0, level - last))
+        if i:
+            dd.append(SmoothStep(t, t + v.ramp, 0.0, v.speed_diff[i] - v.speed_diff[i - 1]))
+        last = level
         t += v.ramp + v.hold
     return Sum(tq), Sum(dd), t
 
