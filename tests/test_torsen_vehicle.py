@@ -59,10 +59,20 @@ def test_mode_of_follows_the_modes_table() -> None:
 
 
 def test_level_windows_match_the_profile(params) -> None:
+    """Each analysis window lies where the engine torque and the speed difference hold
+    their level (checked on the time functions the model is built from)."""
+    from drivedyn.library.torsen_c import vehicle_profile
+
+    torque, diff, t_end = vehicle_profile(params)
     w = level_windows(params)
-    assert len(w) == 4
-    assert w[0] == pytest.approx((0.0, 0.032, 0.08))
-    assert w[3][2] == pytest.approx(0.08 + 3 * 0.12)
+    assert len(w) == len(params.vehicle.torque_levels)
+    for (hold_start, a, b), level, d in zip(w, params.vehicle.torque_levels,
+                                            params.vehicle.speed_diff, strict=True):
+        assert hold_start < a < b
+        for t in np.linspace(hold_start, b, 7):
+            assert torque(t) == pytest.approx(level, abs=1e-12)
+            assert diff(t) == pytest.approx(d, abs=1e-12)
+    assert w[-1][2] == pytest.approx(t_end)
 
 
 def test_runs_through_all_reversals(run) -> None:
