@@ -57,11 +57,14 @@ def _console(stderr: bool = False) -> Console:
 
 
 def _jsonable(obj: Any) -> Any:
-    """Replace non-finite floats by None so the output is strict JSON."""
+    """Replace non-finite floats by None and numpy scalars by Python numbers so the output
+    is strict JSON."""
     if isinstance(obj, dict):
         return {k: _jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [_jsonable(v) for v in obj]
+    if hasattr(obj, "item") and not isinstance(obj, (str, bytes)):
+        obj = obj.item()
     if isinstance(obj, float) and not math.isfinite(obj):
         return None
     return obj

@@ -140,15 +140,9 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
 
 
 def _clean(obj):
-    if isinstance(obj, dict):
-        return {k: _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, float):
-        return obj if math.isfinite(obj) else None
-    if hasattr(obj, "item"):
-        return _clean(obj.item())
-    return obj
+    from drivedyn.cli import _jsonable
+
+    return _jsonable(obj)
 
 
 def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:

@@ -75,20 +75,13 @@ def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
         output_dt: sampling interval [s] (default ``solver.output_dt``).
     """
     from drivedyn.model.compile import compile_model
-    from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
     from drivedyn.solver.simulate import simulate
 
     t0 = time.perf_counter()
     sp, _ = bench_spec(p, side, torque, speed_diff, friction_scale)
     model = compile_model(sp)
-    s = p.solver
-    st = s.step
-    nw = s.newton
-    res = simulate(model, p.bench.t_end,
-                   integrator=GeneralizedAlpha(s.rho_inf),
-                   step=AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol),
-                   newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
-                   output_dt=output_dt or s.output_dt, progress=progress)
+    res = simulate(model, p.bench.t_end, **p.solver.settings(),
+                   output_dt=output_dt or p.solver.output_dt, progress=progress)
     run = BenchRun(side, results=res, wall_s=time.perf_counter() - t0,
                    success=bool(res.success), message="" if res.success else str(res.message))
     windows = (p.bench.window_drive, p.bench.window_coast)

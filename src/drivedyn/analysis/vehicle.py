@@ -220,18 +220,12 @@ def run_vehicle(p: TorsenCFile, friction_scale: float = 1.0, progress=None,
         completed before the stop.
     """
     from drivedyn.model.compile import compile_model
-    from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
     from drivedyn.solver.simulate import simulate
 
     t0 = time.perf_counter()
     sp, _, t_end = vehicle_spec(p, friction_scale)
     model = compile_model(sp)
-    s = p.solver
-    st, nw = s.step, s.newton
-    res = simulate(model, t_end, integrator=GeneralizedAlpha(s.rho_inf),
-                   step=AdaptiveStep(st.h0, st.h_min, min(st.h_max, p.vehicle.h_max),
-                                     st.rtol, st.atol),
-                   newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
+    res = simulate(model, t_end, **p.solver.settings(h_max=p.vehicle.h_max),
                    output_dt=output_dt or default_output_dt(p), progress=progress)
     return VehicleRun(results=res, wall_s=time.perf_counter() - t0, success=bool(res.success),
                       message="" if res.success else str(res.message),

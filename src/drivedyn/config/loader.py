@@ -398,27 +398,21 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     """A parametric file's scenario (``[scenario] kind``) as a compiled model."""
     from drivedyn.library import torsen_c as tc
     from drivedyn.model.compile import compile_model
-    from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
-
     params, data, source = read_library_file(path, overrides)
     try:
-        s = params.solver
-        st, nw = s.step, s.newton
-        h_max = st.h_max
+        h_max = None
         if params.scenario.kind == "bench":
             spec, _ = tc.bench_spec(params, params.scenario.modes)
             t_end = params.bench.t_end
         else:
             spec, _, t_end = tc.vehicle_spec(params)
-            h_max = min(h_max, params.vehicle.h_max)
+            h_max = params.vehicle.h_max
         model = compile_model(spec)
     except ModelError as exc:
         raise ModelError(f"{source}: {exc}") from None
     model.meta["scenario"] = Scenario(
-        t_end=t_end, integrator=GeneralizedAlpha(s.rho_inf),
-        step=AdaptiveStep(st.h0, st.h_min, h_max, st.rtol, st.atol),
-        newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter),
-        output_dt=s.output_dt, output_times=None, variables=None)
+        t_end=t_end, **params.solver.settings(h_max=h_max), output_dt=params.solver.output_dt,
+        output_times=None, variables=None)
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = params.model.name

@@ -164,6 +164,17 @@ class Solver(_Strict):
     newton: NewtonFile = Field(default_factory=NewtonFile)
     output_dt: PositiveTime = 5e-3
 
+    def settings(self, h_max: float | None = None) -> dict:
+        """``integrator``, ``step`` and ``newton`` arguments of ``simulate``; ``h_max`` [s]
+        caps the largest step (the vehicle run)."""
+        from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
+
+        st, nw = self.step, self.newton
+        hm = st.h_max if h_max is None else min(st.h_max, h_max)
+        return {"integrator": GeneralizedAlpha(self.rho_inf),
+                "step": AdaptiveStep(st.h0, st.h_min, hm, st.rtol, st.atol),
+                "newton": Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter)}
+
 
 class Calibration(_Strict):
     """What was fitted to what (written by ``drivedyn calibrate``)."""
