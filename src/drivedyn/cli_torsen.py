@@ -35,11 +35,11 @@ def _params(model_file: str, sets: tuple[str, ...]):
 
 
 def _progress_note(quiet: bool):
+    from drivedyn.cli import COMPILE_NOTE
     from drivedyn.progress import kernels_cached
 
     if not quiet and not kernels_cached():
-        click.echo("note: the first run compiles the numba kernels (a few minutes); they are "
-                   "cached afterwards.", err=True)
+        click.echo(COMPILE_NOTE, err=True)
 
 
 @click.command()
