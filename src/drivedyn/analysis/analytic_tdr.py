@@ -143,19 +143,14 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
         Fc = k_spl * TB
         X = Ar - Fc
         N4, N5 = max(0.0, -X), max(0.0, X)
-        # sun + coupling: rest on W1 (coupling on the sun) or on W3 (sun on the coupling)
-        if As + Fc <= 0:  # pushed to the front
-            N3 = 0.0
-            N2 = max(0.0, -Fc)
-            N1 = N2 - As
-            if N1 < 0:  # the sun leaves W1: separated faces
-                N1, N2, N3 = 0.0, As, As + Fc
-        else:
-            N1 = 0.0
-            N2 = max(0.0, As)
-            N3 = N2 + Fc
-            if N3 < 0:
-                N1, N2, N3 = -As, 0.0, Fc
+        # sun + coupling: both on W1 (coupling pressing on the sun), both on W3 (sun
+        # pressing on the coupling), or pushed apart (each on its own washer)
+        if Fc <= 0 and As + Fc <= 0:
+            N1, N2, N3 = -(As + Fc), -Fc, 0.0
+        elif As >= 0 and As + Fc >= 0:
+            N1, N2, N3 = 0.0, As, As + Fc
+        else:  # As < 0 < Fc
+            N1, N2, N3 = -As, 0.0, Fc
         return {"sun_housing": N1, "sun_coupling": N2, "coupling_case": N3,
                 "ring_housing": N4, "ring_case": N5}
 
