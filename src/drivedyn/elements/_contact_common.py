@@ -20,7 +20,7 @@ from drivedyn.elements.impact_laws import (
     NormalLaw,
     law_arrays,
 )
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 
 @njit(cache=True, inline="always")

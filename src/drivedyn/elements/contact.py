@@ -97,7 +97,7 @@ from drivedyn.elements.impact_laws import (
     normal_force,
 )
 from drivedyn.elements.primitives import gather_v, prim_axial
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 # --- point / sphere on plane ----------------------------------------------------------------
 

@@ -33,7 +33,7 @@ from drivedyn.elements.base import (
 )
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
 from drivedyn.elements.primitives import gather_v, prim_angle, quad_form, unwrap
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 FRICTION_LAWS = ("coulomb", "tanh")
 KIND_COULOMB = 0

@@ -110,7 +110,7 @@ from drivedyn.elements.gear_geometry import (
     mesh_cycle_levels,
 )
 from drivedyn.elements.primitives import _hess_axial, cross, gather_v, mtv, mv, prim_dot, unwrap
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 KIND_PARALLEL = 0
 KIND_SKEW = 1  # bevel and crossed axes: references from the other wheel's axis

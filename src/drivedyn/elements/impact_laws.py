@@ -62,7 +62,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 LAW_NAMES = ("penalty", "hunt-crossley", "lankarani-nikravesh", "flores", "gonthier",
              "hu-guo", "exact")

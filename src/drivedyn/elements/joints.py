@@ -57,7 +57,7 @@ from drivedyn.elements.primitives import (
     quad_form,
     unwrap,
 )
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 ROW_AXIAL = 0  # d . a_i
 ROW_DOT = 1  # a_i . b_j

@@ -24,7 +24,7 @@ from drivedyn.elements.base import (
     scatter_element,
 )
 from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 
 @njit(cache=True, inline="always")

@@ -30,7 +30,7 @@ from drivedyn.elements.base import (
 )
 from drivedyn.elements.joints import relative_angle
 from drivedyn.elements.primitives import gather_v, prim_angle, prim_distance, unwrap
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 
 @njit(cache=True, inline="always")

@@ -73,7 +73,7 @@ from drivedyn.elements.friction import FrictionLaw, friction_scalar
 from drivedyn.elements.impact_laws import NormalLaw, impact_speed, impact_state, initial_state
 from drivedyn.elements.impact_laws import normal_force as metal_force
 from drivedyn.elements.primitives import gather_v, prim_axial
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 
 def annulus_factor(r_int: float, r_ext: float) -> float:

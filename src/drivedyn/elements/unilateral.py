@@ -69,7 +69,7 @@ from drivedyn.elements.base import (
     scatter_element,
 )
 from drivedyn.elements.primitives import gather_v, prim_axial, quad_form
-from drivedyn.model.spec import ModelError
+from drivedyn.errors import ModelError
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
 NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A

@@ -17,13 +17,10 @@ from typing import Any
 
 import numpy as np
 
+from drivedyn.errors import ModelError
 from drivedyn.rotations import frame_from_axis
 
 GROUND = "ground"
-
-
-class ModelError(ValueError):
-    """A model description that cannot be built; the message names the element and the value."""
 
 
 def _vec3(value: Any, what: str) -> np.ndarray:
