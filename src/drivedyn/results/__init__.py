@@ -1,5 +1,5 @@
 """Recording, results (xarray Dataset) and results files."""
 
-from drivedyn.results.results import Results, load_results, write_netcdf_atomic
+from drivedyn.results.results import Results, RunStats, load_results, write_netcdf_atomic
 
-__all__ = ["Results", "load_results", "write_netcdf_atomic"]
+__all__ = ["Results", "RunStats", "load_results", "write_netcdf_atomic"]

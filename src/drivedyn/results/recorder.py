@@ -1,4 +1,7 @@
-"""Samples node states, element outputs and the energy account at output times."""
+"""Samples node states, element outputs and the energy account at output times.
+
+The solver hands this module plain arrays only (the state and each group's per-element
+``eout``/``aux`` arrays, see :mod:`drivedyn.elements.base`); results never import the solver."""
 
 from __future__ import annotations
 
@@ -6,7 +9,6 @@ import numpy as np
 from numba import njit
 
 from drivedyn.model.model import Model, State
-from drivedyn.solver.assembly import System
 
 
 @njit(cache=True)
@@ -50,17 +52,19 @@ class EnergyAccount:
         self.kinetic = 0.0
         self.potential = 0.0
 
-    def start(self, sys: System) -> None:
-        e = sys.energies()
-        self.kinetic, self.potential = e["kinetic"], e["potential"]
+    def start(self) -> None:
+        """Take the energies and powers at the start from the groups' ``eout`` arrays (after
+        an evaluation at the initial state)."""
+        self.kinetic = float(sum(g.eout[:, 0].sum() for g in self.model.groups))
+        self.potential = float(sum(g.eout[:, 1].sum() for g in self.model.groups))
         self.e0 = self.kinetic + self.potential
         for i, g in enumerate(self.model.groups):
             self._pin[i] = g.eout[:, 2].copy()
             self._pd[i] = g.eout[:, 3].copy()
 
-    def advance(self, sys: System, h: float) -> None:
+    def advance(self, h: float) -> None:
         """Integrate the powers over an accepted step of size ``h`` [s] (after evaluation at
-        the new state)."""
+        the new state, so the groups' ``eout`` hold the new powers)."""
         ek = ep = 0.0
         for i, g in enumerate(self.model.groups):
             dw, k, p = _trapezoid(g.eout, self._pin[i], self._pd[i], self.dissipated[i], h)

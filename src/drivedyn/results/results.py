@@ -5,14 +5,27 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-from dataclasses import asdict
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from drivedyn.solver.settings import RunStats
+
+@dataclass
+class RunStats:
+    """Counters of a run (filled by the solver, kept with the results)."""
+
+    steps: int = 0
+    rejected: int = 0
+    newton_iterations: int = 0
+    factorizations: int = 0
+    residual_evaluations: int = 0
+    h_min_used: float = np.inf
+    h_max_used: float = 0.0
+    wall_s: float = 0.0
+    extra: dict = field(default_factory=dict)
+
 
 
 class Results:
@@ -131,8 +144,6 @@ def write_netcdf_atomic(dataset: Any, path: str | os.PathLike) -> Path:
 def load_results(path: str | os.PathLike) -> Results:
     """Read a results file written by :meth:`Results.to_netcdf`."""
     import xarray as xr
-
-    from drivedyn.solver.settings import RunStats
 
     ds = xr.load_dataset(path)
     stats = RunStats(**{k: (np.inf if v is None else v)

@@ -7,7 +7,6 @@ from drivedyn.solver.settings import (
     FixedStep,
     GeneralizedAlpha,
     Newton,
-    RunStats,
     StepOutcome,
     StepStatus,
 )
@@ -22,7 +21,6 @@ __all__ = [
     "InitializationError",
     "LinearSolver",
     "Newton",
-    "RunStats",
     "SparseLU",
     "StaticsError",
     "StepOutcome",

@@ -118,16 +118,6 @@ class System:
         nd = self.model.nd
         return np.abs(r[nd:]) / self.kscale[nd:]
 
-    def energies(self) -> dict[str, float]:
-        """Kinetic, potential energy [J] and power input / dissipation [W] summed by kind."""
-        ek = ep = pin = pdis = 0.0
-        for g in self.model.groups:
-            s = g.eout.sum(axis=0)
-            ek += s[0]
-            ep += s[1]
-            pin += s[2]
-            pdis += s[3]
-        return {"kinetic": ek, "potential": ep, "power_in": pin, "power_dissipated": pdis}
 
 
 def element_outputs(model: Model, state: State) -> dict[str, dict[str, float]]:

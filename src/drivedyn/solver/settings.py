@@ -4,9 +4,7 @@ and the outcome of a step as a value (failures are values; only the top level ra
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass, field
-
-import numpy as np
+from dataclasses import dataclass
 
 
 @dataclass(frozen=True)
@@ -133,18 +131,3 @@ class StepOutcome:
     @property
     def ok(self) -> bool:
         return self.status is StepStatus.SUCCESS
-
-
-@dataclass
-class RunStats:
-    """Counters of a run."""
-
-    steps: int = 0
-    rejected: int = 0
-    newton_iterations: int = 0
-    factorizations: int = 0
-    residual_evaluations: int = 0
-    h_min_used: float = np.inf
-    h_max_used: float = 0.0
-    wall_s: float = 0.0
-    extra: dict = field(default_factory=dict)

@@ -17,7 +17,7 @@ import numpy as np
 from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, Recorder
-from drivedyn.results.results import Results
+from drivedyn.results.results import Results, RunStats
 from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
 from drivedyn.solver.settings import (
@@ -25,7 +25,6 @@ from drivedyn.solver.settings import (
     FixedStep,
     GeneralizedAlpha,
     Newton,
-    RunStats,
     StepOutcome,
     StepStatus,
 )
@@ -180,7 +179,7 @@ def simulate(
         raise InitializationError(f"initial state violates {model.eq_labels[model.nd + i]} "
                                   f"by {viol[i]:.3g}")
     energy = EnergyAccount(model)
-    energy.start(sys)
+    energy.start()
     rec = Recorder(model, energy)
     t0 = st.t
     touts = _output_times(t0, t_end, step, output_dt, output_times)
@@ -230,7 +229,7 @@ def simulate(
                 for g in model.groups:
                     if g.commit is not None:
                         g.commit(g, trial)
-                energy.advance(sys, h_try)
+                energy.advance(h_try)
                 stepper.accepted(st)
                 st.assign(trial)
                 stats.steps += 1
