@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
+from drivedyn import units as U  # noqa: N812
 from drivedyn.config import ModelFileError, load_model, shipped_models
-from drivedyn.config import units as U  # noqa: N812
-from drivedyn.config.units import UnitError, to_si
+from drivedyn.units import UnitError, to_si
 
 BLOCK = """
 [model]

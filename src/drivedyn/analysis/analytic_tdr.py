@@ -67,8 +67,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import fsolve
 
-from drivedyn.config.torsen_c_schema import TorsenCFile
 from drivedyn.library.torsen_c import MODES, check_parameters
+from drivedyn.library.torsen_c_schema import TorsenCFile
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from drivedyn.analysis.analytic_tdr import all_modes
-from drivedyn.config.torsen_c_schema import TorsenCFile
+from drivedyn.library.torsen_c_schema import TorsenCFile
 
 
 @dataclass

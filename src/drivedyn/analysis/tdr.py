@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from drivedyn.config.torsen_c_schema import TorsenCFile
 from drivedyn.library.torsen_c import MODES, bench_spec
+from drivedyn.library.torsen_c_schema import TorsenCFile
 
 #: modes of each bench side, in the order they run (drive first)
 SIDE_MODES = {"rear": (1, 2), "front": (3, 4)}

@@ -33,8 +33,8 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.config.torsen_c_schema import TorsenCFile
 from drivedyn.library.torsen_c import MODES, vehicle_spec
+from drivedyn.library.torsen_c_schema import TorsenCFile
 
 #: fraction of each hold (its end) over which a level is averaged
 WINDOW_FRACTION = 0.6

@@ -9,7 +9,7 @@ from drivedyn.config.loader import (
     read_model_file,
     shipped_models,
 )
-from drivedyn.config.units import UnitError, to_si
+from drivedyn.units import UnitError, to_si
 
 __all__ = [
     "ModelFileError",

@@ -191,7 +191,7 @@ def _function(f: Any, functions: dict, where: str) -> Any:
 
 def build_spec(mf: S.ModelFile) -> Spec:
     """A :class:`Spec` from a validated file (elements in file order, by section)."""
-    from drivedyn import elements as E  # noqa: N812
+    import drivedyn.elements as E  # noqa: N812
 
     spec = Spec(gravity=mf.model.gravity)
     for b in mf.bodies:
@@ -241,7 +241,7 @@ def element_types() -> dict[str, type]:
     """Class name -> element spec class of every registered element family."""
     import dataclasses
 
-    from drivedyn import elements as E  # noqa: N812
+    import drivedyn.elements as E  # noqa: N812
 
     out: dict[str, type] = {}
     stack = list(E.ElementSpec.__subclasses__())
@@ -256,7 +256,7 @@ def element_types() -> dict[str, type]:
 
 def _si_values(value: Any) -> Any:
     """Unit strings ('3 mm') -> SI floats, recursively in lists; other values unchanged."""
-    from drivedyn.config.units import _QUANTITY, parse_unit
+    from drivedyn.units import _QUANTITY, parse_unit
 
     if isinstance(value, list):
         return [_si_values(v) for v in value]
@@ -355,7 +355,7 @@ def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | 
                       ) -> tuple[Any, dict, str]:
     """Read, override and validate a parametric model file (``[model] library``, e.g. the
     shipped ``torsen-c``): (parameters, raw data, source name)."""
-    from drivedyn.config.torsen_c_schema import TorsenCFile
+    from drivedyn.library.torsen_c_schema import TorsenCFile
 
     data, source = _read_data(path, overrides)
     lib = library_of(data)

@@ -1,7 +1,7 @@
 """Pydantic schema of model/scenario files (TOML).
 
 Every physical value may be a plain number (SI) or a string with a unit (``"3 mm"``,
-``"1500 rpm"``); see :mod:`drivedyn.config.units`. Unknown keys are errors (a misspelt key
+``"1500 rpm"``); see :mod:`drivedyn.units`. Unknown keys are errors (a misspelt key
 must not be silently ignored). Errors name the key path, the bad value and what was expected.
 
 File layout (every section optional except what the model needs)::
@@ -26,103 +26,44 @@ File layout (every section optional except what the model needs)::
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from drivedyn.config import units as U  # noqa: N812 - short name for units
-
-
-def _scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False):
-    def conv(v: Any) -> float:
-        x = U.to_si(v, dim)
-        if not np.isfinite(x):
-            raise ValueError(f"must be finite [{U.dim_name(dim)}]")
-        if positive and x <= 0:
-            raise ValueError(f"must be > 0 {U.dim_name(dim)}")
-        if nonneg and x < 0:
-            raise ValueError(f"must be >= 0 {U.dim_name(dim)}")
-        return x
-
-    return BeforeValidator(conv)
-
-
-def _vector(dim: U.Dim):
-    def conv(v: Any) -> tuple[float, float, float]:
-        if not isinstance(v, (list, tuple)) or len(v) != 3:
-            raise ValueError(f"expected a list of 3 values [{U.dim_name(dim)}]")
-        return tuple(U.to_si(x, dim) for x in v)  # type: ignore[return-value]
-
-    return BeforeValidator(conv)
-
-
-Length = Annotated[float, _scalar(U.LENGTH)]
-PositiveLength = Annotated[float, _scalar(U.LENGTH, positive=True)]
-NonNegLength = Annotated[float, _scalar(U.LENGTH, nonneg=True)]
-Mass = Annotated[float, _scalar(U.MASS, positive=True)]
-Time = Annotated[float, _scalar(U.TIME, positive=True)]
-Angle = Annotated[float, _scalar(U.ANGLE)]
-Force = Annotated[float, _scalar(U.FORCE)]
-Torque = Annotated[float, _scalar(U.TORQUE)]
-Stiffness = Annotated[float, _scalar(U.STIFFNESS, nonneg=True)]
-Damping = Annotated[float, _scalar(U.DAMPING, nonneg=True)]
-TorsionalStiffness = Annotated[float, _scalar(U.TORSIONAL_STIFFNESS, nonneg=True)]
-TorsionalDamping = Annotated[float, _scalar(U.TORSIONAL_DAMPING, nonneg=True)]
-LengthVec = Annotated[tuple[float, float, float], _vector(U.LENGTH)]
-VelocityVec = Annotated[tuple[float, float, float], _vector(U.VELOCITY)]
-AngVelVec = Annotated[tuple[float, float, float], _vector(U.ANGULAR_VELOCITY)]
-AccelVec = Annotated[tuple[float, float, float], _vector(U.ACCELERATION)]
-ForceVec = Annotated[tuple[float, float, float], _vector(U.FORCE)]
-TorqueVec = Annotated[tuple[float, float, float], _vector(U.TORQUE)]
-DirVec = Annotated[tuple[float, float, float], _vector(U.DIMENSIONLESS)]
+from drivedyn.schema_base import (
+    AccelVec,
+    Angle,
+    AngVelVec,
+    Damping,
+    DirVec,
+    Force,
+    ForceVec,
+    Inertia,
+    Length,
+    LengthVec,
+    Mass,
+    NonNegLength,
+    OutputFile,
+    RotationField,
+    SolverFile,
+    Stiffness,
+    Strict,
+    Torque,
+    TorqueVec,
+    TorsionalDamping,
+    TorsionalStiffness,
+    VelocityVec,
+)
 
 
-def _inertia(v: Any) -> list:
-    """Principal moments (3 values) or a 3x3 tensor [kg m^2]."""
-    if isinstance(v, (list, tuple)) and len(v) == 3 and all(
-            not isinstance(x, (list, tuple)) for x in v):
-        return [U.to_si(x, U.INERTIA) for x in v]
-    if (isinstance(v, (list, tuple)) and len(v) == 3
-            and all(isinstance(r, (list, tuple)) and len(r) == 3 for r in v)):
-        return [[U.to_si(x, U.INERTIA) for x in r] for r in v]
-    raise ValueError("expected 3 principal moments or a 3x3 tensor [kg m^2]")
-
-
-Inertia = Annotated[list, BeforeValidator(_inertia)]
-
-
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class Rotation(_Strict):
-    """A rotation by ``angle`` about ``axis`` (an axis-angle pair)."""
-
-    axis: DirVec
-    angle: Angle = 0.0
-
-
-def _rotation(v: Any) -> Any:
-    if v is None or isinstance(v, dict):
-        return v
-    arr = np.asarray(v, dtype=float) if isinstance(v, (list, tuple)) else None
-    if arr is not None and arr.shape == (3, 3):
-        return arr.tolist()
-    raise ValueError("expected {axis = [x, y, z], angle = ...} or a 3x3 rotation matrix")
-
-
-RotationField = Annotated[Rotation | list[list[float]] | None, BeforeValidator(_rotation)]
-
-
-class ModelInfo(_Strict):
+class ModelInfo(Strict):
     name: str = "model"
     description: str = ""
     gravity: AccelVec = (0.0, 0.0, 0.0)
     notes: dict[str, str] = Field(default_factory=dict)
 
 
-class BodyFile(_Strict):
+class BodyFile(Strict):
     name: str
     mass: Mass
     inertia: Inertia
@@ -133,7 +74,7 @@ class BodyFile(_Strict):
     angular_velocity: AngVelVec = (0.0, 0.0, 0.0)
 
 
-class NodeFile(_Strict):
+class NodeFile(Strict):
     name: str
     position: LengthVec = (0.0, 0.0, 0.0)
     rotation: RotationField = None
@@ -141,7 +82,7 @@ class NodeFile(_Strict):
     angular_velocity: AngVelVec = (0.0, 0.0, 0.0)
 
 
-class MarkerFile(_Strict):
+class MarkerFile(Strict):
     name: str
     body: str
     position: LengthVec = (0.0, 0.0, 0.0)
@@ -155,7 +96,7 @@ class MarkerFile(_Strict):
         return self
 
 
-class JointFile(_Strict):
+class JointFile(Strict):
     type: Literal["spherical", "fixed", "hinge", "cylindrical", "prismatic", "universal", "planar",
                   "screw"]
     name: str
@@ -173,7 +114,7 @@ class JointFile(_Strict):
         return self
 
 
-class SpringFile(_Strict):
+class SpringFile(Strict):
     name: str
     marker_a: str
     marker_b: str
@@ -183,7 +124,7 @@ class SpringFile(_Strict):
     preload: Force = 0.0
 
 
-class TorsionalSpringFile(_Strict):
+class TorsionalSpringFile(Strict):
     name: str
     marker_a: str
     marker_b: str
@@ -196,7 +137,7 @@ class TorsionalSpringFile(_Strict):
 FunctionField = float | str | dict[str, Any]
 
 
-class ForceFile(_Strict):
+class ForceFile(Strict):
     name: str
     marker: str
     vector: ForceVec
@@ -204,7 +145,7 @@ class ForceFile(_Strict):
     frame: Literal["global", "marker"] = "global"
 
 
-class TorqueFile(_Strict):
+class TorqueFile(Strict):
     name: str
     marker: str
     vector: TorqueVec
@@ -212,7 +153,7 @@ class TorqueFile(_Strict):
     frame: Literal["global", "marker"] = "global"
 
 
-class DriverFile(_Strict):
+class DriverFile(Strict):
     name: str
     joint: str
     quantity: Literal["angle", "speed"] = "speed"
@@ -221,7 +162,7 @@ class DriverFile(_Strict):
     p: float | None = Field(default=None, ge=0)
 
 
-class SpeedDifferenceDriverFile(_Strict):
+class SpeedDifferenceDriverFile(Strict):
     name: str
     joint_1: str
     joint_2: str
@@ -240,42 +181,7 @@ class GenericElementFile(BaseModel):
     name: str
 
 
-class FixedStepFile(_Strict):
-    mode: Literal["fixed"] = "fixed"
-    h: Time = 1e-3
-
-
-class AdaptiveStepFile(_Strict):
-    mode: Literal["adaptive"]
-    h0: Time = 1e-4
-    h_min: Time = 1e-10
-    h_max: Time = 1e-2
-    rtol: float = Field(default=1e-3, gt=0)
-    atol: float = Field(default=1e-7, gt=0)
-
-
-class NewtonFile(_Strict):
-    strategy: Literal["modified", "full"] = "modified"
-    tol: float = Field(default=1e-8, gt=0)
-    phi_tol: float = Field(default=1e-10, gt=0)
-    max_iter: int = Field(default=12, ge=1)
-
-
-class SolverFile(_Strict):
-    t_end: Time = 1.0
-    rho_inf: float = Field(default=0.8, ge=0.0, le=1.0)
-    step: Annotated[FixedStepFile | AdaptiveStepFile, Field(discriminator="mode")] = Field(
-        default_factory=FixedStepFile)
-    newton: NewtonFile = Field(default_factory=NewtonFile)
-
-
-class OutputFile(_Strict):
-    dt: Time | None = None
-    times: list[float] | None = None
-    variables: list[str] | None = None
-
-
-class ModelFile(_Strict):
+class ModelFile(Strict):
     """The whole file."""
 
     model: ModelInfo = Field(default_factory=ModelInfo)

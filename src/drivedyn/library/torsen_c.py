@@ -34,7 +34,7 @@ with ``A_s``, ``A_r`` the mesh thrusts of sun and ring (F_t tan beta summed over
 and ``A_c = 2 pi T_spline / lead`` the spline thrust. A left-hand set mirrors this (drive and
 coast exchange their washers); spline and sun must have the same hand.
 
-The model is built from a validated :class:`~drivedyn.config.torsen_c_schema.TorsenCFile`
+The model is built from a validated :class:`~drivedyn.library.torsen_c_schema.TorsenCFile`
 (the shipped ``torsen-c`` file) for two scenarios: :func:`bench_spec` (housing held, torque on
 one output, speed of the other prescribed) and :func:`vehicle_spec` (torque on the housing,
 both output speeds prescribed).
@@ -48,7 +48,6 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.config.torsen_c_schema import TorsenCFile
 from drivedyn.elements import (
     Cylindrical,
     Fixed,
@@ -61,6 +60,7 @@ from drivedyn.elements import (
     Torque,
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.library.torsen_c_schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
 from drivedyn.timefunctions import Constant, SmoothStep, Sum, TimeFunction
 

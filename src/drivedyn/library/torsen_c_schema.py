@@ -12,8 +12,8 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from drivedyn.config import units as U  # noqa: N812
-from drivedyn.config.schema import (
+import drivedyn.units as U  # noqa: N812 - short name for units
+from drivedyn.schema_base import (
     AdaptiveStepFile,
     Angle,
     Inertia,
@@ -21,26 +21,26 @@ from drivedyn.config.schema import (
     NewtonFile,
     NonNegLength,
     PositiveLength,
+    Strict,
     Time,
-    _scalar,
-    _Strict,
+    scalar,
 )
 
-AngularVelocity = Annotated[float, _scalar(U.ANGULAR_VELOCITY)]
-TorqueValue = Annotated[float, _scalar(U.TORQUE)]
-PositiveVelocity = Annotated[float, _scalar(U.VELOCITY, positive=True)]
+AngularVelocity = Annotated[float, scalar(U.ANGULAR_VELOCITY)]
+TorqueValue = Annotated[float, scalar(U.TORQUE)]
+PositiveVelocity = Annotated[float, scalar(U.VELOCITY, positive=True)]
 PositiveTime = Time
 Coefficient = Annotated[float, Field(ge=0.0, le=1.0)]
 
 
-class Info(_Strict):
+class Info(Strict):
     library: Literal["torsen_c"]
     name: str = "torsen-c"
     description: str = ""
     notes: dict[str, str] = Field(default_factory=dict)
 
 
-class Gears(_Strict):
+class Gears(Strict):
     """Epicyclic set: sun (front output), planets in housing pockets, internal gear."""
 
     teeth_sun: int = Field(gt=0)
@@ -52,18 +52,18 @@ class Gears(_Strict):
     pressure_angle: Angle = 0.3490658503988659
     face_width: PositiveLength
     damping_ratio: float = Field(default=0.05, ge=0.0)
-    stiffness: Annotated[float, _scalar(U.STIFFNESS, positive=True)] | None = None
-    youngs_modulus: Annotated[float, _scalar((-1, 1, -2, 0), positive=True)] = 206e9
+    stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] | None = None
+    youngs_modulus: Annotated[float, scalar((-1, 1, -2, 0), positive=True)] = 206e9
 
 
-class Spline(_Strict):
+class Spline(Strict):
     """Helical spline between internal gear and coupling (the seeds' screw joint)."""
 
     radius: PositiveLength
     helix_angle: Angle  # > 0: lead of the same sign as the sun's helix
 
 
-class Washer(_Strict):
+class Washer(Strict):
     """One thrust-washer contact: annular face r_int..r_ext, axial play, friction."""
 
     r_int: NonNegLength
@@ -72,7 +72,7 @@ class Washer(_Strict):
     gap: NonNegLength = 5e-5
 
 
-class Washers(_Strict):
+class Washers(Strict):
     sun_housing: Washer
     sun_coupling: Washer
     coupling_case: Washer
@@ -80,14 +80,14 @@ class Washers(_Strict):
     ring_case: Washer
 
 
-class Pockets(_Strict):
+class Pockets(Strict):
     """Planet tips in the housing pockets (radial clearance, friction)."""
 
     clearance: PositiveLength
     mu: Coefficient
 
 
-class Contact(_Strict):
+class Contact(Strict):
     """Normal law of every washer and pocket contact, and the friction regularisation."""
 
     stiffness: Annotated[float, Field(gt=0)] = 1e10
@@ -97,12 +97,12 @@ class Contact(_Strict):
     eps_v: PositiveVelocity = 1e-3
 
 
-class Body(_Strict):
+class Body(Strict):
     mass: Mass
     inertia: Inertia
 
 
-class Bodies(_Strict):
+class Bodies(Strict):
     housing: Body
     case: Body
     sun: Body
@@ -111,7 +111,7 @@ class Bodies(_Strict):
     planet: Body
 
 
-class Bench(_Strict):
+class Bench(Strict):
     """Test-bench protocol (seed 003): drive then coast in one run, steady windows."""
 
     torque: TorqueValue = 125.0
@@ -137,7 +137,7 @@ class Bench(_Strict):
         return self
 
 
-class Vehicle(_Strict):
+class Vehicle(Strict):
     """Vehicle configuration: torque on the housing, both output speeds prescribed.
 
     The engine torque starts at 0, ramps to ``torque_levels[0]`` [N m] over ``ramp``, holds
@@ -157,7 +157,7 @@ class Vehicle(_Strict):
     h_max: PositiveTime = 2e-4
 
 
-class Solver(_Strict):
+class Solver(Strict):
     rho_inf: float = Field(default=0.8, ge=0.0, le=1.0)
     step: AdaptiveStepFile = Field(default_factory=lambda: AdaptiveStepFile(
         mode="adaptive", h0=1e-4, h_min=1e-9, h_max=2e-3, rtol=1e-3, atol=1e-6))
@@ -176,7 +176,7 @@ class Solver(_Strict):
                 "newton": Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter)}
 
 
-class Calibration(_Strict):
+class Calibration(Strict):
     """What was fitted to what (written by ``drivedyn calibrate``)."""
 
     fitted: list[str] = Field(default_factory=list)
@@ -187,7 +187,7 @@ class Calibration(_Strict):
     result: dict[str, float] = Field(default_factory=dict)
 
 
-class Experiment(_Strict):
+class Experiment(Strict):
     """Measured TDR of the four modes and the seeds' simulated values (seed 003, Table 1)."""
 
     tdr: dict[str, float] = Field(default_factory=dict)
@@ -195,12 +195,12 @@ class Experiment(_Strict):
     source: str = ""
 
 
-class Scenario(_Strict):
+class Scenario(Strict):
     kind: Literal["vehicle", "bench"] = "vehicle"
     modes: Literal["rear", "front"] = "rear"
 
 
-class TorsenCFile(_Strict):
+class TorsenCFile(Strict):
     """The whole ``torsen-c`` model file."""
 
     model: Info

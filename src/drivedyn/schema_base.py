@@ -1,0 +1,129 @@
+"""Building blocks of the model-file schemas: unit-checked quantities (a plain SI number or a
+string with a unit, see :mod:`drivedyn.units`), strict sections (unknown keys are errors) and
+the solver and output sections. Used by :mod:`drivedyn.config.schema` and by each library
+model's own schema section (which sits below ``config`` in the layers)."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+
+import drivedyn.units as U  # noqa: N812 - short name for units
+
+
+def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False):
+    def conv(v: Any) -> float:
+        x = U.to_si(v, dim)
+        if not np.isfinite(x):
+            raise ValueError(f"must be finite [{U.dim_name(dim)}]")
+        if positive and x <= 0:
+            raise ValueError(f"must be > 0 {U.dim_name(dim)}")
+        if nonneg and x < 0:
+            raise ValueError(f"must be >= 0 {U.dim_name(dim)}")
+        return x
+
+    return BeforeValidator(conv)
+
+
+def vector(dim: U.Dim):
+    def conv(v: Any) -> tuple[float, float, float]:
+        if not isinstance(v, (list, tuple)) or len(v) != 3:
+            raise ValueError(f"expected a list of 3 values [{U.dim_name(dim)}]")
+        return tuple(U.to_si(x, dim) for x in v)  # type: ignore[return-value]
+
+    return BeforeValidator(conv)
+
+
+Length = Annotated[float, scalar(U.LENGTH)]
+PositiveLength = Annotated[float, scalar(U.LENGTH, positive=True)]
+NonNegLength = Annotated[float, scalar(U.LENGTH, nonneg=True)]
+Mass = Annotated[float, scalar(U.MASS, positive=True)]
+Time = Annotated[float, scalar(U.TIME, positive=True)]
+Angle = Annotated[float, scalar(U.ANGLE)]
+Force = Annotated[float, scalar(U.FORCE)]
+Torque = Annotated[float, scalar(U.TORQUE)]
+Stiffness = Annotated[float, scalar(U.STIFFNESS, nonneg=True)]
+Damping = Annotated[float, scalar(U.DAMPING, nonneg=True)]
+TorsionalStiffness = Annotated[float, scalar(U.TORSIONAL_STIFFNESS, nonneg=True)]
+TorsionalDamping = Annotated[float, scalar(U.TORSIONAL_DAMPING, nonneg=True)]
+LengthVec = Annotated[tuple[float, float, float], vector(U.LENGTH)]
+VelocityVec = Annotated[tuple[float, float, float], vector(U.VELOCITY)]
+AngVelVec = Annotated[tuple[float, float, float], vector(U.ANGULAR_VELOCITY)]
+AccelVec = Annotated[tuple[float, float, float], vector(U.ACCELERATION)]
+ForceVec = Annotated[tuple[float, float, float], vector(U.FORCE)]
+TorqueVec = Annotated[tuple[float, float, float], vector(U.TORQUE)]
+DirVec = Annotated[tuple[float, float, float], vector(U.DIMENSIONLESS)]
+
+
+def inertia_value(v: Any) -> list:
+    """Principal moments (3 values) or a 3x3 tensor [kg m^2]."""
+    if isinstance(v, (list, tuple)) and len(v) == 3 and all(
+            not isinstance(x, (list, tuple)) for x in v):
+        return [U.to_si(x, U.INERTIA) for x in v]
+    if (isinstance(v, (list, tuple)) and len(v) == 3
+            and all(isinstance(r, (list, tuple)) and len(r) == 3 for r in v)):
+        return [[U.to_si(x, U.INERTIA) for x in r] for r in v]
+    raise ValueError("expected 3 principal moments or a 3x3 tensor [kg m^2]")
+
+
+Inertia = Annotated[list, BeforeValidator(inertia_value)]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class Rotation(Strict):
+    """A rotation by ``angle`` about ``axis`` (an axis-angle pair)."""
+
+    axis: DirVec
+    angle: Angle = 0.0
+
+
+def rotation_value(v: Any) -> Any:
+    if v is None or isinstance(v, dict):
+        return v
+    arr = np.asarray(v, dtype=float) if isinstance(v, (list, tuple)) else None
+    if arr is not None and arr.shape == (3, 3):
+        return arr.tolist()
+    raise ValueError("expected {axis = [x, y, z], angle = ...} or a 3x3 rotation matrix")
+
+
+RotationField = Annotated[Rotation | list[list[float]] | None, BeforeValidator(rotation_value)]
+
+
+class FixedStepFile(Strict):
+    mode: Literal["fixed"] = "fixed"
+    h: Time = 1e-3
+
+
+class AdaptiveStepFile(Strict):
+    mode: Literal["adaptive"]
+    h0: Time = 1e-4
+    h_min: Time = 1e-10
+    h_max: Time = 1e-2
+    rtol: float = Field(default=1e-3, gt=0)
+    atol: float = Field(default=1e-7, gt=0)
+
+
+class NewtonFile(Strict):
+    strategy: Literal["modified", "full"] = "modified"
+    tol: float = Field(default=1e-8, gt=0)
+    phi_tol: float = Field(default=1e-10, gt=0)
+    max_iter: int = Field(default=12, ge=1)
+
+
+class SolverFile(Strict):
+    t_end: Time = 1.0
+    rho_inf: float = Field(default=0.8, ge=0.0, le=1.0)
+    step: Annotated[FixedStepFile | AdaptiveStepFile, Field(discriminator="mode")] = Field(
+        default_factory=FixedStepFile)
+    newton: NewtonFile = Field(default_factory=NewtonFile)
+
+
+class OutputFile(Strict):
+    dt: Time | None = None
+    times: list[float] | None = None
+    variables: list[str] | None = None
