@@ -119,7 +119,6 @@ class System:
         return np.abs(r[nd:]) / self.kscale[nd:]
 
 
-
 def element_outputs(model: Model, state: State) -> dict[str, dict[str, float]]:
     """Every element's named outputs at ``state`` (e.g. after :func:`solve_static`):
     ``{element: {output: value}}`` in the units of ``Group.outputs()``."""
