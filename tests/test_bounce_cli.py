@@ -80,8 +80,6 @@ def test_bounce_help(runner: CliRunner) -> None:
 
 @pytest.mark.parametrize("name", CONTACT_CASES)
 def test_contact_validation_cases_pass(name: str) -> None:
-    from drivedyn.validation import cases  # noqa: F401  (registers the cases)
-
     results = base.CASES[name](quick=True, figure_dir=None)
     assert results
     for r in results:

@@ -175,7 +175,7 @@ def test_natural_frequency_of_two_wheels():
     h = 2 * math.pi / w / 200
     res = dd.simulate(m, 40 * 2 * math.pi / w, step=dd.FixedStep(h),
                       integrator=dd.GeneralizedAlpha(1.0), output_dt=h)
-    from drivedyn.validation.cases import crossings
+    from drivedyn.validation.common import crossings
 
     F = res["g.normal_force"].values
     tc = crossings(res.time, F - F.mean(), 1)

@@ -1,7 +1,7 @@
 """Verification: the validation cases (quick variants) and their exact references.
 
-* Every validation case of :mod:`drivedyn.validation.cases` is run with ``quick=True`` and
-  every :class:`CaseResult` must pass. The tolerances live in the cases (each one is
+* Every engine validation case of :mod:`drivedyn.validation` is run with ``quick=True``
+  and every :class:`CaseResult` must pass. The tolerances live in the cases (each one is
   explained there, next to the check); they are derived from the step size used, never
   widened to make a run pass.
 * The exact references (closed forms and quadratures) are checked independently of the
@@ -22,7 +22,10 @@ from scipy.integrate import solve_ivp
 
 import drivedyn as dd
 from drivedyn.validation import base
-from drivedyn.validation import cases as C  # noqa: N812
+from drivedyn.validation import common as VC  # noqa: N812
+from drivedyn.validation import engine as VE  # noqa: N812
+from drivedyn.validation import exact as X  # noqa: N812
+from drivedyn.validation import rigid_models as RM  # noqa: N812
 
 CASE_NAMES = ("torque_free_body", "heavy_top", "pendulum", "slider_crank", "screw",
               "convergence", "energy_balance")
@@ -75,7 +78,7 @@ def test_convergence_errors_asymptotic() -> None:
     """Besides the fitted slope (checked by the case), each halving of h must divide the
     error by 4 within 10 % (asymptotic range, no round-off floor)."""
     hs = 4e-3 / 2.0 ** np.arange(3)
-    errs, runs = C.convergence_errors(hs, 0.25)
+    errs, runs = VE.convergence_errors(hs, 0.25)
     assert all(r.success for r in runs)
     ratios = errs[:-1] / errs[1:]
     # second order: ratio 4; 10 % allows for the next term of the error expansion
@@ -83,7 +86,7 @@ def test_convergence_errors_asymptotic() -> None:
 
 
 def test_case_writes_figure(tmp_path) -> None:
-    results = C.screw(quick=True, figure_dir=str(tmp_path))
+    results = RM.screw(quick=True, figure_dir=str(tmp_path))
     figs = {f for r in results for f in r.figures}
     assert figs, "a figure directory was given, the case must write a figure"
     for f in figs:
@@ -112,7 +115,7 @@ def test_euler_poinsot_reference(w0) -> None:
     sol = solve_ivp(euler, (0.0, 20.0), w0, t_eval=t, method="DOP853", rtol=1e-12,
                     atol=1e-14)
     # both are accurate to ~1e-12; 1e-9 leaves room for the ODE solver's global error
-    assert np.max(np.abs(C.euler_free_body_exact(J, w0, t) - sol.y.T)) < 1e-9
+    assert np.max(np.abs(X.euler_free_body_exact(J, w0, t) - sol.y.T)) < 1e-9
 
 
 def _top_rhs(a: float, b: float, beta: float):
@@ -130,16 +133,16 @@ def _top_rhs(a: float, b: float, beta: float):
 
 def test_top_steady_precession_rate() -> None:
     th, w3 = np.radians(30.0), 40.0
-    args = (C.TOP_I1, C.TOP_I3, C.TOP_M, C.G, C.TOP_L, th, w3)
+    args = (RM.TOP_I1, RM.TOP_I3, RM.TOP_M, VC.G, RM.TOP_L, th, w3)
     for branch in ("slow", "fast"):
-        Om = C.top_steady_precession_rate(*args, branch=branch)
-        lhs = C.TOP_M * C.G * C.TOP_L
-        rhs = Om * (C.TOP_I3 * w3 - C.TOP_I1 * Om * np.cos(th))
+        Om = X.top_steady_precession_rate(*args, branch=branch)
+        lhs = RM.TOP_M * VC.G * RM.TOP_L
+        rhs = Om * (RM.TOP_I3 * w3 - RM.TOP_I1 * Om * np.cos(th))
         assert abs(lhs - rhs) < 1e-12 * lhs
         # integrating the Lagrangian from thetadot = 0, phidot = Om keeps theta constant
-        a = C.TOP_I3 * w3 / C.TOP_I1
-        b = (C.TOP_I1 * Om * np.sin(th) ** 2 + C.TOP_I3 * w3 * np.cos(th)) / C.TOP_I1
-        beta = 2 * C.TOP_M * C.G * C.TOP_L / C.TOP_I1
+        a = RM.TOP_I3 * w3 / RM.TOP_I1
+        b = (RM.TOP_I1 * Om * np.sin(th) ** 2 + RM.TOP_I3 * w3 * np.cos(th)) / RM.TOP_I1
+        beta = 2 * RM.TOP_M * VC.G * RM.TOP_L / RM.TOP_I1
         sol = solve_ivp(_top_rhs(a, b, beta), (0.0, 1.0), [th, 0.0, 0.0], method="DOP853",
                         rtol=1e-12, atol=1e-13, dense_output=True)
         tt = np.linspace(0.0, 1.0, 101)
@@ -151,7 +154,7 @@ def test_top_steady_precession_rate() -> None:
                                                    (45.0, 30.0, 3.0)])
 def test_top_nutation_reference(theta0_deg, w3, phidot0) -> None:
     th0 = np.radians(theta0_deg)
-    ref = C.top_nutation_reference(C.TOP_I1, C.TOP_I3, C.TOP_M, C.G, C.TOP_L, th0, w3,
+    ref = X.top_nutation_reference(RM.TOP_I1, RM.TOP_I3, RM.TOP_M, VC.G, RM.TOP_L, th0, w3,
                                    phidot0)
     # quadrature and closed-form complete elliptic integral agree
     assert abs(ref["T_nut"] / ref["T_nut_elliptic"] - 1.0) < 1e-12
@@ -182,28 +185,28 @@ def test_top_nutation_reference(theta0_deg, w3, phidot0) -> None:
 @pytest.mark.parametrize("deg", [2.0, 120.0, 170.0])
 def test_pendulum_references(deg) -> None:
     th0 = np.radians(deg)
-    Io, m, g, d = C.PEND_IO, C.PEND_M, C.G, C.PEND_D
-    T = C.pendulum_period_exact(Io, m, g, d, th0)
+    Io, m, g, d = RM.PEND_IO, RM.PEND_M, VC.G, RM.PEND_D
+    T = X.pendulum_period_exact(Io, m, g, d, th0)
     t = np.linspace(0.0, 1.5 * T, 301)
     sol = solve_ivp(lambda t, y: [y[1], -m * g * d / Io * np.sin(y[0])], (0.0, t[-1]),
                     [th0, 0.0], t_eval=t, method="DOP853", rtol=1e-12, atol=1e-13)
-    assert np.max(np.abs(C.pendulum_angle_exact(Io, m, g, d, th0, t) - sol.y[0])) < 1e-8
-    assert abs(C.pendulum_angle_exact(Io, m, g, d, th0, T) - th0) < 1e-10
-    assert abs(C.pendulum_angle_exact(Io, m, g, d, th0, 0.5 * T) + th0) < 1e-10
+    assert np.max(np.abs(X.pendulum_angle_exact(Io, m, g, d, th0, t) - sol.y[0])) < 1e-8
+    assert abs(X.pendulum_angle_exact(Io, m, g, d, th0, T) - th0) < 1e-10
+    assert abs(X.pendulum_angle_exact(Io, m, g, d, th0, 0.5 * T) + th0) < 1e-10
 
 
 @pytest.mark.parametrize("deg", [20.0, 100.0, 200.0, 330.0])
 def test_slider_crank_references(deg) -> None:
-    r, l, P = C.SC_R, C.SC_L, 100.0
+    r, l, P = RM.SC_R, RM.SC_L, 100.0
     th = np.radians(deg)
-    T, N = C.slider_crank_statics(r, l, P, th)
+    T, N = X.slider_crank_statics(r, l, P, th)
     # virtual work: T dtheta + (-P) dx = 0
     e = 1e-6
-    dx = (C.slider_crank_position(r, l, th + e) - C.slider_crank_position(r, l, th - e)) / (2 * e)
+    dx = (X.slider_crank_position(r, l, th + e) - X.slider_crank_position(r, l, th - e)) / (2 * e)
     assert abs(T - P * (-dx)) < 1e-7 * P * r
     # the rod is a two-force member: its force on the piston has components (P, -N)
     A = r * np.array([np.cos(th), np.sin(th)])
-    B = np.array([float(C.slider_crank_position(r, l, th)), 0.0])
+    B = np.array([float(X.slider_crank_position(r, l, th)), 0.0])
     u = (B - A) / l
     assert abs(-P * u[1] / u[0] - N) < 1e-9 * P
 
@@ -211,10 +214,10 @@ def test_slider_crank_references(deg) -> None:
 def test_crossings_and_peak() -> None:
     t = np.linspace(0.0, 10.0, 2001)
     y = np.sin(2.0 * np.pi * 0.7 * t + 0.3)
-    up = C.crossings(t, y, direction=1)
+    up = VC.crossings(t, y, direction=1)
     assert np.allclose(np.diff(up), 1.0 / 0.7, rtol=1e-6)
-    assert len(C.crossings(t, y)) == len(up) + len(C.crossings(t, y, direction=-1))
-    assert abs(C._peak(t, y) - 1.0) < 1e-7
+    assert len(VC.crossings(t, y)) == len(up) + len(VC.crossings(t, y, direction=-1))
+    assert abs(VC.peak(t, y) - 1.0) < 1e-7
 
 
 # ---------------------------------------------------------------------------------------------
@@ -226,16 +229,16 @@ def test_crossings_and_peak() -> None:
 
 def test_slider_crank_statics_symmetric_rod() -> None:
     th = np.radians(60.0)
-    model = C.slider_crank_model(th, ("angle", 0.0), piston_force=100.0, rod_com_offset=0.0)
+    model = RM.slider_crank_model(th, ("angle", 0.0), piston_force=100.0, rod_com_offset=0.0)
     dd.solve_static(model)
     g, e = model.group("crank_drive")
     col = {n: c for c, n, _, _ in g.outputs()}
-    T_ref, _ = C.slider_crank_statics(C.SC_R, C.SC_L, 100.0, th)
+    T_ref, _ = X.slider_crank_statics(RM.SC_R, RM.SC_L, 100.0, th)
     assert abs(g.aux[e, col["torque"]] + T_ref) < 1e-7 * abs(T_ref)
 
 
 def test_slider_crank_start_from_rest_at_dead_centre() -> None:
-    model = C.slider_crank_model(0.0, ("speed", dd.SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+    model = RM.slider_crank_model(0.0, ("speed", dd.SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
     res = dd.simulate(model, 0.1, step=dd.FixedStep(2e-3),
                       integrator=dd.GeneralizedAlpha(0.9))
     assert res.success, res.message

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -68,19 +67,3 @@ def register_case(name: str) -> Callable[[Callable[..., list[CaseResult]]],
         return fn
 
     return deco
-
-
-def run_cases(names: list[str] | None = None, quick: bool = False,
-              figure_dir: str | None = None) -> list[CaseResult]:
-    """Run the named cases (default all) and return their results with wall times."""
-    from drivedyn.validation import cases  # noqa: F401  (registers the cases)
-
-    out: list[CaseResult] = []
-    for name in names or list(CASES):
-        t0 = time.perf_counter()
-        res = CASES[name](quick=quick, figure_dir=figure_dir)
-        wall = time.perf_counter() - t0
-        for r in res:
-            r.wall_s = wall
-        out += res
-    return out

@@ -1,8 +1,8 @@
 """CLI commands on model and results files: ``run``, ``plot``, ``models``.
 
-They are attached to the ``drivedyn`` group in :mod:`drivedyn.cli`. Exit codes: 0 success,
-1 simulation failure or interruption (partial results are still written), 2 bad input
-(unreadable or invalid model file, impossible model, bad option).
+Exit codes: 0 success, 1 simulation failure or interruption (partial results are still
+written), 2 bad input (unreadable or invalid model file, impossible model, bad option, an
+output path that cannot be written: refused before the run starts).
 """
 
 from __future__ import annotations
@@ -17,17 +17,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-EXIT_FAILED = 1
-EXIT_BAD_INPUT = 2
-
-
-def _err(message: str) -> None:
-    click.echo(message, err=True)
-
-
-def _bad_input(message: str) -> None:
-    _err(f"error: {message}")
-    sys.exit(EXIT_BAD_INPUT)
+from drivedyn.cli.common import EXIT_FAILED, bad_input, err
 
 
 def _finite(x: float) -> float | None:
@@ -83,9 +73,9 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     Example:
         drivedyn run pendulum --t-end 5 --set solver.rho_inf=0.8 --out pendulum.nc
     """
+    from drivedyn.cli.progress import kernels_cached, progress_bar
     from drivedyn.config import ModelFileError, UnitError, load_model
     from drivedyn.model.spec import ModelError
-    from drivedyn.progress import kernels_cached, progress_bar
     from drivedyn.results.results import write_netcdf_atomic
     from drivedyn.solver.simulate import InitializationError, simulate
 
@@ -95,22 +85,22 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     try:
         model = load_model(model_file, list(sets))
     except (ModelFileError, ModelError, UnitError) as exc:
-        _bad_input(str(exc))
+        bad_input(str(exc))
     scenario = model.meta["scenario"]
     t_final = t_end if t_end is not None else scenario.t_end
     if t_final <= 0:
-        _bad_input(f"--t-end must be > 0 s, got {t_final}")
+        bad_input(f"--t-end must be > 0 s, got {t_final}")
     if not kernels_cached():
-        _err("note: first run: compiling the numba kernels (a few minutes, cached afterwards)")
+        err("note: first run: compiling the numba kernels (a few minutes, cached afterwards)")
     name = model.meta.get("model_name", "model")
-    _err(f"simulating {name} to t = {t_final:g} s")
+    err(f"simulating {name} to t = {t_final:g} s")
     try:
         with progress_bar(t_final) as cb:
             res = simulate(model, t_final, progress=cb)
     except InitializationError as exc:
-        _bad_input(str(exc))
+        bad_input(str(exc))
     except KeyboardInterrupt:  # before the time loop (kernel loading, initial state)
-        _err("interrupted before the first step: nothing to write")
+        err("interrupted before the first step: nothing to write")
         sys.exit(EXIT_FAILED)
     res.dataset.attrs["model_file"] = model.meta["model_file"]
     res.dataset.attrs["model_source"] = model.meta["source"]
@@ -168,16 +158,16 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
     try:
         res = load_results(results_file)
     except (OSError, ValueError) as exc:
-        _bad_input(f"{results_file}: not a readable results file ({exc})")
+        bad_input(f"{results_file}: not a readable results file ({exc})")
     names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")]
     if patterns:
         names = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]
         if not names:
-            _bad_input(f"no variable matches {', '.join(patterns)} (variables: "
+            bad_input(f"no variable matches {', '.join(patterns)} (variables: "
                        f"{', '.join(sorted(res.dataset.data_vars))})")
     groups = _groups(names)
     if not patterns and len(groups) > 20:
-        _err(f"note: {len(groups)} bodies/elements; plotting the first 20 (use --vars)")
+        err(f"note: {len(groups)} bodies/elements; plotting the first 20 (use --vars)")
         keep = ["energy", *[g for g in groups if g != "energy"][:19]]
         groups = {g: groups[g] for g in keep if g in groups}
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -228,7 +218,7 @@ def models(show: str | None) -> None:
     shipped = shipped_models()
     if show is not None:
         if show not in shipped:
-            _bad_input(f"no shipped model {show!r} (shipped: {', '.join(shipped)})")
+            bad_input(f"no shipped model {show!r} (shipped: {', '.join(shipped)})")
         click.echo(shipped[show].read_text(), nl=False)
         return
     for name, path in shipped.items():

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import click
 
-from drivedyn.cli_commands import _bad_input, _err
+from drivedyn.cli.common import COMPILE_NOTE, bad_input, console, err, jsonable
 
 RPM = 2 * math.pi / 60
 
@@ -30,13 +30,12 @@ def _params(model_file: str, sets: tuple[str, ...]):
         p, _, source = read_library_file(model_file, list(sets))
         check_parameters(p)
     except (ModelFileError, ModelError) as exc:
-        _bad_input(str(exc))
+        bad_input(str(exc))
     return p, source
 
 
 def _progress_note(quiet: bool):
-    from drivedyn.cli import COMPILE_NOTE
-    from drivedyn.progress import kernels_cached
+    from drivedyn.cli.progress import kernels_cached
 
     if not quiet and not kernels_cached():
         click.echo(COMPILE_NOTE, err=True)
@@ -81,12 +80,12 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
 
     p, source = _params(model_file, sets)
     if torque is not None and not torque > 0:
-        _bad_input(f"--torque: expected a positive torque in N m, got {torque}")
+        bad_input(f"--torque: expected a positive torque in N m, got {torque}")
     if speed_diff is not None and not speed_diff > 0:
-        _bad_input(f"--speed-diff: expected a positive speed difference in rpm, got "
+        bad_input(f"--speed-diff: expected a positive speed difference in rpm, got "
                    f"{speed_diff}")
     if not (friction_scale >= 0 and math.isfinite(friction_scale)):
-        _bad_input(f"--friction-scale: expected a factor >= 0, got {friction_scale}")
+        bad_input(f"--friction-scale: expected a factor >= 0, got {friction_scale}")
     T0 = p.bench.torque if torque is None else torque
     dw = p.bench.speed_diff if speed_diff is None else speed_diff * RPM
     modes = [1, 2, 3, 4] if mode == "all" else [int(mode)]
@@ -131,24 +130,16 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
                "wall_s": round(wall, 3)}
         if failed:
             out["error"] = failed
-        click.echo(json.dumps(_clean(out)))
+        click.echo(json.dumps(jsonable(out)))
     else:
         _print_table(p.model.name, T0, dw, rows, wall, analytic_only)
     if failed:
-        _err(failed)
+        err(failed)
         sys.exit(1)
-
-
-def _clean(obj):
-    from drivedyn.cli import _jsonable
-
-    return _jsonable(obj)
 
 
 def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
     from rich.table import Table
-
-    from drivedyn.cli import _console
 
     table = Table(title=f"{name}: TDR on the test bench ({T0:g} N m, {dw / RPM:g} rpm)",
                   title_justify="left")
@@ -161,7 +152,7 @@ def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
         table.add_row(str(r["mode"]), r["name"], f"{r['tdr']:.3f}", f"{r['analytic']:.3f}",
                       f"{r['experimental']:.2f}" if r["experimental"] else "-",
                       pct(r["error_pct"]), pct(r["sim_vs_analytic_pct"]))
-    out = _console()
+    out = console()
     out.print(table)
     out.print(f"wall time {wall:.1f} s")
 
@@ -211,14 +202,14 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
         try:
             goal[int(m)] = float(v)
         except ValueError:
-            _bad_input(f"--target {t!r}: expected MODE=TDR, e.g. 1=4.02")
+            bad_input(f"--target {t!r}: expected MODE=TDR, e.g. 1=4.02")
     if not goal:
         goal = experimental(p)
         if not goal:
-            _bad_input("no targets: give --target MODE=TDR or an [experiment] tdr table")
+            bad_input("no targets: give --target MODE=TDR or an [experiment] tdr table")
     lo, hi = bounds
     if not 0 <= lo < hi <= 1:
-        _bad_input(f"--bounds: expected 0 <= low < high <= 1, got {lo} {hi}")
+        bad_input(f"--bounds: expected 0 <= low < high <= 1, got {lo} {hi}")
     t0 = time.perf_counter()
     if not as_json:
         _progress_note(False)
@@ -231,9 +222,9 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
         cal = C.calibrate(p, keys, goal, bounds=(lo, hi), confirm=not no_confirm,
                           progress=note)
     except (KeyError, ValueError) as exc:
-        _bad_input(str(exc))
+        bad_input(str(exc))
     except RuntimeError as exc:
-        _err(str(exc))
+        err(str(exc))
         sys.exit(1)
     wall = time.perf_counter() - t0
     final = cal.simulated or cal.analytic
@@ -247,13 +238,13 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
         try:
             new = C.update_toml_text(text, cal.values, table)
         except KeyError as exc:
-            _bad_input(str(exc))
+            bad_input(str(exc))
         # with --set, overridden keys are written too so the file reproduces the fit
         tmp = out.with_suffix(out.suffix + ".tmp")
         tmp.write_text(new)
         tmp.replace(out)
     if as_json:
-        click.echo(json.dumps(_clean({
+        click.echo(json.dumps(jsonable({
             "model": p.model.name, "free": cal.values, "targets": goal,
             "analytic": cal.analytic, "simulated": cal.simulated, "error_pct": errors,
             "at_bound": cal.at_bound, "iterations": cal.iterations,

@@ -23,7 +23,7 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
     from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench
     from drivedyn.analysis.tdr import seeds_simulation as seeds_of
     from drivedyn.config import read_library_file
-    from drivedyn.validation.cases import _failed, _figure, _finish
+    from drivedyn.validation.common import failed_check, finish_case, save_figure
 
     t0 = time.perf_counter()
     case = "torsen_c_tdr"
@@ -38,7 +38,7 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
         runs[side] = run
         if not run.success:
             for m in modes:
-                out.append(_failed(case, f"mode {m} TDR", "1", 0.05, "seed 003", run.results))
+                out.append(failed_check(case, f"mode {m} TDR", "1", 0.05, "seed 003", run.results))
             continue
         sim.update(run.tdr)
         res = run.results
@@ -80,7 +80,7 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
             ax.set_title("TORSEN Type C: torque distribution ratio on the test bench")
             ax.legend()
 
-        figures += _figure(figure_dir, "torsen_c_tdr", bars)
+        figures += save_figure(figure_dir, "torsen_c_tdr", bars)
         if "rear" in runs and runs["rear"].success:
             res = runs["rear"].results
 
@@ -96,5 +96,5 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
                 ax.set_title("Type C bench, drive then coast to rear (seed 003, Fig. 8)")
                 ax.legend()
 
-            figures += _figure(figure_dir, "torsen_c_bench_rear", history)
-    return _finish(out, t0, figures)
+            figures += save_figure(figure_dir, "torsen_c_bench_rear", history)
+    return finish_case(out, t0, figures)

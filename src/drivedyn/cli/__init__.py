@@ -1,0 +1,92 @@
+"""Command line interface: the ``drivedyn`` group and its commands, one module per command
+group (:mod:`~drivedyn.cli.validate`, :mod:`~drivedyn.cli.files` for ``run``/``plot``/
+``models``, :mod:`~drivedyn.cli.differential` for ``tdr``/``calibrate``,
+:mod:`~drivedyn.cli.bounce`), shared helpers in :mod:`~drivedyn.cli.common`.
+
+Exit codes: 0 success, 1 failure of a run (partial results are written), 2 bad input. Errors
+of the input (model files, keys, values, units, options) are reported in one message naming
+the file, the key and what was expected, never as a traceback; ``--debug`` shows the
+traceback of an unexpected error.
+"""
+
+from __future__ import annotations
+
+import sys
+from typing import Any
+
+import click
+
+from drivedyn.cli.bounce import bounce
+from drivedyn.cli.common import EXIT_BAD_INPUT, EXIT_FAILED
+from drivedyn.cli.differential import COMMANDS as DIFFERENTIAL_COMMANDS
+from drivedyn.cli.files import COMMANDS as FILE_COMMANDS
+from drivedyn.cli.validate import validate
+
+HELP = """drivedyn: flexible multibody simulation of automotive drivelines.
+
+A flexible multibody engine (rigid bodies and nodes, joints, spring-dampers, loads and
+drivers, integrated by generalized-alpha on the rotation group) built for modelling
+limited-slip (TORSEN) differentials and their test benches. `drivedyn validate` compares
+simulated quantities with exact or published references and exits with 0 only if every check
+passes; `drivedyn run` simulates a model file, `drivedyn plot` draws its results and
+`drivedyn models` lists the shipped model files. Exit codes: 0 success, 1 failure (partial
+results are written), 2 bad input.
+
+\b
+Examples:
+    drivedyn validate --quick --report validation-report
+    drivedyn models --show pendulum > my_pendulum.toml
+    drivedyn run my_pendulum.toml --set solver.t_end=10 --out pendulum.nc
+    drivedyn plot pendulum.nc --out figures
+"""
+
+
+class _Group(click.Group):
+    """The ``drivedyn`` group: input errors that escape a command (a model file, a unit, an
+    impossible model) become ``error: ...`` with exit code 2; any other exception is an
+    internal error reported in one line with exit code 1 (``--debug`` re-raises it)."""
+
+    def invoke(self, ctx: click.Context) -> Any:
+        from drivedyn.errors import ModelError
+
+        try:
+            return super().invoke(ctx)
+        except (click.exceptions.ClickException, click.exceptions.Exit, click.exceptions.Abort,
+                SystemExit, KeyboardInterrupt):
+            raise
+        except BrokenPipeError:  # output piped into `head` and the like: stop quietly
+            import os
+
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            sys.exit(EXIT_FAILED)
+        except Exception as exc:
+            if ctx.meta.get("drivedyn.debug"):
+                raise
+            if isinstance(exc, (ModelError, UnicodeDecodeError)) or _is_input_error(exc):
+                click.echo(f"error: {exc}", err=True)
+                sys.exit(EXIT_BAD_INPUT)
+            click.echo(f"error: internal error ({type(exc).__name__}: {exc}); please report "
+                       "it, with the command; rerun with `drivedyn --debug ...` for the "
+                       "traceback", err=True)
+            sys.exit(EXIT_FAILED)
+
+
+def _is_input_error(exc: Exception) -> bool:
+    from drivedyn.config import ModelFileError, UnitError
+
+    return isinstance(exc, (ModelFileError, UnitError))
+
+
+@click.group(cls=_Group, help=HELP, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(None, "--version", "-V", package_name="drivedyn", prog_name="drivedyn")
+@click.option("--debug", is_flag=True, help="Show the Python traceback of an unexpected error.")
+@click.pass_context
+def main(ctx: click.Context, debug: bool) -> None:
+    """drivedyn command line (see HELP)."""
+    ctx.meta["drivedyn.debug"] = debug
+
+
+for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS):
+    main.add_command(_cmd)
+
+__all__ = ["main"]

@@ -1,0 +1,5 @@
+"""``python -m drivedyn.cli``: the ``drivedyn`` command."""
+
+from drivedyn.cli import main
+
+main()
