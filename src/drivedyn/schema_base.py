@@ -8,16 +8,18 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
 
 
-def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False):
+def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False) -> BeforeValidator:
+    """Validator of a quantity of dimension ``dim``: SI number or unit string, finite, of
+    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`), optionally > 0 or >= 0."""
+
     def conv(v: Any) -> float:
         x = U.to_si(v, dim)
-        if not np.isfinite(x):
-            raise ValueError(f"must be finite [{U.dim_name(dim)}]")
+        U.check_plausible(x, dim)
         if positive and x <= 0:
             raise ValueError(f"must be > 0 {U.dim_name(dim)}")
         if nonneg and x < 0:
@@ -27,11 +29,16 @@ def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False):
     return BeforeValidator(conv)
 
 
-def vector(dim: U.Dim):
+def vector(dim: U.Dim) -> BeforeValidator:
+    """Validator of a 3-vector of dimension ``dim`` (finite, plausible components)."""
+
     def conv(v: Any) -> tuple[float, float, float]:
         if not isinstance(v, (list, tuple)) or len(v) != 3:
             raise ValueError(f"expected a list of 3 values [{U.dim_name(dim)}]")
-        return tuple(U.to_si(x, dim) for x in v)  # type: ignore[return-value]
+        out = tuple(U.to_si(x, dim) for x in v)
+        for x in out:
+            U.check_plausible(x, dim)
+        return out  # type: ignore[return-value]
 
     return BeforeValidator(conv)
 
@@ -57,14 +64,19 @@ TorqueVec = Annotated[tuple[float, float, float], vector(U.TORQUE)]
 DirVec = Annotated[tuple[float, float, float], vector(U.DIMENSIONLESS)]
 
 
+def _plausible(x: float, dim: U.Dim) -> float:
+    U.check_plausible(x, dim)
+    return x
+
+
 def inertia_value(v: Any) -> list:
     """Principal moments (3 values) or a 3x3 tensor [kg m^2]."""
     if isinstance(v, (list, tuple)) and len(v) == 3 and all(
             not isinstance(x, (list, tuple)) for x in v):
-        return [U.to_si(x, U.INERTIA) for x in v]
+        return [_plausible(U.to_si(x, U.INERTIA), U.INERTIA) for x in v]
     if (isinstance(v, (list, tuple)) and len(v) == 3
             and all(isinstance(r, (list, tuple)) and len(r) == 3 for r in v)):
-        return [[U.to_si(x, U.INERTIA) for x in r] for r in v]
+        return [[_plausible(U.to_si(x, U.INERTIA), U.INERTIA) for x in r] for r in v]
     raise ValueError("expected 3 principal moments or a 3x3 tensor [kg m^2]")
 
 
@@ -80,6 +92,13 @@ class Rotation(Strict):
 
     axis: DirVec
     angle: Angle = 0.0
+
+    @field_validator("axis")
+    @classmethod
+    def _axis_nonzero(cls, v: tuple[float, float, float]) -> tuple[float, float, float]:
+        if not any(v):
+            raise ValueError("the rotation axis must be a non-zero vector")
+        return v
 
 
 def rotation_value(v: Any) -> Any:
@@ -104,15 +123,22 @@ class AdaptiveStepFile(Strict):
     h0: Time = 1e-4
     h_min: Time = 1e-10
     h_max: Time = 1e-2
-    rtol: float = Field(default=1e-3, gt=0)
-    atol: float = Field(default=1e-7, gt=0)
+    rtol: float = Field(default=1e-3, gt=0, allow_inf_nan=False)
+    atol: float = Field(default=1e-7, gt=0, allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _ordered(self) -> AdaptiveStepFile:
+        if not self.h_min <= self.h0 <= self.h_max:
+            raise ValueError(f"expected h_min <= h0 <= h_max, got h_min = {self.h_min:g} s, "
+                             f"h0 = {self.h0:g} s, h_max = {self.h_max:g} s")
+        return self
 
 
 class NewtonFile(Strict):
     strategy: Literal["modified", "full"] = "modified"
-    tol: float = Field(default=1e-8, gt=0)
-    phi_tol: float = Field(default=1e-10, gt=0)
-    max_iter: int = Field(default=12, ge=1)
+    tol: float = Field(default=1e-8, gt=0, lt=1, allow_inf_nan=False)
+    phi_tol: float = Field(default=1e-10, gt=0, lt=1, allow_inf_nan=False)
+    max_iter: int = Field(default=12, ge=1, le=1000)
 
 
 class SolverFile(Strict):
@@ -122,8 +148,15 @@ class SolverFile(Strict):
         default_factory=FixedStepFile)
     newton: NewtonFile = Field(default_factory=NewtonFile)
 
+    @model_validator(mode="after")
+    def _step_within_run(self) -> SolverFile:
+        if isinstance(self.step, FixedStepFile) and self.step.h > self.t_end:
+            raise ValueError(f"step.h = {self.step.h:g} s is longer than t_end = "
+                             f"{self.t_end:g} s")
+        return self
+
 
 class OutputFile(Strict):
     dt: Time | None = None
-    times: list[float] | None = None
+    times: list[Annotated[float, scalar(U.TIME, nonneg=True)]] | None = None
     variables: list[str] | None = None

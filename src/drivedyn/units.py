@@ -57,6 +57,28 @@ UNITS: dict[str, tuple[float, Dim]] = {
     "Hz": (1.0, (0, 0, -1, 0)),
 }
 
+# Largest magnitude accepted for a model input of each dimension [SI]. Far beyond any
+# driveline, bench or vehicle (a loaded truck is 4e4 kg, a test track 10 km, a turbine 1e5 rpm)
+# yet small enough to catch a unit slip (mm read as m twice, g as kg...) that would otherwise
+# run to a meaningless end. Other dimensions: GENERIC_MAX.
+PLAUSIBLE_MAX: dict[Dim, float] = {
+    LENGTH: 1e5, MASS: 1e6, INERTIA: 1e6, TIME: 1e6, VELOCITY: 1e3, ACCELERATION: 1e6,
+    ANGULAR_VELOCITY: 1e5, ANGLE: 1e9, FORCE: 1e9, TORQUE: 1e9,
+}
+GENERIC_MAX = 1e15
+
+
+def check_plausible(x: float, dim: Dim) -> None:
+    """Raise :class:`UnitError` for a non-finite value or one whose magnitude exceeds
+    :data:`PLAUSIBLE_MAX` for its dimension (``GENERIC_MAX`` for others)."""
+    if not math.isfinite(x):
+        raise UnitError(f"must be finite [{dim_name(dim)}], got {x!r}")
+    top = PLAUSIBLE_MAX.get(dim, GENERIC_MAX)
+    if abs(x) > top:
+        raise UnitError(f"{x:g} {dim_name(dim)} is implausibly large (|value| <= {top:g} "
+                        f"{dim_name(dim)}): a unit mistake?")
+
+
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
 

@@ -8,19 +8,19 @@ from pathlib import Path
 
 import click
 
-from drivedyn.cli.common import console, jsonable
+from drivedyn.cli.common import FiniteFloat, check_output_path, console, jsonable
 
 _BOUNCE_LAWS = ("hunt-crossley", "lankarani-nikravesh", "flores", "gonthier", "hu-guo",
                 "exact")
-_POSITIVE = click.FloatRange(min=0.0, min_open=True)
+_POSITIVE = FiniteFloat(0.0, low_open=True)
 
 
 @click.command()
 @click.option("--law", type=click.Choice(_BOUNCE_LAWS), default="lankarani-nikravesh",
               show_default=True, help="Continuous-impact law of the contact.")
-@click.option("--e", "e", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True),
+@click.option("--e", "e", type=FiniteFloat(0.0, 1.0, low_open=True, high_open=True),
               default=0.8, show_default=True, help="Restitution coefficient given to the law.")
-@click.option("--n", "n", type=click.FloatRange(min=1.0), default=1.5, show_default=True,
+@click.option("--n", "n", type=FiniteFloat(1.0), default=1.5, show_default=True,
               help="Exponent of the contact force K delta^n.")
 @click.option("--k", "k", type=_POSITIVE, default=1e10, show_default=True,
               help="Contact stiffness K [N/m^n].")
@@ -53,6 +53,8 @@ def bounce(law: str, e: float, n: float, k: float, mass: float, h0: float, gravi
         drivedyn bounce --law hunt-crossley --e 0.5 --json --plot bounce.png
     """
     from drivedyn.library.bouncing_ball import plot_height, run_bounce
+
+    check_output_path(plot, "--plot")
 
     err = console(stderr=True)
     with err.status("simulating the bouncing ball ..."):

@@ -15,7 +15,15 @@ from pathlib import Path
 
 import click
 
-from drivedyn.cli.common import COMPILE_NOTE, bad_input, console, err, jsonable
+from drivedyn.cli.common import (
+    COMPILE_NOTE,
+    FiniteFloat,
+    bad_input,
+    check_output_path,
+    console,
+    err,
+    jsonable,
+)
 
 RPM = 2 * math.pi / 60
 
@@ -46,12 +54,15 @@ def _progress_note(quiet: bool):
 @click.option("--mode", "mode", type=click.Choice(["1", "2", "3", "4", "all"]), default="all",
               show_default=True, help="Locking mode: 1 drive/bias rear, 2 coast/bias rear, "
               "3 drive/bias front, 4 coast/bias front.")
-@click.option("--torque", type=float, default=None, metavar="NM",
+@click.option("--torque", type=FiniteFloat(0.0, low_open=True, unit="N m"), default=None,
+              metavar="NM",
               help="Applied torque [N m] (default: the file's bench.torque, 125 N m).")
-@click.option("--speed-diff", type=float, default=None, metavar="RPM",
+@click.option("--speed-diff", type=FiniteFloat(0.0, low_open=True, unit="rpm"), default=None,
+              metavar="RPM",
               help="Output speed difference [rpm] (default: the file's bench.speed_diff, "
                    "20 rpm).")
-@click.option("--friction-scale", type=float, default=1.0, show_default=True, metavar="F",
+@click.option("--friction-scale", type=FiniteFloat(0.0), default=1.0, show_default=True,
+              metavar="F",
               help="Multiply every friction coefficient of the model by F.")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
               help="Override a parameter by its dotted key, e.g. --set pockets.mu=0.12 "
@@ -166,7 +177,8 @@ def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
 @click.option("--target", "targets", multiple=True, metavar="MODE=TDR",
               help="Measured TDR of a mode, e.g. --target 1=4.02 (default: the file's "
                    "[experiment] table, all four modes).")
-@click.option("--bounds", nargs=2, type=float, default=(0.02, 0.2), show_default=True,
+@click.option("--bounds", nargs=2, type=FiniteFloat(0.0, 1.0), default=(0.02, 0.2),
+              show_default=True,
               help="Plausible range of the fitted coefficients.")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
               help="Override a parameter before fitting (dotted key). Repeatable.")
@@ -193,6 +205,7 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     from drivedyn.analysis.tdr import experimental
     from drivedyn.config.loader import resolve_path
 
+    check_output_path(out, "--out")
     p, _ = _params(model_file, sets)
     keys = list(free) or ["washers.sun_housing.mu", "washers.coupling_case.mu",
                           "washers.ring_housing.mu", "washers.ring_case.mu"]
@@ -200,9 +213,12 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     for t in targets:
         m, _, v = t.partition("=")
         try:
-            goal[int(m)] = float(v)
+            mode_id, ratio = int(m), float(v)
         except ValueError:
             bad_input(f"--target {t!r}: expected MODE=TDR, e.g. 1=4.02")
+        if mode_id not in (1, 2, 3, 4) or not (math.isfinite(ratio) and ratio >= 1.0):
+            bad_input(f"--target {t!r}: expected a mode 1-4 and a finite TDR >= 1")
+        goal[mode_id] = ratio
     if not goal:
         goal = experimental(p)
         if not goal:

@@ -17,7 +17,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from drivedyn.cli.common import EXIT_FAILED, bad_input, err
+from drivedyn.cli.common import EXIT_FAILED, FiniteFloat, bad_input, check_output_path, err
 
 
 def _finite(x: float) -> float | None:
@@ -55,7 +55,8 @@ def _summary(res, out: Path | None) -> dict:
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Results file (netCDF). Default: <model name>.nc in the current folder; a "
                    "failed or interrupted run writes <name>.partial.nc instead.")
-@click.option("--t-end", type=float, default=None, help="Final time [s] (overrides the file).")
+@click.option("--t-end", type=FiniteFloat(0.0, low_open=True, unit="s"), default=None,
+              help="Final time [s] (overrides the file).")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
               help="Override a value of the file by dotted key, e.g. --set solver.t_end=2 "
                    "--set 'bodies.rod.mass=\"2 kg\"' (list items by name). Repeatable.")
@@ -82,17 +83,24 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     if verbose:
         logging.basicConfig(level=logging.DEBUG, format="%(message)s", stream=sys.stderr)
         logging.getLogger("drivedyn").setLevel(logging.DEBUG)
+    # output paths are checked before anything runs, so a long run is never lost to a typo
+    check_output_path(out, "--out")
+    check_output_path(csv_path, "--csv")
     try:
         model = load_model(model_file, list(sets))
     except (ModelFileError, ModelError, UnitError) as exc:
         bad_input(str(exc))
     scenario = model.meta["scenario"]
     t_final = t_end if t_end is not None else scenario.t_end
-    if t_final <= 0:
-        bad_input(f"--t-end must be > 0 s, got {t_final}")
+    h_fixed = getattr(scenario.step, "h", None)
+    if h_fixed is not None and h_fixed > t_final:
+        bad_input(f"--t-end {t_final:g} s is shorter than the step solver.step.h = "
+                  f"{h_fixed:g} s")
+    name = model.meta.get("model_name", "model")
+    target = out or Path(f"{name}.nc")
+    check_output_path(target, "--out")
     if not kernels_cached():
         err("note: first run: compiling the numba kernels (a few minutes, cached afterwards)")
-    name = model.meta.get("model_name", "model")
     err(f"simulating {name} to t = {t_final:g} s")
     try:
         with progress_bar(t_final) as cb:
@@ -105,7 +113,6 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     res.dataset.attrs["model_file"] = model.meta["model_file"]
     res.dataset.attrs["model_source"] = model.meta["source"]
     res.dataset.attrs["overrides"] = json.dumps(list(sets))
-    target = out or Path(f"{name}.nc")
     if not res.success:
         target = target.with_name(target.stem + ".partial.nc")
     write_netcdf_atomic(res.dataset, target)
@@ -155,10 +162,11 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
 
     from drivedyn.results.results import load_results
 
+    check_output_path(out_dir, "--out", directory=True)
     try:
         res = load_results(results_file)
     except (OSError, ValueError) as exc:
-        bad_input(f"{results_file}: not a readable results file ({exc})")
+        bad_input(f"{results_file}: not a drivedyn results file ({exc})")
     names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")]
     if patterns:
         names = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]

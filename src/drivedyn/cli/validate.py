@@ -15,7 +15,7 @@ from typing import Any
 
 import click
 
-from drivedyn.cli.common import COMPILE_NOTE, console, fmt, jsonable
+from drivedyn.cli.common import COMPILE_NOTE, check_output_path, console, fmt, jsonable
 
 
 def _load_cases() -> dict[str, Any]:
@@ -160,6 +160,7 @@ def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: 
         drivedyn validate
         drivedyn validate --quick --case pendulum --case gear_pair --report report
     """
+    check_output_path(report, "--report", directory=True)
     out = console()
     err = console(stderr=True)
     registry = _load_cases()

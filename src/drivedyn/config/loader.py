@@ -9,20 +9,24 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 import tomllib
+import typing
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
+from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
 from drivedyn.model.spec import ModelError, Spec
 from drivedyn.rotations import exp_so3
+from drivedyn.schema_base import AdaptiveStepFile, Rotation
 
 
 class ModelFileError(ValueError):
@@ -63,6 +67,8 @@ def resolve_path(name: str | Path) -> Path:
     p = Path(name)
     if p.is_file():
         return p
+    if p.is_dir():
+        raise ModelFileError(f"{name}: is a folder, expected a model file (.toml)")
     shipped = shipped_models()
     if str(name) in shipped:
         return shipped[str(name)]
@@ -143,10 +149,46 @@ def _path(data: Any, loc: tuple) -> str:
     return out
 
 
-def format_validation_error(source: str, data: dict, exc: ValidationError) -> str:
+def _allowed_keys(schema: type[BaseModel] | None, loc: tuple) -> list[str]:
+    """The keys the schema section at ``loc[:-1]`` accepts (for "did you mean")."""
+    models: list[Any] = [schema] if schema is not None else []
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            continue
+        nxt: list[Any] = []
+        for m in models:
+            f = m.model_fields.get(part) if isinstance(m, type) and issubclass(m, BaseModel) \
+                else None
+            if f is not None:
+                nxt += _models_in(f.annotation)
+        models = nxt or models
+    keys: list[str] = []
+    for m in models:
+        if isinstance(m, type) and issubclass(m, BaseModel):
+            keys += list(m.model_fields)
+    return keys
+
+
+def _models_in(annotation: Any) -> list[Any]:
+    """Pydantic model classes inside an annotation (unions, lists, dicts, Annotated)."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return [annotation]
+    out: list[Any] = []
+    for arg in typing.get_args(annotation):
+        out += _models_in(arg)
+    return out
+
+
+def format_validation_error(source: str, data: dict, exc: ValidationError,
+                            schema: type[BaseModel] | None = None) -> str:
+    """One line per problem: ``key.path: what was expected (got value)``; unknown keys get
+    the closest known key of their section."""
     lines = [f"{source}: {exc.error_count()} problem(s)"]
     for err in exc.errors():
         loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
+        # discriminated unions (solver.step) add their tag ("fixed", "adaptive") to the path
+        loc = tuple(p for i, p in enumerate(loc)
+                    if not (i and loc[i - 1] == "step" and p in ("fixed", "adaptive")))
         # union members appear as extra location parts; keep the user's keys only
         loc = tuple(p for p in loc if isinstance(p, int) or not str(p).startswith(
             ("tuple[", "list[", "Rotation", "FixedStepFile", "AdaptiveStepFile", "dict[",
@@ -156,7 +198,8 @@ def format_validation_error(source: str, data: dict, exc: ValidationError) -> st
             if msg.startswith(prefix):
                 msg = msg[len(prefix):]
         if err["type"] == "extra_forbidden":
-            msg = "unknown key (misspelt?)"
+            msg = "unknown key" + (did_you_mean(str(loc[-1]), _allowed_keys(schema, loc))
+                                   or " (misspelt?)")
         elif err["type"] == "missing":
             msg = "required key is missing"
         path = _path(data, loc) or "(top level)"
@@ -171,7 +214,7 @@ def format_validation_error(source: str, data: dict, exc: ValidationError) -> st
 def _rotation(r: Any) -> np.ndarray | None:
     if r is None:
         return None
-    if isinstance(r, S.Rotation):
+    if isinstance(r, Rotation):
         axis = np.asarray(r.axis, float)
         n = np.linalg.norm(axis)
         if n == 0:
@@ -181,12 +224,21 @@ def _rotation(r: Any) -> np.ndarray | None:
 
 
 def _function(f: Any, functions: dict, where: str) -> Any:
+    """A time function given inline (number or table) or by the name of a ``[functions]``
+    entry, converted here so that a mistake is reported with its key."""
+    from drivedyn.timefunctions import as_time_function
+
+    key = f"{where}.function"
     if isinstance(f, str):
         if f not in functions:
-            raise ModelError(f"{where}.function: unknown function {f!r} (defined: "
-                             f"{', '.join(functions) or 'none'})")
-        return functions[f]
-    return f
+            raise ModelError(f"{key}: unknown function {f!r}{did_you_mean(f, functions)} "
+                             f"(defined: {', '.join(functions) or 'none'})")
+        key = f"functions.{f}"
+        f = functions[f]
+    try:
+        return as_time_function(f)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"{key}: {exc}") from None
 
 
 def build_spec(mf: S.ModelFile) -> Spec:
@@ -269,36 +321,107 @@ def _si_values(value: Any) -> Any:
 
 
 def _generic_element(e: S.GenericElementFile, funcs: dict, where: str) -> Any:
+    """An element spec from an ``[[elements]]`` entry: every parameter checked against the
+    spec's dataclass field (type) and its declared unit (``units`` of the element class:
+    parameter -> SI unit), so a stiffness in kg or a tooth count of 2.5 is refused here with
+    its key."""
     import dataclasses
 
     types = element_types()
     cls = types.get(e.type)
     if cls is None:
-        raise ModelError(f"{where}.type: unknown element type {e.type!r} (known: "
-                         f"{', '.join(types)})")
-    params = {k: v for k, v in (e.model_extra or {}).items()}
-    fields = {f.name for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(params) - fields)
+        raise ModelError(f"{where}.type: unknown element type {e.type!r}"
+                         f"{did_you_mean(e.type, types)} (known: {', '.join(types)})")
+    params = dict(e.model_extra or {})
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    unknown = sorted(set(params) - set(fields))
     if unknown:
-        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type} "
-                         f"(parameters: {', '.join(sorted(fields - {'name'}))})")
+        hint = did_you_mean(unknown[0], fields)
+        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type}{hint} "
+                         f"(parameters: {', '.join(sorted(set(fields) - {'name'}))})")
     kwargs = {}
     for k, v in params.items():
         if k == "function" or k.endswith("_function"):
             kwargs[k] = _function(v, funcs, where)
         else:
-            kwargs[k] = _si_values(v)
+            kwargs[k] = parameter_value(cls, fields[k].type, k, v, f"{where}.{k}")
     try:
         return cls(name=e.name, **kwargs)
     except TypeError as exc:
         raise ModelError(f"{where}: {exc}") from None
 
 
+def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> Any:
+    """``value`` of parameter ``key`` of element class ``cls`` checked against its field type
+    (``int``, ``float``, ``bool``, ``str``, a nested parameter record such as ``NormalLaw``)
+    and converted to SI with the unit the class declares in ``units`` (a unit string of
+    another dimension, or on a parameter without a unit, is refused)."""
+    from drivedyn import units as U  # noqa: N812
+
+    tname = ftype if isinstance(ftype, str) else getattr(ftype, "__name__", str(ftype))
+    kinds = {t.strip() for t in tname.split("|")}
+    optional = "None" in kinds
+    if value is None and optional:
+        return None
+    declared = dict(getattr(cls, "units", {}) or {})
+    if kinds & {"int"} and not kinds & {"float"}:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ModelError(f"{where}: expected an integer, got {value!r}")
+        return value
+    if "bool" in kinds:
+        if not isinstance(value, bool):
+            raise ModelError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if "float" in kinds:
+        if key in declared:
+            dim = U.parse_unit(declared[key])[1]
+            try:
+                x = U.to_si(value, dim)
+                U.check_plausible(x, dim)
+            except U.UnitError as exc:
+                raise ModelError(f"{where}: {exc}") from None
+            return x
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ModelError(f"{where}: expected a plain number (this parameter takes no "
+                             f"unit), got {value!r}")
+        try:
+            U.check_plausible(float(value), U.DIMENSIONLESS)
+        except U.UnitError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+        return float(value)
+    if kinds == {"str"} or kinds == {"str", "None"}:
+        if not isinstance(value, str):
+            raise ModelError(f"{where}: expected a string, got {value!r}")
+        return value
+    # a nested parameter record (NormalLaw, FrictionLaw): its own keys, units and types
+    record = _record_class(kinds)
+    if record is not None and isinstance(value, dict):
+        rfields = {f.name: f for f in dataclasses.fields(record) if f.init}
+        unknown = sorted(set(value) - set(rfields))
+        if unknown:
+            raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} for "
+                             f"{record.__name__}{did_you_mean(unknown[0], rfields)} (keys: "
+                             f"{', '.join(rfields)})")
+        return {k: parameter_value(record, rfields[k].type, k, v, f"{where}.{k}")
+                for k, v in value.items()}
+    return _si_values(value)
+
+
+def _record_class(kinds: set[str]) -> type | None:
+    import drivedyn.elements as E  # noqa: N812
+
+    for k in kinds:
+        cls = getattr(E, k, None)
+        if isinstance(cls, type) and dataclasses.is_dataclass(cls):
+            return cls
+    return None
+
+
 def scenario_of(mf: S.ModelFile) -> Scenario:
     from drivedyn.solver.settings import AdaptiveStep, FixedStep, GeneralizedAlpha, Newton
 
     st = mf.solver.step
-    if isinstance(st, S.AdaptiveStepFile):
+    if isinstance(st, AdaptiveStepFile):
         step = AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol)
     else:
         step = FixedStep(st.h)
@@ -319,7 +442,14 @@ def _read_data(path: str | Path, overrides: list[str] | dict[str, Any] | None
     p = resolve_path(path)
     source = str(path)
     try:
-        data = tomllib.loads(p.read_text())
+        text = p.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelFileError(f"{source}: not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at "
+                             f"offset {exc.start}); save the model file as UTF-8") from None
+    except OSError as exc:
+        raise ModelFileError(f"{source}: cannot be read ({exc.strerror or exc})") from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelFileError(f"{source}: not valid TOML: {exc}") from None
     data = copy.deepcopy(data)
@@ -347,7 +477,7 @@ def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | No
     try:
         mf = S.ModelFile.model_validate(data)
     except ValidationError as exc:
-        raise ModelFileError(format_validation_error(source, data, exc)) from None
+        raise ModelFileError(format_validation_error(source, data, exc, S.ModelFile)) from None
     return mf, data, source
 
 
@@ -366,7 +496,7 @@ def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | 
     try:
         params = schemas[lib].model_validate(data)
     except ValidationError as exc:
-        raise ModelFileError(format_validation_error(source, data, exc)) from None
+        raise ModelFileError(format_validation_error(source, data, exc, schemas[lib])) from None
     return params, data, source
 
 

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from drivedyn.elements.base import REGISTRY, family_of
+from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model, NodeInfo, State
 from drivedyn.model.spec import GROUND, ModelError, Spec
 from drivedyn.timefunctions import TimeFunctionPool, as_time_function
@@ -45,7 +46,8 @@ class BuildContext:
         try:
             return self.marker_frames[name]
         except KeyError:
-            raise ModelError(f"{owner}: unknown marker {name!r}") from None
+            raise ModelError(f"{owner}: unknown marker {name!r}"
+                             f"{did_you_mean(name, self.marker_frames)}") from None
 
     def node_dof(self, node: int) -> int:
         """First global dof of ``node`` or -1 for the ground."""
@@ -67,7 +69,10 @@ class BuildContext:
 
     def time_function(self, f: Any) -> int:
         """Register a time function (number, TimeFunction or dict); returns its id."""
-        return self.tf_pool.add(as_time_function(f))
+        try:
+            return self.tf_pool.add(as_time_function(f))
+        except (TypeError, ValueError) as exc:
+            raise ModelError(f"time function {f!r}: {exc}") from None
 
     def scaling(self, k: float | None, p: float | None, rotational: bool) -> tuple[float, float]:
         """Scaling k and penalty p of a constraint row (explicit, model-wide, or automatic)."""
@@ -133,7 +138,8 @@ def compile_model(spec: Spec) -> Model:
     """Check ``spec`` and build the frozen :class:`Model`.
 
     Raises :class:`ModelError` naming the element for unknown markers, joints with both
-    markers on one body, elements of unregistered types and invalid parameters.
+    markers on one body, elements of unregistered types and invalid parameters, and for a
+    model with nothing to simulate (no bodies or nodes).
 
     Automatic constraint scaling: ``k = p = m_mean / h_ref^2`` for translation rows and
     ``J_mean / h_ref^2`` for rotation rows (h_ref = 1 ms), i.e. of the order of the inertia
@@ -144,6 +150,8 @@ def compile_model(spec: Spec) -> Model:
 
     names, infos, xs, Rs, vs = _node_layout(spec)
     nn = len(names)
+    if nn == 0:
+        raise ModelError("nothing to simulate: the model has no bodies or nodes")
     node_index = {n: i for i, n in enumerate(names)}
     x0 = np.zeros((nn + 1, 3))
     R0 = np.tile(np.eye(3), (nn + 1, 1, 1))
@@ -164,7 +172,8 @@ def compile_model(spec: Spec) -> Model:
         elif m.body in spec.nodes:
             marker_frames[m.name] = (node_index[m.body], m.position.copy(), m.rotation.copy())
         else:
-            raise ModelError(f"marker {m.name!r}: unknown body or node {m.body!r}")
+            raise ModelError(f"marker {m.name!r}: unknown body or node {m.body!r}"
+                             f"{did_you_mean(m.body, [*spec.bodies, *spec.nodes, GROUND])}")
 
     masses = [i.mass for i in infos if i.mass > 0]
     inert = [float(np.trace(i.inertia)) / 3 for i in infos if i.mass > 0]
@@ -179,7 +188,8 @@ def compile_model(spec: Spec) -> Model:
         fam = family_of(e)
         for mk in e.markers():
             if mk not in marker_frames:
-                raise ModelError(f"{type(e).__name__} {e.name!r}: unknown marker {mk!r}")
+                raise ModelError(f"{type(e).__name__} {e.name!r}: unknown marker {mk!r}"
+                                 f"{did_you_mean(mk, marker_frames)}")
         e.validate()
         by_family.setdefault(fam.name, []).append(e)
 

@@ -148,7 +148,8 @@ def check_inertia(J: np.ndarray, what: str) -> None:
     tol = 1e-9 * ev[2]
     if ev[0] + ev[1] < ev[2] - tol:
         raise ModelError(
-            f"{what}: principal moments {ev.tolist()} kg m^2 violate the triangle inequality "
+            f"{what}: inertia: principal moments {ev.tolist()} kg m^2 violate the triangle "
+            "inequality "
             "J1 + J2 >= J3 (no real mass distribution has them)"
         )
 
@@ -178,7 +179,8 @@ class Spec:
         if not isinstance(name, str) or not name:
             raise ModelError(f"{kind}: name must be a non-empty string, got {name!r}")
         if name in self._names:
-            raise ModelError(f"{kind} {name!r}: the name is already used")
+            raise ModelError(f"{kind} {name!r}: duplicate name (already used by a body, node or "
+                             "the ground)")
         self._names.add(name)
 
     def add_node(
@@ -253,7 +255,7 @@ class Spec:
         """
         what = f"marker {name!r}"
         if name in self.markers:
-            raise ModelError(f"{what}: the name is already used")
+            raise ModelError(f"{what}: duplicate name (already used by another marker)")
         if not isinstance(name, str) or not name:
             raise ModelError(f"marker: name must be a non-empty string, got {name!r}")
         self.markers[name] = Marker(
@@ -269,7 +271,7 @@ class Spec:
         if not isinstance(name, str) or not name:
             raise ModelError(f"{kind}: name must be a non-empty string, got {name!r}")
         if any(e.name == name for e in self.elements):
-            raise ModelError(f"{kind} {name!r}: the name is already used by another element")
+            raise ModelError(f"{kind} {name!r}: duplicate name (already used by another element)")
         self.elements.append(element)
         return element
 

@@ -83,9 +83,7 @@ class Results:
                 flat = vals.reshape(vals.shape[0], -1)
                 for j in range(flat.shape[1]):
                     cols[f"{name}[{j}] [{unit}]"] = flat[:, j]
-        path = Path(path)
-        pd.DataFrame(cols).to_csv(path, index=False)
-        return path
+        return _write_atomic(Path(path), lambda tmp: pd.DataFrame(cols).to_csv(tmp, index=False))
 
     def plot(self, names: list[str] | None = None, ax: Any = None) -> Any:
         """Plot time histories of ``names`` (default: the energy terms); returns the axes."""
@@ -128,12 +126,17 @@ def _jsonable(obj: Any) -> Any:
 def write_netcdf_atomic(dataset: Any, path: str | os.PathLike) -> Path:
     """Write ``dataset`` to ``path`` via a temporary file in the same folder and a rename, so
     that a crash never leaves a half-written file under the final name."""
-    path = Path(path)
+    return _write_atomic(Path(path), dataset.to_netcdf)
+
+
+def _write_atomic(path: Path, write: Any) -> Path:
+    """``write(tmp)`` into a temporary file beside ``path``, then rename it to ``path`` (an
+    atomic replace on POSIX and Windows); the temporary file never survives a failure."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
     os.close(fd)
     try:
-        dataset.to_netcdf(tmp)
+        write(tmp)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
@@ -142,10 +145,15 @@ def write_netcdf_atomic(dataset: Any, path: str | os.PathLike) -> Path:
 
 
 def load_results(path: str | os.PathLike) -> Results:
-    """Read a results file written by :meth:`Results.to_netcdf`."""
+    """Read a results file written by :meth:`Results.to_netcdf`; ``ValueError`` for a
+    netCDF file that drivedyn did not write, ``OSError`` for one that cannot be read."""
     import xarray as xr
 
     ds = xr.load_dataset(path)
+    if "time" not in ds.coords or "stats" not in ds.attrs:
+        raise ValueError("no 'time' coordinate or no run statistics: not written by drivedyn "
+                         "(drivedyn results files come from `drivedyn run` or "
+                         "Results.to_netcdf)")
     stats = RunStats(**{k: (np.inf if v is None else v)
                         for k, v in json.loads(ds.attrs.get("stats", "{}")).items()})
     return Results(ds, bool(ds.attrs.get("success", 1)), str(ds.attrs.get("message", "")), stats)
