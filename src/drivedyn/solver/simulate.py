@@ -299,6 +299,21 @@ def simulate(
                    success, message, stats)
 
 
+_HINTS = {
+    StepStatus.NEWTON_MAX_ITER: "try a smaller step (solver.step.h, or an adaptive step with a "
+    "lower h_min), more Newton iterations (solver.newton.max_iter), or check the parameters "
+    "of the element named (stiffness, initial penetration)",
+    StepStatus.NEWTON_DIVERGED: "try a smaller step or an adaptive step, or check the element "
+    "named for a stiffness or load far larger than the rest of the model",
+    StepStatus.NONFINITE: "the state became non-finite: check the element named for loads, "
+    "stiffnesses or time functions that blow up, and bodies without mass on loaded nodes",
+    StepStatus.SINGULAR: "the iteration matrix is singular: look for a massless node or body "
+    "without stiffness, a free rotation, or redundant constraints around the equation named",
+    StepStatus.ERROR_TOO_LARGE: "the local error stays above tolerance at the smallest step: "
+    "loosen solver.step.rtol/atol or lower solver.step.h_min",
+}
+
+
 def _failure_message(model: Model, t: float, h: float, out: StepOutcome) -> str:
     where = ""
     if out.worst_eq >= 0:
@@ -306,8 +321,10 @@ def _failure_message(model: Model, t: float, h: float, out: StepOutcome) -> str:
                 else "scaled residual")
         where = f"; worst equation: {model.eq_labels[out.worst_eq]} ({what} {out.residual:.3g})"
     extra = f" ({out.message})" if out.message else ""
+    hint = _HINTS.get(out.status, "")
     return (f"simulation stopped at t = {t:.9g} s: step of {h:.3g} s failed: "
-            f"{out.status.value}{extra}{where}; results up to t = {t:.9g} s are kept")
+            f"{out.status.value}{extra}{where}; results up to t = {t:.9g} s are kept"
+            + (f"; {hint}" if hint else ""))
 
 
 def _version() -> str:
