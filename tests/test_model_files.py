@@ -128,11 +128,11 @@ def test_file_model_matches_python_model(tmp_path):
     (('mass = "2 kg"', "mass = -1"), "bodies[0] (block).mass: must be > 0 kg (got -1)"),
     (('inertia = [0.1, 0.1, 0.1]\n', ""), "bodies[0] (block).inertia: required key is missing"),
     (('stiffness = "200 N/m"', 'stifness = "200 N/m"'),
-     "springs[0] (s).stifness: unknown key (misspelt?)"),
+     "springs[0] (s).stifness: unknown key (did you mean 'stiffness'?)"),
     (('stiffness = "200 N/m"', 'stiffness = "200 N m"'),
      "springs[0] (s).stiffness: '200 N m' is in N m, expected N/m"),
     (('type = "prismatic"', 'type = "slider"'), "joints[0] (p).type: Input should be"),
-    (('h = "1 ms"', "h = 0"), "solver.step.fixed.h: must be > 0 s"),
+    (('h = "1 ms"', "h = 0"), "solver.step.h: must be > 0 s"),
 ])
 def test_bad_files_name_key_value_and_expectation(tmp_path, edit, message):
     text = BLOCK.replace(*edit)

@@ -241,6 +241,15 @@ def _function(f: Any, functions: dict, where: str) -> Any:
         raise ModelError(f"{key}: {exc}") from None
 
 
+def _named_function(name: str, f: Any) -> Any:
+    from drivedyn.timefunctions import as_time_function
+
+    try:
+        return as_time_function(f)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"functions.{name}: {exc}") from None
+
+
 def build_spec(mf: S.ModelFile) -> Spec:
     """A :class:`Spec` from a validated file (elements in file order, by section)."""
     import drivedyn.elements as E  # noqa: N812
@@ -268,7 +277,8 @@ def build_spec(mf: S.ModelFile) -> Spec:
     for s in mf.torsional_springs:
         spec.add(E.TorsionalSpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness,
                                          s.damping, s.free_angle, s.preload))
-    funcs = mf.functions
+    # every named function is converted (and checked) here, used or not
+    funcs = {name: _named_function(name, f) for name, f in mf.functions.items()}
     for f in mf.forces:
         spec.add(E.Force(f.name, f.marker, f.vector,
                          _function(f.function, funcs, f"forces.{f.name}"), f.frame))
