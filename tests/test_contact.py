@@ -15,13 +15,13 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements import _contact_cases as cc
 from drivedyn.elements.base import MODE_ACC, MODE_VEL
 from drivedyn.elements.impact_laws import NSTATE, ST_ACC, ST_FLAG, ST_PEN, ST_RATE
 from drivedyn.library import bouncing_ball as bb
 from drivedyn.model.spec import ModelError
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System
+from element_cases import contact as cc
 from fdcheck import EPS, assembled, check, perturb, residual
 
 

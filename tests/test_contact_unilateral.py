@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements import _contact_cases as cc
 from drivedyn.model.spec import ModelError
 from drivedyn.solver.assembly import System
+from element_cases import contact as cc
 from test_contact import check_tangents, random_state
 
 

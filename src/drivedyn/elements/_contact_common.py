@@ -107,7 +107,6 @@ def add_velocity_force(f, dfds, dfdF, J, dJ, Jv, dFq, dFv, rq, K, C, full):
                 C[a, b] += ja * (dfds * J[b] + dfdF * dFv[b])
 
 
-
 # --- specs and groups ----------------------------------------------------------------------
 
 

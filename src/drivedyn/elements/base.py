@@ -246,10 +246,8 @@ class Family(abc.ABC):
 
     ``build(specs, ctx)`` receives the element specs (in model order) and a
     :class:`drivedyn.model.compile.BuildContext` giving marker frames, multiplier and state
-    allocation and time-function ids. ``tangent_cases()`` returns small
-    functions that build small :class:`~drivedyn.model.spec.Spec` models exercising the
-    family, used by the registry test that checks every family's tangent matrices against
-    finite differences.
+    allocation and time-function ids. The small models that exercise each family for the
+    registry tangent test are test fixtures (``tests/element_cases``), keyed by ``name``.
     """
 
     name: ClassVar[str] = ""
@@ -258,10 +256,6 @@ class Family(abc.ABC):
     @abc.abstractmethod
     def build(self, specs: Sequence[Any], ctx: Any) -> Group:
         """The group of all ``specs`` of this family."""
-
-    def tangent_cases(self) -> list[Callable[[], Any]]:
-        """Functions returning a small :class:`Spec` that exercises the family (tangent test)."""
-        return []
 
 
 REGISTRY: dict[str, Family] = {}

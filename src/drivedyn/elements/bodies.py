@@ -103,7 +103,6 @@ def rigid_body_kernel(
         _rigid_body_kernel_element(P, I, S, Cc, O, W, False)
 
 
-
 class RigidBodyFamily(Family):
     """Inertia and weight of every rigid body (built from the model's nodes, not from specs)."""
 
@@ -128,11 +127,6 @@ class RigidBodyFamily(Family):
             aux_units=("kg m^2/s",) * 3,
             aux_desc=("angular momentum about the centre of mass, global frame",) * 3,
         )
-
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [tc.spinning_body]
 
 
 register(RigidBodyFamily())

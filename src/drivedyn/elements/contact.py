@@ -626,11 +626,6 @@ class PlaneContactFamily(Family):
                              (pA, pB, RmA, radius), [s.law for s in specs],
                              [s.friction for s in specs], states, outputs, lnodes)
 
-    def tangent_cases(self):
-        from drivedyn.elements import _contact_cases as cc
-
-        return [cc.plane_case, cc.sphere_case, cc.plane_ground_case]
-
 
 class ThrustWasherContactFamily(Family):
     """Registry entry of :class:`ThrustWasherContact`."""
@@ -660,11 +655,6 @@ class ThrustWasherContactFamily(Family):
         return contact_group(self.name, specs, ctx, washer_contact_kernel,
                              (pA, pB, RmA, rm, area), [s.law for s in specs],
                              [s.friction for s in specs], states, outputs, lnodes)
-
-    def tangent_cases(self):
-        from drivedyn.elements import _contact_cases as cc
-
-        return [cc.washer_case, cc.washer_ground_case]
 
 
 class JournalContactFamily(Family):
@@ -699,11 +689,6 @@ class JournalContactFamily(Family):
         return contact_group(self.name, specs, ctx, journal_contact_kernel,
                              (pA, pB, RmA, clear, rpin), [s.law for s in specs],
                              [s.friction for s in specs], states, outputs, lnodes)
-
-    def tangent_cases(self):
-        from drivedyn.elements import _contact_cases as cc
-
-        return [cc.journal_case, cc.journal_ground_case]
 
 
 register(PlaneContactFamily())

@@ -109,11 +109,6 @@ class JointDriverFamily(Family):
                       "accumulated joint angle", "power supplied by the driver")
         return g
 
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [tc.driver_case, tc.speed_driver_case]
-
 
 @njit(cache=True, inline="always")
 def _speed_difference_kernel_element(P, I, S, Cc, O, W, full):
@@ -214,7 +209,6 @@ def speed_difference_kernel(
         _speed_difference_kernel_element(P, I, S, Cc, O, W, False)
 
 
-
 def _commit_two_angles(group: Group, state) -> None:
     state.es[group.eoff] = group.aux[:, 1]
     state.es[group.eoff + 1] = group.aux[:, 2]
@@ -287,11 +281,6 @@ class SpeedDifferenceDriverFamily(Family):
                       "power supplied by the driver"),
             commit=_commit_two_angles,
         )
-
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [tc.speed_difference_case]
 
 
 register(JointDriverFamily())

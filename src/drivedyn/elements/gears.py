@@ -1280,11 +1280,6 @@ class GearPairFamily(Family):
             extra={"mesh": info}, naux=NAUX_PUBLIC + 2, dissipative=True,
         )
 
-    def tangent_cases(self):
-        from drivedyn.elements import _gear_cases as gc
-
-        return gc.CASES
-
 
 def _commit_angles(group: Group, state) -> None:
     """Store the accumulated wheel angles (relative to the mesh frame) after a step."""

@@ -215,7 +215,6 @@ def constraint_kernel(
         _constraint_kernel_element(P, I, S, Cc, O, W, False)
 
 
-
 def _row_value(typ: int, a: int, b: int, xA, RA, xB, RB, pA, pB, RmA, RmB) -> float:
     """Plain numpy value of a geometric row (for the assembly check at build time)."""
     d = xB + RB @ pB - xA - RA @ pA
@@ -449,12 +448,6 @@ class JointFamily(Family):
     def build(self, specs, ctx) -> Group:
         return build_constraint_group(self.name, specs, ctx, self.spec_type.rows,
                                       self.spec_type.has_angle)
-
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [lambda: tc.joint_case(self.spec_type),
-                lambda: tc.joint_case(self.spec_type, ground_a=True)]
 
 
 for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, Screw):

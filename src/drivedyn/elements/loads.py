@@ -121,7 +121,6 @@ def load_kernel(
         _load_kernel_element(P, I, S, Cc, O, W, False)
 
 
-
 @dataclass(frozen=True)
 class Force(ElementSpec):
     """Force ``vector * function(t)`` [N] applied at the origin of ``marker``.
@@ -194,12 +193,6 @@ class _LoadFamily(Family):
             aux_desc=(f"applied {kind}, global x", f"applied {kind}, global y",
                       f"applied {kind}, global z", "power supplied by the load"),
         )
-
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [lambda: tc.load_case(self.is_torque, "global"),
-                lambda: tc.load_case(self.is_torque, "marker")]
 
 
 class ForceFamily(_LoadFamily):

@@ -112,7 +112,6 @@ def scalar_spring_kernel(
         _scalar_spring_kernel_element(P, I, S, Cc, O, W, False)
 
 
-
 def _commit_angle(group: Group, state) -> None:
     state.es[group.eoff] = group.aux[:, 1]
 
@@ -249,20 +248,10 @@ class _SpringFamily(Family):
 class SpringDamperFamily(_SpringFamily):
     name = "spring_damper"
 
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [tc.spring_case]
-
 
 class TorsionalSpringDamperFamily(_SpringFamily):
     name = "torsional_spring_damper"
     angular = True
-
-    def tangent_cases(self):
-        from drivedyn.elements import _tangent_cases as tc
-
-        return [tc.torsion_case]
 
 
 register(SpringDamperFamily())

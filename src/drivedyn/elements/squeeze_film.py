@@ -338,10 +338,5 @@ class SqueezeFilmFamily(Family):
                              [s.contact for s in specs], [s.friction for s in specs], states,
                              outputs, lnodes)
 
-    def tangent_cases(self):
-        from drivedyn.elements import _contact_cases as cc
-
-        return [cc.squeeze_case, cc.squeeze_metal_case]
-
 
 register(SqueezeFilmFamily())

@@ -451,10 +451,5 @@ class UnilateralContactFamily(Family):
         g.extra["active_set"] = True
         return g
 
-    def tangent_cases(self):
-        from drivedyn.elements import _contact_cases as cc
-
-        return [cc.unilateral_case, cc.unilateral_ground_case]
-
 
 register(UnilateralContactFamily())

@@ -1,0 +1,50 @@
+"""Small models exercising every element family (test fixtures, not shipped).
+
+:data:`TANGENT_CASES` maps each family's registry name (``drivedyn.elements.REGISTRY``) to
+functions returning a small :class:`~drivedyn.model.spec.Spec` that exercises it; the registry
+tangent test (``tests/test_tangents.py``) checks every family's tangent matrices on them and
+fails for a registered family that has no entry here, so a new family cannot be forgotten.
+
+The tables themselves: :mod:`element_cases.basic` (bodies, joints, drivers, springs, loads),
+:mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film) and
+:mod:`element_cases.gears` (gear pairs). Tests import this package as a top-level module
+(pytest puts ``tests/`` on ``sys.path``, as for ``fdcheck``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import partial
+
+from drivedyn.elements.joints import (
+    Cylindrical,
+    Fixed,
+    Hinge,
+    Planar,
+    Prismatic,
+    Screw,
+    Spherical,
+    Universal,
+)
+from drivedyn.model.spec import Spec
+from element_cases import basic, contact, gears
+
+_JOINTS = (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, Screw)
+
+TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
+    "rigid_body": [basic.spinning_body],
+    **{j.family: [partial(basic.joint_case, j), partial(basic.joint_case, j, ground_a=True)]
+       for j in _JOINTS},
+    "joint_driver": [basic.driver_case, basic.speed_driver_case],
+    "speed_difference_driver": [basic.speed_difference_case],
+    "spring_damper": [basic.spring_case],
+    "torsional_spring_damper": [basic.torsion_case],
+    "force": [partial(basic.load_case, False, "global"), partial(basic.load_case, False, "marker")],
+    "torque": [partial(basic.load_case, True, "global"), partial(basic.load_case, True, "marker")],
+    "plane_contact": [contact.plane_case, contact.sphere_case, contact.plane_ground_case],
+    "thrust_washer_contact": [contact.washer_case, contact.washer_ground_case],
+    "journal_contact": [contact.journal_case, contact.journal_ground_case],
+    "squeeze_film": [contact.squeeze_case, contact.squeeze_metal_case],
+    "unilateral_contact": [contact.unilateral_case, contact.unilateral_ground_case],
+    "gear_pair": list(gears.CASES),
+}
