@@ -77,10 +77,10 @@ def test_marker_on_unknown_body():
 
 def test_duplicate_names():
     spec = _two_bodies()
-    with pytest.raises(ModelError, match="rigid body 'a': the name is already used"):
+    with pytest.raises(ModelError, match="rigid body 'a': duplicate name"):
         spec.add_rigid_body("a", 1.0, [1, 1, 1])
     spec.add(dd.Hinge("h", "ma", "mb"))
-    with pytest.raises(ModelError, match="Hinge 'h': the name is already used"):
+    with pytest.raises(ModelError, match="Hinge 'h': duplicate name"):
         spec.add(dd.Hinge("h", "ma", "mb"))
 
 
