@@ -350,3 +350,23 @@ def test_catalogue_size() -> None:
     n = (len(FILE_CASES) + 2 + 3 + 3 + len(TDR_CASES) + len(CALIBRATE_CASES)
          + len(BOUNCE_CASES))
     assert n >= 40
+
+
+def test_other_commands_bad_options(tmp_path: Path) -> None:
+    a_file = tmp_path / "file.txt"
+    a_file.write_text("x")
+    runner = CliRunner()
+    _check(runner.invoke(main, ["validate", "--case", "pendulm"]), ["pendulm", "pendulum"])
+    _check(runner.invoke(main, ["validate", "--report", str(a_file)]), ["--report", "is a file"])
+    _check(runner.invoke(main, ["models", "--show", "pendulm"]), ["pendulm", "pendulum"])
+    _check(runner.invoke(main, ["bounce", "--plot", str(a_file / "b.png")]), ["--plot"])
+    _check(runner.invoke(main, ["calibrate", "torsen-c", "--out", str(a_file / "c.toml")]),
+           ["--out"])
+    model = tmp_path / "m.toml"
+    model.write_text(BASE)
+    res = runner.invoke(main, ["run", str(model), "--out", str(tmp_path / "r.nc")])
+    assert res.exit_code == 0, res.output
+    _check(runner.invoke(main, ["plot", str(tmp_path / "r.nc"), "--vars", "zzz*", "--out",
+                                str(tmp_path / "f")]), ["zzz*"])
+    _check(runner.invoke(main, ["plot", str(tmp_path / "r.nc"), "--out", str(a_file)]),
+           ["--out", "is a file"])
