@@ -374,6 +374,19 @@ def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> 
     if value is None and optional:
         return None
     declared = dict(getattr(cls, "units", {}) or {})
+    if key in declared:  # a quantity (or a vector of them) in the declared unit
+        dim = U.parse_unit(declared[key])[1]
+        try:
+            if isinstance(value, list):
+                out = [U.to_si(v, dim) for v in value]
+                for x in out:
+                    U.check_plausible(x, dim)
+                return out
+            x = U.to_si(value, dim)
+            U.check_plausible(x, dim)
+        except U.UnitError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+        return x
     if kinds & {"int"} and not kinds & {"float"}:
         if isinstance(value, bool) or not isinstance(value, int):
             raise ModelError(f"{where}: expected an integer, got {value!r}")
@@ -383,14 +396,6 @@ def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> 
             raise ModelError(f"{where}: expected true or false, got {value!r}")
         return value
     if "float" in kinds:
-        if key in declared:
-            dim = U.parse_unit(declared[key])[1]
-            try:
-                x = U.to_si(value, dim)
-                U.check_plausible(x, dim)
-            except U.UnitError as exc:
-                raise ModelError(f"{where}: {exc}") from None
-            return x
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ModelError(f"{where}: expected a plain number (this parameter takes no "
                              f"unit), got {value!r}")
