@@ -15,20 +15,20 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, Family, Group, local_arrays, register, scatter_element
+import drivedyn.elements.scaffold as sc
+from drivedyn.elements.base import Family, Group, local_arrays, register
 
 
 @njit(cache=True, inline="always")
-def _rigid_body_kernel_element(P, I, S, Cc, O, W, full):
+def _rigid_bodies(P, C, W, full):
     mass, inertia, gravity = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    nel, rq, rl, M, C, K, G, JOm, JOd = W
-    for e in range(nel):
-        d0 = dofs[e, 0]
-        n = lnodes[e, 0]
+    L, JOm, JOd = W
+    rq, _, M, Cd, _, _ = L
+    x, R, v, vd, _, _, _, _ = sc.state(C)
+    rabs = C[sc.RABS]
+    for e in range(sc.count(C)):
+        d0 = sc.first_dof(C, e)
+        n = sc.node(C, e, 0)
         m = mass[e]
         J = inertia[e]
         o0 = v[d0 + 3]
@@ -44,41 +44,40 @@ def _rigid_body_kernel_element(P, I, S, Cc, O, W, full):
         rq[5] = JOd[2] + o0 * JOm[1] - o1 * JOm[0]
         if full:
             M[:, :] = 0.0
-            C[:, :] = 0.0
+            Cd[:, :] = 0.0
             for i in range(3):
                 M[i, i] = m
                 for j in range(3):
                     M[3 + i, 3 + j] = J[i, j]
             # d(Omega x J Omega)/dOmega = Omega~ J - (J Omega)~
             for j in range(3):
-                C[3, 3 + j] = o1 * J[2, j] - o2 * J[1, j]
-                C[4, 3 + j] = o2 * J[0, j] - o0 * J[2, j]
-                C[5, 3 + j] = o0 * J[1, j] - o1 * J[0, j]
-            C[3, 4] += JOm[2]
-            C[3, 5] -= JOm[1]
-            C[4, 3] -= JOm[2]
-            C[4, 5] += JOm[0]
-            C[5, 3] += JOm[1]
-            C[5, 4] -= JOm[0]
-        scatter_element(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn, cM, cC,
-                        cK, mode,want, full, r, rabs, data)
+                Cd[3, 3 + j] = o1 * J[2, j] - o2 * J[1, j]
+                Cd[4, 3 + j] = o2 * J[0, j] - o0 * J[2, j]
+                Cd[5, 3 + j] = o0 * J[1, j] - o1 * J[0, j]
+            Cd[3, 4] += JOm[2]
+            Cd[3, 5] -= JOm[1]
+            Cd[4, 3] -= JOm[2]
+            Cd[4, 5] += JOm[0]
+            Cd[5, 3] += JOm[1]
+            Cd[5, 4] -= JOm[0]
+        sc.scatter(C, L, e, 1, full)
         # rabs holds the sum of |terms| of each equation (the convergence scale): replace
-        # the |sum| that scatter_local added by |inertia| + |gyroscopic| + |weight|
+        # the |sum| that scatter added by |inertia| + |gyroscopic| + |weight|
         for i in range(3):
             rabs[d0 + i] += abs(m * vd[d0 + i]) + abs(m * gravity[i]) - abs(rq[i])
         rabs[d0 + 3] += abs(JOd[0]) + abs(o1 * JOm[2]) + abs(o2 * JOm[1]) - abs(rq[3])
         rabs[d0 + 4] += abs(JOd[1]) + abs(o2 * JOm[0]) + abs(o0 * JOm[2]) - abs(rq[4])
         rabs[d0 + 5] += abs(JOd[2]) + abs(o0 * JOm[1]) + abs(o1 * JOm[0]) - abs(rq[5])
-        eout[e, 0] = 0.5 * m * (v[d0] ** 2 + v[d0 + 1] ** 2 + v[d0 + 2] ** 2) + 0.5 * (
+        kinetic = 0.5 * m * (v[d0] ** 2 + v[d0 + 1] ** 2 + v[d0 + 2] ** 2) + 0.5 * (
             o0 * JOm[0] + o1 * JOm[1] + o2 * JOm[2]
         )
-        eout[e, 1] = -m * (gravity[0] * x[n, 0] + gravity[1] * x[n, 1] + gravity[2] * x[n, 2])
-        eout[e, 2] = 0.0
-        eout[e, 3] = 0.0
-        # aux: angular momentum about the centre of mass, global frame
+        weight = -m * (gravity[0] * x[n, 0] + gravity[1] * x[n, 1] + gravity[2] * x[n, 2])
+        sc.energy(C, e, kinetic, weight, 0.0, 0.0)
+        # angular momentum about the centre of mass, global frame
         Rn = R[n]
-        for i in range(3):
-            aux[e, i] = Rn[i, 0] * JOm[0] + Rn[i, 1] * JOm[1] + Rn[i, 2] * JOm[2]
+        sc.report(C, e, (Rn[0, 0] * JOm[0] + Rn[0, 1] * JOm[1] + Rn[0, 2] * JOm[2],
+                         Rn[1, 0] * JOm[0] + Rn[1, 1] * JOm[1] + Rn[1, 2] * JOm[2],
+                         Rn[2, 0] * JOm[0] + Rn[2, 1] * JOm[1] + Rn[2, 2] * JOm[2]))
 
 
 @njit(cache=True)
@@ -87,20 +86,9 @@ def rigid_body_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = mass.shape[0]
-    rq, rl, M, C, K, G = local_arrays(6, 0)
-    JOm = np.zeros(3)
-    JOd = np.zeros(3)
-    P = (mass, inertia, gravity)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, JOm, JOd)
-    if want or mode == MODE_ACC:
-        _rigid_body_kernel_element(P, I, S, Cc, O, W, True)
-    else:
-        _rigid_body_kernel_element(P, I, S, Cc, O, W, False)
+    sc.run(_rigid_bodies, (mass, inertia, gravity),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), (local_arrays(6, 0), np.zeros(3), np.zeros(3)))
 
 
 class RigidBodyFamily(Family):

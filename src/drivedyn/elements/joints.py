@@ -37,6 +37,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
+import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import (
     MODE_ACC,
     MODE_DYN,
@@ -45,11 +46,9 @@ from drivedyn.elements.base import (
     Group,
     local_arrays,
     register,
-    scatter_element,
 )
 from drivedyn.elements.primitives import (
     cross,
-    gather_v,
     mv,
     prim_angle,
     prim_axial,
@@ -69,17 +68,14 @@ JOINT_AUX = ("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z"
 
 
 @njit(cache=True, inline="always")
-def _constraint_kernel_element(P, I, S, Cc, O, W, full):
+def _constraints(P, C, W, full):
     rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, nr, rq, rl, M, C, K, G, g, H, gth, Hth, w1, w2, w3, w4, vl, al, ws, wv, two_pi,
-     nd_glob) = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
+    L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (ws, wv) = W
+    rq, rl, _, _, K, G = L
+    x, R, _, _, _, es, tfv, _ = sc.state(C)
+    mode = sc.mode_of(C)
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
         xA = x[nA]
         xB = x[nB]
         RA = R[nA]
@@ -88,17 +84,17 @@ def _constraint_kernel_element(P, I, S, Cc, O, W, full):
         if full:
             K[:, :] = 0.0
         if mode != MODE_DYN:
-            gather_v(v, dofs[e], 12, vl)
+            sc.velocities(C, e, 12, vl)
         if mode == MODE_ACC:
-            gather_v(vd, dofs[e], 12, al)
+            sc.accelerations(C, e, 12, al)
         th = 0.0
         if has_angle:
             raw = prim_angle(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth, Hth,
                              full, w1, w2, w3, w4, ws, wv)
-            th = unwrap(raw, es[eoff[e]])
+            th = unwrap(raw, es[sc.state_offset(C, e)])
         power = 0.0
         sig = 0.0
-        for i in range(nr):
+        for i in range(rtype.shape[0]):
             typ = rtype[i]
             phit = 0.0
             phitt = 0.0
@@ -110,7 +106,7 @@ def _constraint_kernel_element(P, I, S, Cc, O, W, full):
             elif typ == ROW_SCREW:
                 val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, 2], g, H,
                                  full, ws, wv)
-                c = pitch[e] / two_pi
+                c = pitch[e] / (2.0 * np.pi)
                 val -= c * th + c0[e]
                 for a in range(12):
                     g[a] -= c * gth[a]
@@ -133,7 +129,7 @@ def _constraint_kernel_element(P, I, S, Cc, O, W, full):
                     H[:, :] = Hth
             k = kk[e, i]
             p = pp[e, i]
-            sig = k * lam[dofs[e, 12 + i] - nd_glob] + p * val
+            sig = k * sc.multiplier(C, e, 12, i) + p * val
             for a in range(12):
                 rq[a] += sig * g[a]
             if full:
@@ -157,26 +153,18 @@ def _constraint_kernel_element(P, I, S, Cc, O, W, full):
                     ga = p * g[a]
                     for b in range(12):
                         K[a, b] += sig * H[a, b] + ga * g[b]
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC,
-                        cK, mode,want, full, r, rabs, data)
+        sc.scatter(C, L, e, 2, full)
         # reactions on B at marker B (global frame): applied = -(residual contribution)
         for a in range(3):
-            F = -rq[6 + a]
-            aux[e, a] = F
-            wv[0, a] = F
+            wv[0, a] = -rq[6 + a]
             wv[1, a] = -rq[9 + a]
         mv(RB, wv[1], wv[2])  # torque about the node, global
         mv(RB, pB[e], wv[3])  # arm from node to marker
         cross(wv[3], wv[0], wv[4])
-        for a in range(3):
-            aux[e, 3 + a] = wv[2, a] - wv[4, a]
-        aux[e, 6] = th
-        aux[e, 7] = power
-        aux[e, 8] = -sig  # last row's force: the driving torque of a driver row
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.0
-        eout[e, 2] = power
-        eout[e, 3] = 0.0
+        sc.energy(C, e, 0.0, 0.0, power, 0.0)
+        # the last row's force -sig: the driving torque of a driver row
+        sc.report(C, e, (wv[0, 0], wv[0, 1], wv[0, 2], wv[2, 0] - wv[4, 0], wv[2, 1] - wv[4, 1],
+                         wv[2, 2] - wv[4, 2], th, power, -sig))
 
 
 @njit(cache=True)
@@ -185,34 +173,12 @@ def constraint_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = pA.shape[0]
-    nr = rtype.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, nr)
-    g = np.zeros(12)
-    H = np.zeros((12, 12))
-    gth = np.zeros(12)
-    Hth = np.zeros((12, 12))
-    w1 = np.zeros(12)
-    w2 = np.zeros((12, 12))
-    w3 = np.zeros(12)
-    w4 = np.zeros((12, 12))
-    vl = np.zeros(12)
-    al = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    two_pi = 2.0 * np.pi
-    nd_glob = r.shape[0] - lam.shape[0]
-    P = (rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, nr, rq, rl, M, C, K, G, g, H, gth, Hth, w1, w2, w3, w4, vl, al, ws, wv, two_pi,
-        nd_glob)
-    if want or mode == MODE_ACC:
-        _constraint_kernel_element(P, I, S, Cc, O, W, True)
-    else:
-        _constraint_kernel_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, rtype.shape[0]), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
+         np.zeros(12), np.zeros(12), sc.workspace())
+    sc.run(_constraints, (rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
+                         tfmode),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 def _row_value(typ: int, a: int, b: int, xA, RA, xB, RB, pA, pB, RmA, RmB) -> float:

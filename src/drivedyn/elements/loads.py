@@ -14,31 +14,22 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import (
-    MODE_ACC,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-    scatter_element,
-)
+import drivedyn.elements.scaffold as sc
+from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
 from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
 from drivedyn.errors import ModelError
 
 
 @njit(cache=True, inline="always")
-def _load_kernel_element(P, I, S, Cc, O, W, full):
+def _loads(P, C, W, full):
     is_torque, follower, p, Rm, vec, tfid = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    nel, rq, rl, M, C, K, G, ws, wv = W
-    for e in range(nel):
-        n = lnodes[e, 0]
+    L, (ws, wv) = W
+    rq, _, _, _, K, _ = L
+    _, R, v, _, _, _, tfv, _ = sc.state(C)
+    for e in range(sc.count(C)):
+        n = sc.node(C, e, 0)
         Rn = R[n]
-        d0 = dofs[e, 0]
+        d0 = sc.first_dof(C, e)
         f = tfv[tfid[e], 0]
         for a in range(3):
             wv[0, a] = vec[e, a] * f  # load vector: global, or marker frame if follower
@@ -88,15 +79,9 @@ def _load_kernel_element(P, I, S, Cc, O, W, full):
             power = 0.0
             for a in range(3):
                 power += Fg[a] * (v[d0 + a] + wv[6, a])
-        scatter_element(rq, rl, M, C, K, G, 1, lnodes[e], dofs[e], kmap[e], Tn,
-                        cM, cC, cK, mode, want, full, r, rabs, data)
-        for a in range(3):
-            aux[e, a] = wv[3, a]
-        aux[e, 3] = power
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.0
-        eout[e, 2] = power
-        eout[e, 3] = 0.0
+        sc.scatter(C, L, e, 1, full)
+        sc.energy(C, e, 0.0, 0.0, power, 0.0)
+        sc.report(C, e, (wv[3, 0], wv[3, 1], wv[3, 2], power))
 
 
 @njit(cache=True)
@@ -105,20 +90,9 @@ def load_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = vec.shape[0]
-    rq, rl, M, C, K, G = local_arrays(6, 0)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    P = (is_torque, follower, p, Rm, vec, tfid)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, ws, wv)
-    if want or mode == MODE_ACC:
-        _load_kernel_element(P, I, S, Cc, O, W, True)
-    else:
-        _load_kernel_element(P, I, S, Cc, O, W, False)
+    sc.run(_loads, (is_torque, follower, p, Rm, vec, tfid),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), (local_arrays(6, 0), sc.workspace()))
 
 
 @dataclass(frozen=True)

@@ -19,38 +19,28 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import (
-    MODE_ACC,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-    scatter_element,
-)
+import drivedyn.elements.scaffold as sc
+from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
 from drivedyn.elements.joints import relative_angle
-from drivedyn.elements.primitives import gather_v, prim_angle, prim_distance, unwrap
+from drivedyn.elements.primitives import prim_angle, prim_distance, unwrap
 from drivedyn.errors import ModelError
 
 
 @njit(cache=True, inline="always")
-def _scalar_spring_kernel_element(P, I, S, Cc, O, W, full):
+def _scalar_springs(P, C, W, full):
     angular, pA, pB, RmA, RmB, stiff, damp, ref, pre = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    nel, rq, rl, M, C, K, G, g, H, w1, w2, w3, w4, vl, Hv, ws, wv = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
+    L, (g, H), (w1, w2, w3, w4), vl, Hv, (ws, wv) = W
+    rq, _, _, Cd, K, _ = L
+    x, R, _, _, _, es, _, _ = sc.state(C)
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
         if angular:
             raw = prim_angle(R[nA], R[nB], RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0],
                              g, H, full, w1, w2, w3, w4, ws, wv)
-            q = unwrap(raw, es[eoff[e]])
+            q = unwrap(raw, es[sc.state_offset(C, e)])
         else:
             q = prim_distance(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], g, H, full, ws, wv)
-        gather_v(v, dofs[e], 12, vl)
+        sc.velocities(C, e, 12, vl)
         qd = 0.0
         for a in range(12):
             qd += g[a] * vl[a]
@@ -69,17 +59,10 @@ def _scalar_spring_kernel_element(P, I, S, Cc, O, W, full):
             for a in range(12):
                 for b in range(12):
                     K[a, b] = s * H[a, b] + g[a] * (k * g[b] + c * Hv[b])
-                    C[a, b] = c * g[a] * g[b]
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC,
-                        cK, mode,want, full, r, rabs, data)
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.5 * k * dq * dq + pre[e] * q
-        eout[e, 2] = 0.0
-        eout[e, 3] = c * qd * qd
-        aux[e, 0] = s
-        aux[e, 1] = q
-        aux[e, 2] = qd
-        aux[e, 3] = c * qd * qd
+                    Cd[a, b] = c * g[a] * g[b]
+        sc.scatter(C, L, e, 2, full)
+        sc.energy(C, e, 0.0, 0.5 * k * dq * dq + pre[e] * q, 0.0, c * qd * qd)
+        sc.report(C, e, (s, q, qd, c * qd * qd))
 
 
 @njit(cache=True)
@@ -88,28 +71,11 @@ def scalar_spring_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = stiff.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, 0)
-    g = np.zeros(12)
-    H = np.zeros((12, 12))
-    w1 = np.zeros(12)
-    w2 = np.zeros((12, 12))
-    w3 = np.zeros(12)
-    w4 = np.zeros((12, 12))
-    vl = np.zeros(12)
-    Hv = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    P = (angular, pA, pB, RmA, RmB, stiff, damp, ref, pre)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, g, H, w1, w2, w3, w4, vl, Hv, ws, wv)
-    if want or mode == MODE_ACC:
-        _scalar_spring_kernel_element(P, I, S, Cc, O, W, True)
-    else:
-        _scalar_spring_kernel_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.angle_work(), np.zeros(12), np.zeros(12),
+         sc.workspace())
+    sc.run(_scalar_springs, (angular, pA, pB, RmA, RmB, stiff, damp, ref, pre),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 def _commit_angle(group: Group, state) -> None:

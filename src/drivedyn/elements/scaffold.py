@@ -1,0 +1,219 @@
+"""The kernel scaffold: what every element family's kernel does besides its physics.
+
+A family writes the loop over its elements (the physics) and a thin kernel with the calling
+convention of :mod:`drivedyn.elements.base` (its parameters, then the common arguments)::
+
+    @njit(cache=True, inline="always")
+    def _springs(P, C, W, full):
+        stiff, damp = P                         # the family's parameter arrays
+        L, vl, (ws, wv) = W                     # work arrays, allocated once per call
+        rq, rl, M, Cd, K, G = L                 # local residual and matrices
+        x, R, v, vd, lam, es, tfv, t = sc.state(C)
+        for e in range(sc.count(C)):
+            nA, nB = sc.pair(C, e)
+            ...                                 # fill rq (and K, Cd... if full)
+            sc.scatter(C, L, e, 2, full)
+            sc.energy(C, e, 0.0, V, 0.0, P_dis)
+            sc.report(C, e, (s, q, qd))
+
+    @njit(cache=True)
+    def spring_kernel(stiff, damp, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+                      cM, cC, cK, mode, want, r, rabs, data, eout, aux):
+        sc.run(_springs, (stiff, damp),
+               (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode,
+                want, r, rabs, data, eout, aux),
+               (local_arrays(12, 0), np.zeros(12), sc.workspace()))
+
+``P`` is the family's parameter tuple, ``C`` the common arguments in the order of the kernel
+contract (fields named by the constants below, read through the helpers), ``W`` the family's
+work arrays: allocated once per kernel call, never inside the element loop (small
+allocations cost more than the maths).
+
+:func:`run` calls the loop in two copies, with the literal ``full = True`` (a matrix is
+wanted, or consistent accelerations) and ``full = False`` (residual only). The loop is inlined
+(``inline="always"``), so ``full`` is a compile-time constant in each copy and the
+residual-only copy carries no matrix code (see :mod:`drivedyn.elements.primitives`). The loop
+is a dispatcher argument of an inlined function, so it is resolved at compile time inside the
+family's own kernel: the kernel's signature holds only arrays and scalars and numba's cache
+(``cache=True``) keeps working (a non-inlined generic function taking the loop, or a kernel
+made by a closure, recompiles in every process: measured). The kernel stays a module-level
+function of the family's module, so editing the physics invalidates its cache.
+
+Two rules keep the loop fast (measured: breaking them doubled the time of a spring group):
+unpack ``P``, ``W`` and the arrays of ``C`` (:func:`state`) *before* the element loop, not
+per element (a tuple unpacked inside the loop costs reference counting on every element);
+the per-element helpers below read only scalars and rows of ``C``, as the hand-written loops
+did. No Python runs per element: one kernel call evaluates the whole group.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements.base import MODE_ACC, scatter_element
+from drivedyn.elements.primitives import gather_v
+
+# fields of the common argument tuple C (the kernel contract's trailing arguments)
+LNODES, DOFS, KMAP, EOFF = 0, 1, 2, 3
+X, ROT, VEL, ACC, LAM, ES, TFV, TIME = 4, 5, 6, 7, 8, 9, 10, 11
+TN, CM, CC, CK, MODE, WANT = 12, 13, 14, 15, 16, 17
+RES, RABS, DATA, EOUT, AUX = 18, 19, 20, 21, 22
+
+
+# --- the element loop -------------------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def full_pass(C):
+    """True if this evaluation needs the element matrices (matrix wanted, or MODE_ACC)."""
+    return C[WANT] or C[MODE] == MODE_ACC
+
+
+@njit(cache=True, inline="always")
+def run(elements, P, C, W):
+    """``elements(P, C, W, full)`` in the copy with the literal ``full`` this evaluation
+    needs."""
+    if full_pass(C):
+        elements(P, C, W, True)
+    else:
+        elements(P, C, W, False)
+
+
+@njit(cache=True, inline="always")
+def count(C):
+    """Number of elements of the group."""
+    return C[LNODES].shape[0]
+
+
+# --- reading the common arguments ---------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def state(C):
+    """``(x, R, v, vd, lam, es, tfv, t)``: node positions and rotations, velocities,
+    accelerations, multipliers, element state, time functions, time."""
+    return C[X], C[ROT], C[VEL], C[ACC], C[LAM], C[ES], C[TFV], C[TIME]
+
+
+@njit(cache=True, inline="always")
+def mode_of(C):
+    """The evaluation mode (``MODE_DYN``, ``MODE_ACC``, ``MODE_VEL``)."""
+    return C[MODE]
+
+
+@njit(cache=True, inline="always")
+def node(C, e, a):
+    """Node index of local node ``a`` of element ``e`` (``nn``: the ground)."""
+    return C[LNODES][e, a]
+
+
+@njit(cache=True, inline="always")
+def pair(C, e):
+    """Node indices ``(nA, nB)`` of a two-node element."""
+    ln = C[LNODES]
+    return ln[e, 0], ln[e, 1]
+
+
+@njit(cache=True, inline="always")
+def state_offset(C, e):
+    """Offset of element ``e``'s internal state in ``es``."""
+    return C[EOFF][e]
+
+
+@njit(cache=True, inline="always")
+def first_dof(C, e):
+    """Global equation index of element ``e``'s first local dof (one-node elements)."""
+    return C[DOFS][e, 0]
+
+
+@njit(cache=True, inline="always")
+def velocities(C, e, nd, out):
+    """Local velocities (nd,) of element ``e`` into ``out`` (0 for ground dofs)."""
+    gather_v(C[VEL], C[DOFS][e], nd, out)
+
+
+@njit(cache=True, inline="always")
+def accelerations(C, e, nd, out):
+    """Local accelerations (nd,) of element ``e`` into ``out`` (0 for ground dofs)."""
+    gather_v(C[ACC], C[DOFS][e], nd, out)
+
+
+@njit(cache=True, inline="always")
+def multiplier(C, e, nd, i):
+    """Multiplier ``i`` of element ``e`` (local dof ``nd + i``)."""
+    lam = C[LAM]
+    return lam[C[DOFS][e, nd + i] - (C[RES].shape[0] - lam.shape[0])]
+
+
+# --- writing the results ------------------------------------------------------------------------
+
+
+@njit(cache=True, inline="always")
+def scatter(C, L, e, nnode, full):
+    """Add element ``e``'s local residual and (if ``full`` and wanted) matrices ``L = (rq,
+    rl, M, C, K, G)`` into the global arrays (:func:`~drivedyn.elements.base.scatter_local`)."""
+    rq, rl, M, Cd, K, G = L
+    scatter_element(rq, rl, M, Cd, K, G, nnode, C[LNODES][e], C[DOFS][e], C[KMAP][e], C[TN],
+                    C[CM], C[CC], C[CK], C[MODE], C[WANT], full, C[RES], C[RABS], C[DATA])
+
+
+@njit(cache=True, inline="always")
+def clear(L, full):
+    """Zero the local residual ``rq, rl`` and, if ``full``, the matrices ``M, C, K, G``."""
+    rq, rl, M, Cd, K, G = L
+    rq[:] = 0.0
+    rl[:] = 0.0
+    if full:
+        M[:, :] = 0.0
+        Cd[:, :] = 0.0
+        K[:, :] = 0.0
+        G[:, :] = 0.0
+
+
+@njit(cache=True, inline="always")
+def energy(C, e, kinetic, potential, supplied, dissipated):
+    """Element ``e``'s energy account: kinetic [J] and potential [J] energy, power supplied
+    [W] and power dissipated [W]."""
+    eout = C[EOUT]
+    eout[e, 0] = kinetic
+    eout[e, 1] = potential
+    eout[e, 2] = supplied
+    eout[e, 3] = dissipated
+
+
+@njit(cache=True, inline="always")
+def report(C, e, values):
+    """Element ``e``'s outputs ``aux[e, 0:len(values)]`` (a tuple of floats)."""
+    aux = C[AUX]
+    for k in range(len(values)):
+        aux[e, k] = values[k]
+
+
+@njit(cache=True, inline="always")
+def report_at(C, e, c0, values):
+    """Element ``e``'s outputs ``aux[e, c0:c0 + len(values)]`` (a tuple of floats)."""
+    aux = C[AUX]
+    for k in range(len(values)):
+        aux[e, c0 + k] = values[k]
+
+
+# --- work arrays ------------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def grad_hess(n):
+    """A gradient (n,) and its derivative (n, n), zeroed."""
+    return np.zeros(n), np.zeros((n, n))
+
+
+@njit(cache=True)
+def angle_work():
+    """Work arrays of :func:`~drivedyn.elements.primitives.prim_angle`: ``gs, Hs, gc, Hc``."""
+    return np.zeros(12), np.zeros((12, 12)), np.zeros(12), np.zeros((12, 12))
+
+
+@njit(cache=True)
+def workspace():
+    """Work arrays ``ws`` (8, 3, 3) and ``wv`` (8, 3) of the kinematic primitives."""
+    return np.empty((8, 3, 3)), np.empty((8, 3))
