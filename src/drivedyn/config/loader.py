@@ -9,7 +9,6 @@
 from __future__ import annotations
 
 import copy
-import dataclasses
 import json
 import tomllib
 import typing
@@ -22,6 +21,7 @@ import numpy as np
 from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
+from drivedyn.config.elements_section import generic_element
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
 from drivedyn.model.spec import ModelError, Spec
@@ -295,141 +295,9 @@ def build_spec(mf: S.ModelFile) -> Spec:
                                                    f"speed_difference_drivers.{d.name}"),
                                          d.k, d.p))
     for i, e in enumerate(mf.elements):
-        spec.add(_generic_element(e, funcs, f"elements[{i}] ({e.name})"))
+        spec.add(generic_element(e, f"elements[{i}] ({e.name})",
+                                 lambda v, w: _function(v, funcs, w)))
     return spec
-
-
-def element_types() -> dict[str, type]:
-    """Class name -> element spec class of every registered element family."""
-    import dataclasses
-
-    import drivedyn.elements as E  # noqa: N812
-
-    out: dict[str, type] = {}
-    stack = list(E.ElementSpec.__subclasses__())
-    while stack:
-        cls = stack.pop()
-        stack += cls.__subclasses__()
-        if dataclasses.is_dataclass(cls) and getattr(cls, "family", "") \
-                and not cls.__name__.startswith("_"):
-            out[cls.__name__] = cls
-    return dict(sorted(out.items()))
-
-
-def _si_values(value: Any) -> Any:
-    """Unit strings ('3 mm') -> SI floats, recursively in lists; other values unchanged."""
-    from drivedyn.units import _QUANTITY, parse_unit
-
-    if isinstance(value, list):
-        return [_si_values(v) for v in value]
-    if isinstance(value, str):
-        m = _QUANTITY.match(value)
-        if m and m.group(2):
-            factor, _dim = parse_unit(m.group(2))
-            return float(m.group(1)) * factor
-    return value
-
-
-def _generic_element(e: S.GenericElementFile, funcs: dict, where: str) -> Any:
-    """An element spec from an ``[[elements]]`` entry: every parameter checked against the
-    spec's dataclass field (type) and its declared unit (``units`` of the element class:
-    parameter -> SI unit), so a stiffness in kg or a tooth count of 2.5 is refused here with
-    its key."""
-    import dataclasses
-
-    types = element_types()
-    cls = types.get(e.type)
-    if cls is None:
-        raise ModelError(f"{where}.type: unknown element type {e.type!r}"
-                         f"{did_you_mean(e.type, types)} (known: {', '.join(types)})")
-    params = dict(e.model_extra or {})
-    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(params) - set(fields))
-    if unknown:
-        hint = did_you_mean(unknown[0], fields)
-        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type}{hint} "
-                         f"(parameters: {', '.join(sorted(set(fields) - {'name'}))})")
-    kwargs = {}
-    for k, v in params.items():
-        if k == "function" or k.endswith("_function"):
-            kwargs[k] = _function(v, funcs, where)
-        else:
-            kwargs[k] = parameter_value(cls, fields[k].type, k, v, f"{where}.{k}")
-    try:
-        return cls(name=e.name, **kwargs)
-    except TypeError as exc:
-        raise ModelError(f"{where}: {exc}") from None
-
-
-def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> Any:
-    """``value`` of parameter ``key`` of element class ``cls`` checked against its field type
-    (``int``, ``float``, ``bool``, ``str``, a nested parameter record such as ``NormalLaw``)
-    and converted to SI with the unit the class declares in ``units`` (a unit string of
-    another dimension, or on a parameter without a unit, is refused)."""
-    from drivedyn import units as U  # noqa: N812
-
-    tname = ftype if isinstance(ftype, str) else getattr(ftype, "__name__", str(ftype))
-    kinds = {t.strip() for t in tname.split("|")}
-    optional = "None" in kinds
-    if value is None and optional:
-        return None
-    declared = dict(getattr(cls, "units", {}) or {})
-    if key in declared:  # a quantity (or a vector of them) in the declared unit
-        dim = U.parse_unit(declared[key])[1]
-        try:
-            if isinstance(value, list):
-                out = [U.to_si(v, dim) for v in value]
-                for x in out:
-                    U.check_plausible(x, dim)
-                return out
-            x = U.to_si(value, dim)
-            U.check_plausible(x, dim)
-        except U.UnitError as exc:
-            raise ModelError(f"{where}: {exc}") from None
-        return x
-    if kinds & {"int"} and not kinds & {"float"}:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise ModelError(f"{where}: expected an integer, got {value!r}")
-        return value
-    if "bool" in kinds:
-        if not isinstance(value, bool):
-            raise ModelError(f"{where}: expected true or false, got {value!r}")
-        return value
-    if "float" in kinds:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ModelError(f"{where}: expected a plain number (this parameter takes no "
-                             f"unit), got {value!r}")
-        try:
-            U.check_plausible(float(value), U.DIMENSIONLESS)
-        except U.UnitError as exc:
-            raise ModelError(f"{where}: {exc}") from None
-        return float(value)
-    if kinds == {"str"} or kinds == {"str", "None"}:
-        if not isinstance(value, str):
-            raise ModelError(f"{where}: expected a string, got {value!r}")
-        return value
-    # a nested parameter record (NormalLaw, FrictionLaw): its own keys, units and types
-    record = _record_class(kinds)
-    if record is not None and isinstance(value, dict):
-        rfields = {f.name: f for f in dataclasses.fields(record) if f.init}
-        unknown = sorted(set(value) - set(rfields))
-        if unknown:
-            raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} for "
-                             f"{record.__name__}{did_you_mean(unknown[0], rfields)} (keys: "
-                             f"{', '.join(rfields)})")
-        return {k: parameter_value(record, rfields[k].type, k, v, f"{where}.{k}")
-                for k, v in value.items()}
-    return _si_values(value)
-
-
-def _record_class(kinds: set[str]) -> type | None:
-    import drivedyn.elements as E  # noqa: N812
-
-    for k in kinds:
-        cls = getattr(E, k, None)
-        if isinstance(cls, type) and dataclasses.is_dataclass(cls):
-            return cls
-    return None
 
 
 def scenario_of(mf: S.ModelFile) -> Scenario:

@@ -1,0 +1,129 @@
+"""The ``[[elements]]`` section of model files: any registered element type by its class
+name, each parameter checked against the element spec's dataclass field (its type) and the
+unit the element class declares in ``units`` (parameter -> SI unit string)."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from drivedyn.errors import ModelError, did_you_mean
+
+
+def element_types() -> dict[str, type]:
+    """Class name -> element spec class of every registered element family."""
+    import dataclasses
+
+    import drivedyn.elements as E  # noqa: N812
+
+    out: dict[str, type] = {}
+    stack = list(E.ElementSpec.__subclasses__())
+    while stack:
+        cls = stack.pop()
+        stack += cls.__subclasses__()
+        if dataclasses.is_dataclass(cls) and getattr(cls, "family", "") \
+                and not cls.__name__.startswith("_"):
+            out[cls.__name__] = cls
+    return dict(sorted(out.items()))
+
+
+def generic_element(e: Any, where: str, function: Any) -> Any:
+    """An element spec from an ``[[elements]]`` entry: every parameter checked against the
+    spec's dataclass field (type) and its declared unit (``units`` of the element class:
+    parameter -> SI unit), so a stiffness in kg or a tooth count of 2.5 is refused here with
+    its key."""
+    import dataclasses
+
+    types = element_types()
+    cls = types.get(e.type)
+    if cls is None:
+        raise ModelError(f"{where}.type: unknown element type {e.type!r}"
+                         f"{did_you_mean(e.type, types)} (known: {', '.join(types)})")
+    params = dict(e.model_extra or {})
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    unknown = sorted(set(params) - set(fields))
+    if unknown:
+        hint = did_you_mean(unknown[0], fields)
+        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type}{hint} "
+                         f"(parameters: {', '.join(sorted(set(fields) - {'name'}))})")
+    kwargs = {}
+    for k, v in params.items():
+        if k == "function" or k.endswith("_function"):
+            kwargs[k] = function(v, where)
+        else:
+            kwargs[k] = parameter_value(cls, fields[k].type, k, v, f"{where}.{k}")
+    try:
+        return cls(name=e.name, **kwargs)
+    except TypeError as exc:
+        raise ModelError(f"{where}: {exc}") from None
+
+
+def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> Any:
+    """``value`` of parameter ``key`` of element class ``cls`` checked against its field type
+    (``int``, ``float``, ``bool``, ``str``, a nested parameter record such as ``NormalLaw``)
+    and converted to SI with the unit the class declares in ``units`` (a unit string of
+    another dimension, or on a parameter without a unit, is refused)."""
+    import drivedyn.units as U  # noqa: N812
+
+    tname = ftype if isinstance(ftype, str) else getattr(ftype, "__name__", str(ftype))
+    kinds = {t.strip() for t in tname.split("|")}
+    optional = "None" in kinds
+    if value is None and optional:
+        return None
+    declared = dict(getattr(cls, "units", {}) or {})
+    if key in declared:  # a quantity (or a vector of them) in the declared unit
+        dim = U.parse_unit(declared[key])[1]
+        try:
+            if isinstance(value, list):
+                out = [U.to_si(v, dim) for v in value]
+                for x in out:
+                    U.check_plausible(x, dim)
+                return out
+            x = U.to_si(value, dim)
+            U.check_plausible(x, dim)
+        except U.UnitError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+        return x
+    if kinds & {"int"} and not kinds & {"float"}:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ModelError(f"{where}: expected an integer, got {value!r}")
+        return value
+    if "bool" in kinds:
+        if not isinstance(value, bool):
+            raise ModelError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if "float" in kinds:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ModelError(f"{where}: expected a plain number (this parameter takes no "
+                             f"unit), got {value!r}")
+        try:
+            U.check_plausible(float(value), U.DIMENSIONLESS)
+        except U.UnitError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+        return float(value)
+    if kinds == {"str"} or kinds == {"str", "None"}:
+        if not isinstance(value, str):
+            raise ModelError(f"{where}: expected a string, got {value!r}")
+        return value
+    # a nested parameter record (NormalLaw, FrictionLaw): its own keys, units and types
+    record = _record_class(kinds)
+    if record is not None and isinstance(value, dict):
+        rfields = {f.name: f for f in dataclasses.fields(record) if f.init}
+        unknown = sorted(set(value) - set(rfields))
+        if unknown:
+            raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} for "
+                             f"{record.__name__}{did_you_mean(unknown[0], rfields)} (keys: "
+                             f"{', '.join(rfields)})")
+        return {k: parameter_value(record, rfields[k].type, k, v, f"{where}.{k}")
+                for k, v in value.items()}
+    return value  # anything else goes to the element, which checks it
+
+
+def _record_class(kinds: set[str]) -> type | None:
+    import drivedyn.elements as E  # noqa: N812
+
+    for k in kinds:
+        cls = getattr(E, k, None)
+        if isinstance(cls, type) and dataclasses.is_dataclass(cls):
+            return cls
+    return None
