@@ -227,11 +227,15 @@ class Group:
 class ElementSpec:
     """Base class of element parameter records (frozen dataclasses).
 
-    Subclasses set ``family`` (the registry key) and implement ``markers()`` (names of the
+    Subclasses set ``family`` (the registry key) and ``units`` (the SI unit of each
+    dimensional parameter, used by model files), and implement ``markers()`` (names of the
     markers they attach to, used for validation) and ``validate()``.
     """
 
     family: ClassVar[str] = ""
+    #: SI unit of each dimensional parameter (``{"stiffness": "N/m"}``); model files may give
+    #: these with any unit of the same dimension, the others only as plain numbers.
+    units: ClassVar[dict[str, str]] = {}
     name: str
 
     def markers(self) -> tuple[str, ...]:

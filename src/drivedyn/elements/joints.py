@@ -312,6 +312,7 @@ class Screw(Joint):
 
     pitch: float = 0.0
     family: ClassVar[str] = "screw"
+    units: ClassVar[dict[str, str]] = {"pitch": "m"}
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_S, 2, 0))
     has_angle: ClassVar[bool] = True
 

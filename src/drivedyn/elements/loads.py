@@ -113,6 +113,7 @@ class Force(ElementSpec):
     function: Any = 1.0
     frame: str = "global"
     family: ClassVar[str] = "force"
+    units: ClassVar[dict[str, str]] = {"vector": "N"}
     is_torque: ClassVar[bool] = False
 
     def markers(self) -> tuple[str, ...]:
@@ -132,6 +133,7 @@ class Torque(Force):
     """Torque ``vector * function(t)`` [N m] applied on the body of ``marker``."""
 
     family: ClassVar[str] = "torque"
+    units: ClassVar[dict[str, str]] = {"vector": "N m"}
     is_torque: ClassVar[bool] = True
 
 

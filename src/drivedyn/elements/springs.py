@@ -113,6 +113,12 @@ class SpringDamper(ElementSpec):
     free_length: float | None = None
     preload: float = 0.0
     family: ClassVar[str] = "spring_damper"
+    units: ClassVar[dict[str, str]] = {
+        "stiffness": "N/m",
+        "damping": "N s/m",
+        "free_length": "m",
+        "preload": "N",
+    }
 
     def markers(self) -> tuple[str, ...]:
         return (self.marker_a, self.marker_b)
@@ -147,6 +153,12 @@ class TorsionalSpringDamper(ElementSpec):
     free_angle: float = 0.0
     preload: float = 0.0
     family: ClassVar[str] = "torsional_spring_damper"
+    units: ClassVar[dict[str, str]] = {
+        "stiffness": "N m/rad",
+        "damping": "N m s/rad",
+        "free_angle": "rad",
+        "preload": "N m",
+    }
 
     def markers(self) -> tuple[str, ...]:
         return (self.marker_a, self.marker_b)
