@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numba import njit
@@ -58,6 +59,7 @@ class FrictionLaw:
     law: str = "coulomb"
     mu_static: float | None = None
     stribeck_speed: float = 1e-2
+    units: ClassVar[dict[str, str]] = {"eps_v": "m/s", "stribeck_speed": "m/s"}
 
     def validate(self, what: str) -> None:
         """Raise :class:`ModelError` naming ``what`` for impossible values."""

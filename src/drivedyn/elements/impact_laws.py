@@ -58,6 +58,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from numba import njit
@@ -187,6 +188,8 @@ class NormalLaw:
     restitution: float = 0.8
     damping: float = 0.0
     min_impact_speed: float = 1e-4
+    # stiffness is in N/m^n with n = exponent: a plain SI number in model files
+    units: ClassVar[dict[str, str]] = {"damping": "N s/m", "min_impact_speed": "m/s"}
 
     def validate(self, what: str) -> None:
         """Raise :class:`ModelError` naming ``what`` (the element) for impossible values."""
