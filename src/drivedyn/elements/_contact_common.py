@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from drivedyn.elements.base import Group
-from drivedyn.elements.friction import FrictionLaw, friction_arrays
+from drivedyn.elements.friction import FrictionLaw, friction_arrays, friction_phi, friction_scalar
 from drivedyn.elements.impact_laws import (
     NSTATE,
     ST_COUNT,
@@ -18,9 +18,62 @@ from drivedyn.elements.impact_laws import (
     ST_REBOUND,
     ST_VS,
     NormalLaw,
+    impact_speed,
     law_arrays,
+    normal_force,
 )
+from drivedyn.elements.primitives import prim_axial
 from drivedyn.errors import ModelError
+
+# --- kernels ------------------------------------------------------------------------------------
+#
+# A force-type contact kernel receives its parameters as ``(*geometry, *law, *friction, na)``
+# (:func:`contact_group`) and packs them as ``P = (geometry, law, friction, na)``; ``law`` =
+# ``(K, n, chi, c, v_min)`` and ``friction`` = ``(kind, mu, mu_static, v_stribeck, eps_v)``
+# are per-element arrays, read through the helpers below.
+
+
+@njit(cache=True, inline="always")
+def contact_normal(law, e, delta, rate, es, o):
+    """Normal force of element ``e`` at penetration ``delta`` and rate ``rate`` (state block
+    at ``es[o]``): ``(F, dF/ddelta, dF/drate, V, P_dis, v_s)`` (see
+    :func:`~drivedyn.elements.impact_laws.normal_force`)."""
+    K, n, chi, c, vmin = law[0][e], law[1][e], law[2][e], law[3][e], law[4][e]
+    vs = impact_speed(es, o, vmin)
+    F, Fd, Fr, V, Pn = normal_force(delta, rate, K, n, chi, c, vs)
+    return F, Fd, Fr, V, Pn, vs
+
+
+@njit(cache=True, inline="always")
+def has_friction(fric, e):
+    """True if element ``e`` has a friction law (mu or mu_static > 0)."""
+    return fric[1][e] + fric[2][e] > 0.0
+
+
+@njit(cache=True, inline="always")
+def friction_coefficient(fric, e, s):
+    """Signed ``mu_R(s)`` and ``dmu_R/ds`` of element ``e`` at the sliding velocity ``s``."""
+    return friction_scalar(s, fric[0][e], fric[1][e], fric[2][e], fric[3][e], fric[4][e])
+
+
+@njit(cache=True, inline="always")
+def friction_ratio(fric, e, v):
+    """``mu_R(v)/v`` and its derivative of element ``e`` at the sliding speed ``v >= 0``."""
+    return friction_phi(v, fric[0][e], fric[1][e], fric[2][e], fric[3][e], fric[4][e])
+
+
+@njit(cache=True, inline="always")
+def axis_distance(xA, RA, xB, RB, pA, pB, axis, g, H, vl, Hv, full, ws, wv):
+    """Distance of marker B from marker A along A's axis ``axis`` (node frame), gradient
+    ``g``, (if ``full``) ``H = dg/dq`` and ``Hv = H^T v``; returns the distance and its rate
+    ``g . v`` (local velocities ``vl``)."""
+    phi = prim_axial(xA, RA, xB, RB, pA, pB, axis, g, H, full, ws, wv)
+    rate = 0.0
+    for a in range(12):
+        rate += g[a] * vl[a]
+    if full:
+        transpose_times(H, vl, Hv)
+    return phi, rate
 
 
 @njit(cache=True, inline="always")

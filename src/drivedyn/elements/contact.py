@@ -66,80 +66,61 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
+import drivedyn.elements.scaffold as sc
 from drivedyn.elements._contact_common import (
     add_normal,
     add_velocity_force,
     axial_motion,
+    axis_distance,
     check_laws,
     coerce_laws,
     contact_group,
+    contact_normal,
+    friction_coefficient,
+    friction_ratio,
+    has_friction,
     omega_projection,
     positive,
     transpose_times,
     two_markers,
     washer_friction_radius,
 )
-from drivedyn.elements.base import (
-    MODE_ACC,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-    scatter_element,
-)
-from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar
-from drivedyn.elements.impact_laws import (
-    NormalLaw,
-    impact_speed,
-    impact_state,
-    initial_state,
-    normal_force,
-)
-from drivedyn.elements.primitives import gather_v, prim_axial
+from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.friction import FrictionLaw
+from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
+from drivedyn.elements.primitives import prim_axial
 from drivedyn.errors import ModelError
 
 # --- point / sphere on plane ----------------------------------------------------------------
 
 
 @njit(cache=True, inline="always")
-def _plane_contact_element(P, I, S, Cc, O, W, full):
-    (pA, pB, RmA, radius, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na) = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, rq, rl, M, C, K, G, gn, Hn, J1, dJ1, J2, dJ2, Go, Do, vl, Hv, S1, S2, dFq, dFv,
-     df1q, df2q, ws, wv, M3) = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        o = eoff[e]
+def _plane_contacts(P, C, W, full):
+    (pA, pB, RmA, radius), law, fric, na = P
+    (L, (gn, Hn), (J1, dJ1), (J2, dJ2), (Go, Do), vl, Hv, S1, S2, (dFq, dFv), (df1q, df2q),
+     (ws, wv), M3) = W
+    rq, _, _, Cd, K, _ = L
+    x, R, _, _, _, es, _, t = sc.state(C)
+    aux = C[sc.AUX]
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
+        o = sc.state_offset(C, e)
         RA = R[nA]
         RB = R[nB]
         rho = radius[e]
-        gather_v(v, dofs[e], 12, vl)
-        for a in range(12):
-            rq[a] = 0.0
-        if full:
-            K[:, :] = 0.0
-            C[:, :] = 0.0
-        phin = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, full,
-                          ws, wv)
+        sc.velocities(C, e, 12, vl)
+        sc.clear(L, full)
+        phin, phid = axis_distance(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn,
+                                   vl, Hv, full, ws, wv)
         delta = rho - phin
-        rate = 0.0
-        for a in range(12):
-            rate -= gn[a] * vl[a]
-        vs = impact_speed(es, o, lvmin[e])
-        F, Fd, Fr, V, Pn = normal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
-        if full:
-            transpose_times(Hn, vl, Hv)
-        add_normal(F, Fd, Fr, -1.0, gn, Hn, Hv, rq, K, C, dFq, dFv, full)
+        rate = -phid
+        F, Fd, Fr, V, Pn, vs = contact_normal(law, e, delta, rate, es, o)
+        add_normal(F, Fd, Fr, -1.0, gn, Hn, Hv, rq, K, Cd, dFq, dFv, full)
         sp = 0.0
         ftot = 0.0
         mu_now = 0.0
         Pf = 0.0
-        if F > 0.0 and fmu[e] + fmus[e] > 0.0:
+        if F > 0.0 and has_friction(fric, e):
             prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 0], J1, dJ1, full, ws, wv)
             prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 1], J2, dJ2, full, ws, wv)
             if rho != 0.0:
@@ -164,7 +145,7 @@ def _plane_contact_element(P, I, S, Cc, O, W, full):
                 s1 += J1[a] * vl[a]
                 s2 += J2[a] * vl[a]
             sp = np.sqrt(s1 * s1 + s2 * s2)
-            ph, dph = friction_phi(sp, fkind[e], fmu[e], fmus[e], fvst[e], feps[e])
+            ph, dph = friction_ratio(fric, e, sp)
             f1 = F * ph * s1
             f2 = F * ph * s2
             mu_now = ph * sp
@@ -191,22 +172,12 @@ def _plane_contact_element(P, I, S, Cc, O, W, full):
                     j2 = J2[a]
                     for b in range(12):
                         K[a, b] += f1 * dJ1[a, b] + f2 * dJ2[a, b] + j1 * df1q[b] + j2 * df2q[b]
-                        C[a, b] += (j1 * (F * (a11 * J1[b] + a12 * J2[b]) + ph * s1 * dFv[b])
-                                    + j2 * (F * (a12 * J1[b] + a22 * J2[b]) + ph * s2 * dFv[b]))
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
-                        mode, want, full, r, rabs, data)
-        eout[e, 0] = 0.0
-        eout[e, 1] = V
-        eout[e, 2] = 0.0
-        eout[e, 3] = Pn + Pf
-        aux[e, 0] = F
-        aux[e, 1] = -delta
-        aux[e, 2] = -rate
-        aux[e, 3] = sp
-        aux[e, 4] = ftot
-        aux[e, 5] = mu_now
-        aux[e, 6] = Pn + Pf
+                        Cd[a, b] += (j1 * (F * (a11 * J1[b] + a12 * J2[b]) + ph * s1 * dFv[b])
+                                     + j2 * (F * (a12 * J1[b] + a22 * J2[b]) + ph * s2 * dFv[b]))
+        sc.report(C, e, (F, -delta, -rate, sp, ftot, mu_now, Pn + Pf))
+        sc.energy(C, e, 0.0, V, 0.0, Pn + Pf)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
+        sc.scatter(C, L, e, 2, full)
 
 
 @njit(cache=True)
@@ -215,74 +186,39 @@ def plane_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = pA.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, 0)
-    gn = np.zeros(12)
-    Hn = np.zeros((12, 12))
-    J1 = np.zeros(12)
-    dJ1 = np.zeros((12, 12))
-    J2 = np.zeros(12)
-    dJ2 = np.zeros((12, 12))
-    Go = np.zeros(12)
-    Do = np.zeros((12, 12))
-    vl = np.zeros(12)
-    Hv = np.zeros(12)
-    S1 = np.zeros(12)
-    S2 = np.zeros(12)
-    dFq = np.zeros(12)
-    dFv = np.zeros(12)
-    df1q = np.zeros(12)
-    df2q = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    M3 = np.empty((3, 3))
-    P = (pA, pB, RmA, radius, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, gn, Hn, J1, dJ1, J2, dJ2, Go, Do, vl, Hv, S1, S2, dFq, dFv,
-         df1q, df2q, ws, wv, M3)
-    if want or mode == MODE_ACC:
-        _plane_contact_element(P, I, S, Cc, O, W, True)
-    else:
-        _plane_contact_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
+         sc.grad_hess(12), np.zeros(12), np.zeros(12), np.zeros(12), np.zeros(12),
+         (np.zeros(12), np.zeros(12)), (np.zeros(12), np.zeros(12)), sc.workspace(),
+         np.empty((3, 3)))
+    sc.run(_plane_contacts, ((pA, pB, RmA, radius), (lK, ln, lchi, lc, lvmin),
+                             (fkind, fmu, fmus, fvst, feps), na),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 # --- annular face on thrust washer ----------------------------------------------------------
 
 
 @njit(cache=True, inline="always")
-def _washer_contact_element(P, I, S, Cc, O, W, full):
-    (pA, pB, RmA, rm, area, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na) = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, rq, rl, M, C, K, G, gn, Hn, Gs, Ds, vl, Hv, Dv, dFq, dFv, ws, wv, M3) = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        o = eoff[e]
+def _washer_contacts(P, C, W, full):
+    (pA, pB, RmA, rm, area), law, fric, na = P
+    L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
+    rq, _, _, Cd, K, _ = L
+    x, R, _, _, _, es, _, t = sc.state(C)
+    aux = C[sc.AUX]
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
+        o = sc.state_offset(C, e)
         RA = R[nA]
         RB = R[nB]
-        gather_v(v, dofs[e], 12, vl)
-        for a in range(12):
-            rq[a] = 0.0
-        if full:
-            K[:, :] = 0.0
-            C[:, :] = 0.0
-        phin = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, full,
-                          ws, wv)
+        sc.velocities(C, e, 12, vl)
+        sc.clear(L, full)
+        phin, phid = axis_distance(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn,
+                                   vl, Hv, full, ws, wv)
         delta = -phin
-        rate = 0.0
-        for a in range(12):
-            rate -= gn[a] * vl[a]
-        vs = impact_speed(es, o, lvmin[e])
-        F, Fd, Fr, V, Pn = normal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
-        if full:
-            transpose_times(Hn, vl, Hv)
-        add_normal(F, Fd, Fr, -1.0, gn, Hn, Hv, rq, K, C, dFq, dFv, full)
+        rate = -phid
+        F, Fd, Fr, V, Pn, vs = contact_normal(law, e, delta, rate, es, o)
+        add_normal(F, Fd, Fr, -1.0, gn, Hn, Hv, rq, K, Cd, dFq, dFv, full)
         omega_projection(RA, RB, RmA[e, :, 2], Gs, Ds, full, M3)
         w = 0.0
         for a in range(12):
@@ -290,31 +226,18 @@ def _washer_contact_element(P, I, S, Cc, O, W, full):
         Mf = 0.0
         mu_now = 0.0
         Pf = 0.0
-        if F > 0.0 and fmu[e] + fmus[e] > 0.0:
-            mu_now, dmu = friction_scalar(rm[e] * w, fkind[e], fmu[e], fmus[e], fvst[e],
-                                          feps[e])
+        if F > 0.0 and has_friction(fric, e):
+            mu_now, dmu = friction_coefficient(fric, e, rm[e] * w)
             Mf = mu_now * F * rm[e]
             Pf = Mf * w
             if full:
                 transpose_times(Ds, vl, Dv)
             add_velocity_force(Mf, dmu * F * rm[e] * rm[e], mu_now * rm[e], Gs, Ds, Dv, dFq,
-                               dFv, rq, K, C, full)
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
-                        mode, want, full, r, rabs, data)
-        eout[e, 0] = 0.0
-        eout[e, 1] = V
-        eout[e, 2] = 0.0
-        eout[e, 3] = Pn + Pf
-        aux[e, 0] = F
-        aux[e, 1] = -delta
-        aux[e, 2] = -rate
-        aux[e, 3] = F / area[e]
-        aux[e, 4] = w
-        aux[e, 5] = rm[e] * w
-        aux[e, 6] = mu_now
-        aux[e, 7] = Mf
-        aux[e, 8] = Pn + Pf
+                               dFv, rq, K, Cd, full)
+        sc.report(C, e, (F, -delta, -rate, F / area[e], w, rm[e] * w, mu_now, Mf, Pn + Pf))
+        sc.energy(C, e, 0.0, V, 0.0, Pn + Pf)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
+        sc.scatter(C, L, e, 2, full)
 
 
 @njit(cache=True)
@@ -323,56 +246,32 @@ def washer_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = pA.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, 0)
-    gn = np.zeros(12)
-    Hn = np.zeros((12, 12))
-    Gs = np.zeros(12)
-    Ds = np.zeros((12, 12))
-    vl = np.zeros(12)
-    Hv = np.zeros(12)
-    Dv = np.zeros(12)
-    dFq = np.zeros(12)
-    dFv = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    M3 = np.empty((3, 3))
-    P = (pA, pB, RmA, rm, area, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, gn, Hn, Gs, Ds, vl, Hv, Dv, dFq, dFv, ws, wv, M3)
-    if want or mode == MODE_ACC:
-        _washer_contact_element(P, I, S, Cc, O, W, True)
-    else:
-        _washer_contact_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
+         np.zeros(12), (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
+    sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), (lK, ln, lchi, lc, lvmin),
+                              (fkind, fmu, fmus, fvst, feps), na),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 # --- journal: pin in bore -------------------------------------------------------------------
 
 
 @njit(cache=True, inline="always")
-def _journal_contact_element(P, I, S, Cc, O, W, full):
-    (pA, pB, RmA, clear, rpin, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na) = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, rq, rl, M, C, K, G, g1, H1, g2, H2, gd, Hd, Js, dJs, Gz, Dz, vl, Hv, Jv, dFq, dFv,
-     ws, wv, M3) = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        o = eoff[e]
+def _journal_contacts(P, C, W, full):
+    (pA, pB, RmA, clear, rpin), law, fric, na = P
+    (L, (g1, H1), (g2, H2), (gd, Hd), (Js, dJs), (Gz, Dz), vl, Hv, Jv, (dFq, dFv), (ws, wv),
+     M3) = W
+    rq, _, _, Cd, K, _ = L
+    x, R, _, _, _, es, _, t = sc.state(C)
+    aux = C[sc.AUX]
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
+        o = sc.state_offset(C, e)
         RA = R[nA]
         RB = R[nB]
-        gather_v(v, dofs[e], 12, vl)
-        for a in range(12):
-            rq[a] = 0.0
-        if full:
-            K[:, :] = 0.0
-            C[:, :] = 0.0
+        sc.velocities(C, e, 12, vl)
+        sc.clear(L, full)
         p1 = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 0], g1, H1, full, ws, wv)
         p2 = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 1], g2, H2, full, ws, wv)
         roff = np.sqrt(p1 * p1 + p2 * p2)
@@ -391,16 +290,15 @@ def _journal_contact_element(P, I, S, Cc, O, W, full):
         f = 0.0
         Pf = 0.0
         if delta > 0.0:
-            vs = impact_speed(es, o, lvmin[e])
-            F, Fd, Fr, V, Pn = normal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
+            F, Fd, Fr, V, Pn, vs = contact_normal(law, e, delta, rate, es, o)
             if full:
                 for a in range(12):
                     for b in range(12):
                         Hd[a, b] = (g1[a] * g1[b] + p1 * H1[a, b] + g2[a] * g2[b]
                                     + p2 * H2[a, b] - gd[a] * gd[b]) / roff
                 transpose_times(Hd, vl, Hv)
-            add_normal(F, Fd, Fr, 1.0, gd, Hd, Hv, rq, K, C, dFq, dFv, full)
-            if F > 0.0 and fmu[e] + fmus[e] > 0.0:
+            add_normal(F, Fd, Fr, 1.0, gd, Hd, Hv, rq, K, Cd, dFq, dFv, full)
+            if F > 0.0 and has_friction(fric, e):
                 omega_projection(RA, RB, RmA[e, :, 2], Gz, Dz, full, M3)
                 rp = rpin[e]
                 for a in range(12):
@@ -414,25 +312,14 @@ def _journal_contact_element(P, I, S, Cc, O, W, full):
                                           - p2 * H1[a, b]) / roff - ta * gd[b] / roff
                                          + rp * Dz[a, b])
                     transpose_times(dJs, vl, Jv)
-                mu_now, dmu = friction_scalar(sv, fkind[e], fmu[e], fmus[e], fvst[e], feps[e])
+                mu_now, dmu = friction_coefficient(fric, e, sv)
                 f = mu_now * F
                 Pf = f * sv
-                add_velocity_force(f, dmu * F, mu_now, Js, dJs, Jv, dFq, dFv, rq, K, C, full)
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
-                        mode, want, full, r, rabs, data)
-        eout[e, 0] = 0.0
-        eout[e, 1] = V
-        eout[e, 2] = 0.0
-        eout[e, 3] = Pn + Pf
-        aux[e, 0] = F
-        aux[e, 1] = -delta
-        aux[e, 2] = -rate
-        aux[e, 3] = sv
-        aux[e, 4] = mu_now
-        aux[e, 5] = f
-        aux[e, 6] = f * rpin[e]
-        aux[e, 7] = Pn + Pf
+                add_velocity_force(f, dmu * F, mu_now, Js, dJs, Jv, dFq, dFv, rq, K, Cd, full)
+        sc.report(C, e, (F, -delta, -rate, sv, mu_now, f, f * rpin[e], Pn + Pf))
+        sc.energy(C, e, 0.0, V, 0.0, Pn + Pf)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
+        sc.scatter(C, L, e, 2, full)
 
 
 @njit(cache=True)
@@ -441,37 +328,13 @@ def journal_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = pA.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, 0)
-    g1 = np.zeros(12)
-    H1 = np.zeros((12, 12))
-    g2 = np.zeros(12)
-    H2 = np.zeros((12, 12))
-    gd = np.zeros(12)
-    Hd = np.zeros((12, 12))
-    Js = np.zeros(12)
-    dJs = np.zeros((12, 12))
-    Gz = np.zeros(12)
-    Dz = np.zeros((12, 12))
-    vl = np.zeros(12)
-    Hv = np.zeros(12)
-    Jv = np.zeros(12)
-    dFq = np.zeros(12)
-    dFv = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    M3 = np.empty((3, 3))
-    P = (pA, pB, RmA, clear, rpin, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, g1, H1, g2, H2, gd, Hd, Js, dJs, Gz, Dz, vl, Hv, Jv, dFq,
-         dFv, ws, wv, M3)
-    if want or mode == MODE_ACC:
-        _journal_contact_element(P, I, S, Cc, O, W, True)
-    else:
-        _journal_contact_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
+         sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12), np.zeros(12),
+         (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
+    sc.run(_journal_contacts, ((pA, pB, RmA, clear, rpin), (lK, ln, lchi, lc, lvmin),
+                               (fkind, fmu, fmus, fvst, feps), na),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 # --- specs ------------------------------------------------------------------------------------

@@ -21,6 +21,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
+import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import (
     MODE_ACC,
     MODE_DYN,
@@ -29,10 +30,9 @@ from drivedyn.elements.base import (
     Group,
     local_arrays,
     register,
-    scatter_element,
 )
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
-from drivedyn.elements.primitives import gather_v, prim_angle, quad_form, unwrap
+from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
 from drivedyn.errors import ModelError
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
@@ -111,22 +111,21 @@ class JointDriverFamily(Family):
 
 
 @njit(cache=True, inline="always")
-def _speed_difference_kernel_element(P, I, S, Cc, O, W, full):
+def _speed_differences(P, C, W, full):
     RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, nd, rq, rl, M, C, K, G, g1, H1, g2, H2, w1, w2, w3, w4, g, H, vl, al, nd_glob, ws,
-     wv) = W
-    for e in range(nel):
-        n = lnodes[e]
-        raw1 = prim_angle(R[n[0]], R[n[1]], RmA1[e, :, 0], RmA1[e, :, 1], RmB1[e, :, 0],
-                          g1, H1, full, w1, w2, w3, w4, ws, wv)
-        raw2 = prim_angle(R[n[2]], R[n[3]], RmA2[e, :, 0], RmA2[e, :, 1], RmB2[e, :, 0],
-                          g2, H2, full, w1, w2, w3, w4, ws, wv)
-        th1 = unwrap(raw1, es[eoff[e]])
-        th2 = unwrap(raw2, es[eoff[e] + 1])
+    L, (g1, H1), (g2, H2), (w1, w2, w3, w4), (g, H), vl, al, (ws, wv) = W
+    rq, rl, _, _, K, G = L
+    _, R, _, _, _, es, tfv, _ = sc.state(C)
+    mode = sc.mode_of(C)
+    nd = 24
+    for e in range(sc.count(C)):
+        raw1 = prim_angle(R[sc.node(C, e, 0)], R[sc.node(C, e, 1)], RmA1[e, :, 0],
+                          RmA1[e, :, 1], RmB1[e, :, 0], g1, H1, full, w1, w2, w3, w4, ws, wv)
+        raw2 = prim_angle(R[sc.node(C, e, 2)], R[sc.node(C, e, 3)], RmA2[e, :, 0],
+                          RmA2[e, :, 1], RmB2[e, :, 0], g2, H2, full, w1, w2, w3, w4, ws, wv)
+        o = sc.state_offset(C, e)
+        th1 = unwrap(raw1, es[o])
+        th2 = unwrap(raw2, es[o + 1])
         g[:12] = g1
         g[12:] = -g2
         H[:, :] = 0.0
@@ -138,15 +137,15 @@ def _speed_difference_kernel_element(P, I, S, Cc, O, W, full):
         phitt = -tfv[f, 1]
         k = kk[e]
         p = pp[e]
-        sig = k * lam[dofs[e, nd] - nd_glob] + p * val
+        sig = k * sc.multiplier(C, e, nd, 0) + p * val
         for a in range(nd):
             rq[a] = sig * g[a]
             G[0, a] = k * g[a]
-        gather_v(v, dofs[e], nd, vl)
+        sc.velocities(C, e, nd, vl)
         if mode == MODE_DYN:
             rl[0] = k * val
         elif mode == MODE_ACC:
-            gather_v(vd, dofs[e], nd, al)
+            sc.accelerations(C, e, nd, al)
             s = 0.0
             for a in range(nd):
                 s += g[a] * al[a]
@@ -160,16 +159,9 @@ def _speed_difference_kernel_element(P, I, S, Cc, O, W, full):
             for a in range(nd):
                 for b in range(nd):
                     K[a, b] = sig * H[a, b] + p * g[a] * g[b]
-        scatter_element(rq, rl, M, C, K, G, 4, n, dofs[e], kmap[e], Tn, cM, cC, cK,
-                        mode,want, full, r, rabs, data)
-        aux[e, 0] = -sig
-        aux[e, 1] = th1
-        aux[e, 2] = th2
-        aux[e, 3] = sig * phit
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.0
-        eout[e, 2] = sig * phit
-        eout[e, 3] = 0.0
+        sc.scatter(C, L, e, 4, full)
+        sc.energy(C, e, 0.0, 0.0, sig * phit, 0.0)
+        sc.report(C, e, (-sig, th1, th2, sig * phit))
 
 
 @njit(cache=True)
@@ -178,35 +170,11 @@ def speed_difference_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = kk.shape[0]
-    nd = 24
-    rq, rl, M, C, K, G = local_arrays(nd, 1)
-    g1 = np.zeros(12)
-    H1 = np.zeros((12, 12))
-    g2 = np.zeros(12)
-    H2 = np.zeros((12, 12))
-    w1 = np.zeros(12)
-    w2 = np.zeros((12, 12))
-    w3 = np.zeros(12)
-    w4 = np.zeros((12, 12))
-    g = np.zeros(nd)
-    H = np.zeros((nd, nd))
-    vl = np.zeros(nd)
-    al = np.zeros(nd)
-    nd_glob = r.shape[0] - lam.shape[0]
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    P = (RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, nd, rq, rl, M, C, K, G, g1, H1, g2, H2, w1, w2, w3, w4, g, H, vl, al, nd_glob, ws,
-        wv)
-    if want or mode == MODE_ACC:
-        _speed_difference_kernel_element(P, I, S, Cc, O, W, True)
-    else:
-        _speed_difference_kernel_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(24, 1), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
+         sc.grad_hess(24), np.zeros(24), np.zeros(24), sc.workspace())
+    sc.run(_speed_differences, (RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 def _commit_two_angles(group: Group, state) -> None:

@@ -65,16 +65,16 @@ RES, RABS, DATA, EOUT, AUX = 18, 19, 20, 21, 22
 
 
 @njit(cache=True, inline="always")
-def full_pass(C):
-    """True if this evaluation needs the element matrices (matrix wanted, or MODE_ACC)."""
-    return C[WANT] or C[MODE] == MODE_ACC
+def full_pass(want, mode):
+    """True if an evaluation needs the element matrices (matrix wanted, or MODE_ACC)."""
+    return want or mode == MODE_ACC
 
 
 @njit(cache=True, inline="always")
 def run(elements, P, C, W):
     """``elements(P, C, W, full)`` in the copy with the literal ``full`` this evaluation
     needs."""
-    if full_pass(C):
+    if full_pass(C[WANT], C[MODE]):
         elements(P, C, W, True)
     else:
         elements(P, C, W, False)
@@ -100,6 +100,12 @@ def state(C):
 def mode_of(C):
     """The evaluation mode (``MODE_DYN``, ``MODE_ACC``, ``MODE_VEL``)."""
     return C[MODE]
+
+
+@njit(cache=True, inline="always")
+def wants_matrix(C):
+    """True if the iteration matrix is wanted (``want``)."""
+    return C[WANT]
 
 
 @njit(cache=True, inline="always")
@@ -201,19 +207,19 @@ def report_at(C, e, c0, values):
 # --- work arrays ------------------------------------------------------------------------------
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def grad_hess(n):
     """A gradient (n,) and its derivative (n, n), zeroed."""
     return np.zeros(n), np.zeros((n, n))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def angle_work():
     """Work arrays of :func:`~drivedyn.elements.primitives.prim_angle`: ``gs, Hs, gc, Hc``."""
     return np.zeros(12), np.zeros((12, 12)), np.zeros(12), np.zeros((12, 12))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def workspace():
     """Work arrays ``ws`` (8, 3, 3) and ``wv`` (8, 3) of the kinematic primitives."""
     return np.empty((8, 3, 3)), np.empty((8, 3))

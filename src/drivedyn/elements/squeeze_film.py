@@ -47,32 +47,27 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
+import drivedyn.elements.scaffold as sc
 from drivedyn.elements._contact_common import (
     add_normal,
     add_velocity_force,
     axial_motion,
+    axis_distance,
     check_laws,
     coerce_laws,
     contact_group,
+    contact_normal,
+    friction_coefficient,
+    has_friction,
     omega_projection,
     positive,
     transpose_times,
     two_markers,
     washer_friction_radius,
 )
-from drivedyn.elements.base import (
-    MODE_ACC,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-    scatter_element,
-)
-from drivedyn.elements.friction import FrictionLaw, friction_scalar
-from drivedyn.elements.impact_laws import NormalLaw, impact_speed, impact_state, initial_state
-from drivedyn.elements.impact_laws import normal_force as metal_force
-from drivedyn.elements.primitives import gather_v, prim_axial
+from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.friction import FrictionLaw
+from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError
 
 
@@ -101,32 +96,21 @@ def effective_thickness(h, hmin):
 
 
 @njit(cache=True, inline="always")
-def _squeeze_film_element(P, I, S, Cc, O, W, full):
-    (pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area, lK, ln, lchi, lc, lvmin, fkind,
-     fmu, fmus, fvst, feps, na) = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, rq, rl, M, C, K, G, gn, Hn, Gs, Ds, vl, Hv, Dv, dFq, dFv, ws, wv, M3) = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        o = eoff[e]
+def _squeeze_films(P, C, W, full):
+    (pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area), law, fric, na = P
+    L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
+    rq, _, _, Cd, K, _ = L
+    x, R, _, _, _, es, _, t = sc.state(C)
+    aux = C[sc.AUX]
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
+        o = sc.state_offset(C, e)
         RA = R[nA]
         RB = R[nB]
-        gather_v(v, dofs[e], 12, vl)
-        for a in range(12):
-            rq[a] = 0.0
-        if full:
-            K[:, :] = 0.0
-            C[:, :] = 0.0
-        h = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, full, ws, wv)
-        hd = 0.0
-        for a in range(12):
-            hd += gn[a] * vl[a]
-        if full:
-            transpose_times(Hn, vl, Hv)
+        sc.velocities(C, e, 12, vl)
+        sc.clear(L, full)
+        h, hd = axis_distance(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, vl, Hv,
+                              full, ws, wv)
         # film: F_f = -c(h) hdot, c = cfilm / h_eff^3
         he, dhe = effective_thickness(h, hmin[e])
         cf = cfilm[e] / (he * he * he)
@@ -140,11 +124,10 @@ def _squeeze_film_element(P, I, S, Cc, O, W, full):
         # metal contact on delta = Ra - h
         delta = rough[e] - h
         rate = -hd
-        vs = impact_speed(es, o, lvmin[e])
-        Fm, Fmd, Fmr, V, Pm = metal_force(delta, rate, lK[e], ln[e], lchi[e], lc[e], vs)
+        Fm, Fmd, Fmr, V, Pm, vs = contact_normal(law, e, delta, rate, es, o)
         # total force pushing the faces apart, as a function of delta = Ra - h
         # (d/ddelta = -d/dh, d/ddeltadot = -d/dhdot)
-        add_normal(Fm + Ff, Fmd - dFf_h, Fmr - dFf_hd, -1.0, gn, Hn, Hv, rq, K, C, dFq, dFv,
+        add_normal(Fm + Ff, Fmd - dFf_h, Fmr - dFf_hd, -1.0, gn, Hn, Hv, rq, K, Cd, dFq, dFv,
                    full)
         if full:
             # the metal friction torque depends on the metal force alone
@@ -168,33 +151,19 @@ def _squeeze_film_element(P, I, S, Cc, O, W, full):
                 ga = Gs[a]
                 for b in range(12):
                     K[a, b] += Mv * Ds[a, b] + ga * (cd * Dv[b] + dMv_h * gn[b])
-                    C[a, b] += ga * cd * Gs[b]
+                    Cd[a, b] += ga * cd * Gs[b]
         Mf = 0.0
         mu_now = 0.0
-        if Fm > 0.0 and fmu[e] + fmus[e] > 0.0:
-            mu_now, dmu = friction_scalar(rm[e] * w, fkind[e], fmu[e], fmus[e], fvst[e],
-                                          feps[e])
+        if Fm > 0.0 and has_friction(fric, e):
+            mu_now, dmu = friction_coefficient(fric, e, rm[e] * w)
             Mf = mu_now * Fm * rm[e]
             add_velocity_force(Mf, dmu * Fm * rm[e] * rm[e], mu_now * rm[e], Gs, Ds, Dv, dFq,
-                               dFv, rq, K, C, full)
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
-                        mode, want, full, r, rabs, data)
+                               dFv, rq, K, Cd, full)
         pdis = -Ff * hd + Pm + Mv * w + Mf * w
-        eout[e, 0] = 0.0
-        eout[e, 1] = V
-        eout[e, 2] = 0.0
-        eout[e, 3] = pdis
-        aux[e, 0] = Ff + Fm
-        aux[e, 1] = Ff
-        aux[e, 2] = Fm
-        aux[e, 3] = h
-        aux[e, 4] = hd
-        aux[e, 5] = (Ff + Fm) / area[e]
-        aux[e, 6] = w
-        aux[e, 7] = Mv
-        aux[e, 8] = Mf
-        aux[e, 9] = pdis
+        sc.report(C, e, (Ff + Fm, Ff, Fm, h, hd, (Ff + Fm) / area[e], w, Mv, Mf, pdis))
+        sc.energy(C, e, 0.0, V, 0.0, pdis)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
+        sc.scatter(C, L, e, 2, full)
 
 
 @njit(cache=True)
@@ -204,31 +173,12 @@ def squeeze_film_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = pA.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, 0)
-    gn = np.zeros(12)
-    Hn = np.zeros((12, 12))
-    Gs = np.zeros(12)
-    Ds = np.zeros((12, 12))
-    vl = np.zeros(12)
-    Hv = np.zeros(12)
-    Dv = np.zeros(12)
-    dFq = np.zeros(12)
-    dFv = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    M3 = np.empty((3, 3))
-    P = (pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area, lK, ln, lchi, lc, lvmin, fkind,
-         fmu, fmus, fvst, feps, na)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, rq, rl, M, C, K, G, gn, Hn, Gs, Ds, vl, Hv, Dv, dFq, dFv, ws, wv, M3)
-    if want or mode == MODE_ACC:
-        _squeeze_film_element(P, I, S, Cc, O, W, True)
-    else:
-        _squeeze_film_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
+         np.zeros(12), (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
+    sc.run(_squeeze_films, ((pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area),
+                            (lK, ln, lchi, lc, lvmin), (fkind, fmu, fmus, fvst, feps), na),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

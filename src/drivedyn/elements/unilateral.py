@@ -56,6 +56,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
+import drivedyn.elements.scaffold as sc
 from drivedyn.elements._contact_common import axial_motion, make_commit, two_markers
 from drivedyn.elements.base import (
     MODE_ACC,
@@ -66,9 +67,8 @@ from drivedyn.elements.base import (
     Group,
     local_arrays,
     register,
-    scatter_element,
 )
-from drivedyn.elements.primitives import gather_v, prim_axial, quad_form
+from drivedyn.elements.primitives import prim_axial, quad_form
 from drivedyn.errors import ModelError
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
@@ -77,17 +77,21 @@ NAUX_AL = 8
 
 
 @njit(cache=True, inline="always")
-def _scatter_multipliers(B, Gq, D, nm, lnodes_e, kmap_e, Tn, mode, data):
-    """Non-symmetric multiplier blocks: ``B = d rq/d lam`` (12, nm), ``Gq = d rl/d q``
-    (nm, 12; times the tangent operator on rotation columns in MODE_DYN) and
+def _scatter_multipliers(B, Gq, D, nm, C, e):
+    """Non-symmetric multiplier blocks of element ``e``: ``B = d rq/d lam`` (12, nm),
+    ``Gq = d rl/d q`` (nm, 12; times the tangent operator on rotation columns in MODE_DYN) and
     ``D = d rl/d lam`` (nm, nm)."""
+    lnodes_e = C[sc.LNODES][e]
+    kmap_e = C[sc.KMAP][e]
+    Tn = C[sc.TN]
+    data = C[sc.DATA]
     nloc = 12 + nm
     for i in range(nm):
         for j in range(12):
             p = kmap_e[j * nloc + 12 + i]
             if p >= 0:
                 data[p] += B[j, i]
-    if mode == MODE_DYN:
+    if sc.mode_of(C) == MODE_DYN:
         for a in range(2):
             node = lnodes_e[a]
             c0 = 6 * a + 3
@@ -110,32 +114,29 @@ def _scatter_multipliers(B, Gq, D, nm, lnodes_e, kmap_e, Tn, mode, data):
 
 
 @njit(cache=True, inline="always")
-def _unilateral_element(P, I, S, Cc, O, W, full):
+def _unilaterals(P, C, W, full):
     pA, pB, RmA, mu, kk, pp, cacc = P
-    lnodes, dofs, kmap, eoff = I
-    x, R, v, vd, lam, es, tfv, t = S
-    Tn, cM, cC, cK, mode, want = Cc
-    r, rabs, data, eout, aux = O
-    (nel, nd_glob, rq, rl, M, C, K, G, B, Gq, D, gn, Hn, g1, H1, g2, H2, vl, al, ws,
-     wv) = W
-    for e in range(nel):
-        nA = lnodes[e, 0]
-        nB = lnodes[e, 1]
-        o = eoff[e]
+    L, B, Gq, D, (gn, Hn), (g1, H1), (g2, H2), vl, al, (ws, wv) = W
+    rq, rl, M, _, K, _ = L
+    x, R, _, _, _, es, _, _ = sc.state(C)
+    mode = sc.mode_of(C)
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
+        o = sc.state_offset(C, e)
         RA = R[nA]
         RB = R[nB]
         k = kk[e]
         p = pp[e]
         m = mu[e]
-        gather_v(v, dofs[e], 12, vl)
+        sc.velocities(C, e, 12, vl)
         if mode == MODE_ACC:
-            gather_v(vd, dofs[e], 12, al)
+            sc.accelerations(C, e, 12, al)
         dn = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 2], gn, Hn, full, ws, wv)
         t1 = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 0], g1, H1, full, ws, wv)
         t2 = prim_axial(x[nA], RA, x[nB], RB, pA[e], pB[e], RmA[e, :, 1], g2, H2, full, ws, wv)
-        ln_ = lam[dofs[e, 12] - nd_glob]
-        l1 = lam[dofs[e, 13] - nd_glob]
-        l2 = lam[dofs[e, 14] - nd_glob]
+        ln_ = sc.multiplier(C, e, 12, 0)
+        l1 = sc.multiplier(C, e, 12, 1)
+        l2 = sc.multiplier(C, e, 12, 2)
         vn = 0.0
         v1 = 0.0
         v2 = 0.0
@@ -309,29 +310,16 @@ def _unilateral_element(P, I, S, Cc, O, W, full):
                     D[1, 2] = -k * q12
                     D[2, 1] = -k * q12
                     D[2, 2] = k * (1.0 - q22)
-        scatter_element(rq, rl, M, C, K, G, 2, lnodes[e], dofs[e], kmap[e], Tn, cM, cC, cK,
-                        mode, want, full, r, rabs, data)
-        if full:
-            if want:
-                _scatter_multipliers(B, Gq, D, 3, lnodes[e], kmap[e], Tn, mode, data)
+        sc.scatter(C, L, e, 2, full)
+        if full and sc.wants_matrix(C):
+            _scatter_multipliers(B, Gq, D, 3, C, e)
         pdis = f1 * v1 + f2 * v2 if slide else 0.0
-        eout[e, 0] = 0.0
-        eout[e, 1] = 0.0
-        eout[e, 2] = 0.0
-        eout[e, 3] = pdis
-        aux[e, 0] = N
-        aux[e, 1] = dn
-        aux[e, 2] = vn
-        aux[e, 3] = vt
-        aux[e, 4] = np.sqrt(f1 * f1 + f2 * f2)
-        aux[e, 5] = 1.0 if stick else 0.0
-        aux[e, 6] = 1.0 if active else 0.0
-        aux[e, 7] = pdis
+        sc.energy(C, e, 0.0, 0.0, 0.0, pdis)
         # state after an accepted step: flags; anchor kept while sticking
-        aux[e, NAUX_AL] = 1.0 if active else 0.0
-        aux[e, NAUX_AL + 1] = 1.0 if slide else 0.0
-        aux[e, NAUX_AL + 2] = es[o + 2] if stick else t1
-        aux[e, NAUX_AL + 3] = es[o + 3] if stick else t2
+        sc.report(C, e, (N, dn, vn, vt, np.sqrt(f1 * f1 + f2 * f2), 1.0 if stick else 0.0,
+                         1.0 if active else 0.0, pdis, 1.0 if active else 0.0,
+                         1.0 if slide else 0.0, es[o + 2] if stick else t1,
+                         es[o + 3] if stick else t2))
 
 
 @njit(cache=True)
@@ -340,32 +328,12 @@ def unilateral_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    nel = pA.shape[0]
-    nd_glob = r.shape[0] - lam.shape[0]
-    rq, rl, M, C, K, G = local_arrays(12, 3)
-    B = np.zeros((12, 3))
-    Gq = np.zeros((3, 12))
-    D = np.zeros((3, 3))
-    gn = np.zeros(12)
-    Hn = np.zeros((12, 12))
-    g1 = np.zeros(12)
-    H1 = np.zeros((12, 12))
-    g2 = np.zeros(12)
-    H2 = np.zeros((12, 12))
-    vl = np.zeros(12)
-    al = np.zeros(12)
-    ws = np.empty((8, 3, 3))
-    wv = np.empty((8, 3))
-    P = (pA, pB, RmA, mu, kk, pp, cacc)
-    I = (lnodes, dofs, kmap, eoff)
-    S = (x, R, v, vd, lam, es, tfv, t)
-    Cc = (Tn, cM, cC, cK, mode, want)
-    O = (r, rabs, data, eout, aux)
-    W = (nel, nd_glob, rq, rl, M, C, K, G, B, Gq, D, gn, Hn, g1, H1, g2, H2, vl, al, ws, wv)
-    if want or mode == MODE_ACC:
-        _unilateral_element(P, I, S, Cc, O, W, True)
-    else:
-        _unilateral_element(P, I, S, Cc, O, W, False)
+    W = (local_arrays(12, 3), np.zeros((12, 3)), np.zeros((3, 12)), np.zeros((3, 3)),
+         sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
+         sc.workspace())
+    sc.run(_unilaterals, (pA, pB, RmA, mu, kk, pp, cacc),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)
