@@ -361,6 +361,7 @@ class PlaneContact(ElementSpec):
     friction: FrictionLaw | None = None
     radius: float = 0.0
     family: ClassVar[str] = "plane_contact"
+    units: ClassVar[dict[str, str]] = {"radius": "m"}
 
     def __post_init__(self) -> None:
         coerce_laws(self, f"PlaneContact {self.name!r}")
@@ -395,6 +396,7 @@ class ThrustWasherContact(ElementSpec):
     r_ext: float = 0.0
     friction: FrictionLaw | None = None
     family: ClassVar[str] = "thrust_washer_contact"
+    units: ClassVar[dict[str, str]] = {"r_int": "m", "r_ext": "m"}
 
     def __post_init__(self) -> None:
         coerce_laws(self, f"ThrustWasherContact {self.name!r}")
@@ -443,6 +445,7 @@ class JournalContact(ElementSpec):
     pin_radius: float = 0.0
     friction: FrictionLaw | None = None
     family: ClassVar[str] = "journal_contact"
+    units: ClassVar[dict[str, str]] = {"bore_radius": "m", "pin_radius": "m"}
 
     def __post_init__(self) -> None:
         coerce_laws(self, f"JournalContact {self.name!r}")

@@ -210,6 +210,13 @@ class SqueezeFilm(ElementSpec):
     min_film: float | None = None
     cavitation: bool = False
     family: ClassVar[str] = "squeeze_film"
+    units: ClassVar[dict[str, str]] = {
+        "viscosity": "Pa s",
+        "r_int": "m",
+        "r_ext": "m",
+        "roughness": "m",
+        "min_film": "m",
+    }
 
     def __post_init__(self) -> None:
         coerce_laws(self, f"SqueezeFilm {self.name!r}", "contact")

@@ -357,6 +357,7 @@ class UnilateralContact(ElementSpec):
     k: float | None = None
     p: float | None = None
     family: ClassVar[str] = "unilateral_contact"
+    units: ClassVar[dict[str, str]] = {"k": "N/m", "p": "N/m"}
 
     def markers(self) -> tuple[str, ...]:
         return (self.marker_a, self.marker_b)
