@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from drivedyn.elements.gear_geometry import (
+from drivedyn.elements.gears import (
     CylindricalPair,
     effective_sliding_arm,
     inverse_involute,

@@ -12,8 +12,7 @@ import pytest
 from scipy.integrate import trapezoid
 
 import drivedyn as dd
-from drivedyn.elements.gear_geometry import CylindricalPair, iso6336_mesh_stiffness
-from drivedyn.elements.gears import mesh_info
+from drivedyn.elements.gears import CylindricalPair, iso6336_mesh_stiffness, mesh_info
 from drivedyn.model.spec import ModelError
 from drivedyn.rotations import frame_from_axis
 

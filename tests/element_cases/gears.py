@@ -49,8 +49,7 @@ def _wheel(spec: Spec, name: str, centre, frame, body_rot, body_pos, ground: boo
 def parallel_case(internal: str | None = None, ground_a: bool = False,
                   flip_b: bool = False) -> Spec:
     """Helical pair with parallel axes (external, or internal with ring ``internal``)."""
-    from drivedyn.elements.gear_geometry import CylindricalPair
-    from drivedyn.elements.gears import GearPair
+    from drivedyn.elements.gears import CylindricalPair, GearPair
 
     spec = Spec(gravity=(0.0, 0.0, -9.81))
     za, zb = (20, 31) if internal is None else ((20, 47) if internal == "b" else (47, 20))

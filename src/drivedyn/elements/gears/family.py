@@ -1,0 +1,142 @@
+"""The gear pair family: the group of all gear pairs of a model (registry ``gear_pair``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from drivedyn.elements.base import Family, Group, register
+from drivedyn.elements.gears.kernel import COL_PHI_A, COL_PHI_B, GEAR_AUX, NAUX_PUBLIC, gear_kernel
+from drivedyn.elements.gears.kinematics import KIND_PARALLEL, NS
+from drivedyn.elements.gears.mesh import BUILDERS
+from drivedyn.elements.gears.spec import GearPair
+from drivedyn.elements.gears.stiffness import mesh_cycle_levels
+from drivedyn.errors import ModelError
+
+
+def _axis_inertia(ctx, marker: str, what: str, needed: bool) -> float:
+    """Rotary inertia [kg m^2] of the body carrying ``marker`` about the marker's z axis
+    (inf for the ground; 0 for a massless node, refused when ``needed``)."""
+    body = ctx.spec.markers[marker].body
+    if body in ctx.spec.bodies:
+        bd = ctx.spec.bodies[body]
+        m = ctx.spec.markers[marker]
+        ax = m.rotation[:, 2]
+        rr = m.position - bd.com
+        rp = rr - (rr @ ax) * ax
+        return float(ax @ bd.inertia @ ax + bd.mass * (rp @ rp))
+    if body in ctx.spec.nodes:
+        if needed:
+            raise ModelError(f"{what}: damping_ratio needs the inertia of wheel marker "
+                             f"{marker!r}, which is on the massless node {body!r}; give the "
+                             "damping coefficient instead")
+        return 0.0
+    return np.inf
+
+
+class GearPairFamily(Family):
+    """Registry entry of :class:`GearPair`."""
+
+    name = "gear_pair"
+    spec_types = (GearPair,)
+
+    def build(self, specs, ctx) -> Group:
+        nel = len(specs)
+        kind = np.zeros(nel, np.int64)
+        pA = np.zeros((nel, 3))
+        pB = np.zeros((nel, 3))
+        RmA = np.zeros((nel, 3, 3))
+        RmB = np.zeros((nel, 3, 3))
+        cof = np.zeros((nel, NS))
+        crf = np.zeros((nel, 3))
+        inv = np.zeros((nel, 3))
+        s0 = np.zeros((nel, NS))
+        x0 = np.zeros(nel)
+        bn = np.zeros(nel)
+        kst = np.zeros((nel, 6))
+        cdamp = np.zeros(nel)
+        terr = np.zeros(nel)
+        fric = np.zeros((nel, 2))
+        Wf = np.zeros((nel, 2, NS))
+        Mf = np.zeros((nel, 3, 3))
+        lnodes = np.zeros((nel, 2), np.int64)
+        dofs = np.zeros((nel, 12), np.int64)
+        eoff = np.zeros(nel, np.int64)
+        info = []
+        for e, s in enumerate(specs):
+            what = f"GearPair {s.name!r}"
+            nA, pA[e], RmA[e] = ctx.marker(s.marker_a, what)
+            nB, pB[e], RmB[e] = ctx.marker(s.marker_b, what)
+            if nA == nB:
+                raise ModelError(f"{what}: both markers {s.marker_a!r} and {s.marker_b!r} are on "
+                                 "the same body; a gear pair needs two wheels")
+            lnodes[e] = (nA, nB)
+            dofs[e] = ctx.local_dofs([nA, nB], 0, 0)
+            xA = ctx.x0[nA] + ctx.R0[nA] @ pA[e]
+            xB = ctx.x0[nB] + ctx.R0[nB] @ pB[e]
+            RA = ctx.R0[nA] @ RmA[e]
+            RB = ctx.R0[nB] @ RmB[e]
+            md = BUILDERS[s.kind](s, what, xA, RA, xB, RB)
+            kind[e] = md.kind
+            cof[e], crf[e], inv[e], s0[e], Wf[e], Mf[e] = md.cof, md.crf, md.inv, md.s0, md.W, md.Mf
+            eoff[e] = ctx.alloc_state([md.s0[0], md.s0[1]])
+            # stiffness (mean) and its variation over the mesh cycle
+            km = s.stiffness if s.stiffness is not None else md.k_iso
+            if km is None:  # pragma: no cover - validate() requires it
+                raise ModelError(f"{what}.stiffness: required for kind {s.kind!r}")
+            eps = s.contact_ratio if s.contact_ratio is not None else md.eps_alpha
+            k_lo = k_hi = float(km)
+            f_hi, w_tr = 0.0, 1.0
+            if s.stiffness_variation:
+                lo, hi, f_hi = mesh_cycle_levels(1.0, eps)
+                mean = 0.75 * eps + 0.25
+                if f_hi > 1e-9:
+                    k_lo, k_hi = km * lo / mean, km * hi / mean
+                    w_tr = min(s.variation_smoothing, f_hi, 1.0 - f_hi)
+            kst[e] = (k_lo, k_hi, f_hi, w_tr, float(s.teeth_a), float(s.mesh_phase))
+            # damping
+            if s.damping_ratio is not None:
+                JA = _axis_inertia(ctx, s.marker_a, what, True)
+                JB = _axis_inertia(ctx, s.marker_b, what, True)
+                inv_me = md.cof[0] ** 2 / JA + md.cof[1] ** 2 / JB
+                if inv_me <= 0:
+                    raise ModelError(f"{what}.damping_ratio: both wheels are on the ground")
+                cdamp[e] = 2.0 * s.damping_ratio * np.sqrt(km / inv_me)
+            else:
+                cdamp[e] = s.damping or 0.0
+            bn[e] = s.backlash * md.n_perp
+            x0[e] = -s.initial_gap * md.n_perp
+            terr[e] = s.transmission_error
+            fric[e] = (s.friction, s.friction_velocity)
+            info.append({"stiffness": float(km), "damping": float(cdamp[e]),
+                         "contact_ratio": float(eps), "sliding_arm": float(md.s_eff),
+                         "radius_a": float(md.radius_a), "radius_b": float(md.radius_b),
+                         "base_radius_a": float(md.base_radius_a), "coef_a": float(md.cof[0]),
+                         "coef_b": float(md.cof[1]), "normal_backlash": float(bn[e])})
+        params = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf,
+                  Mf, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64),
+                  np.flatnonzero(kind != KIND_PARALLEL).astype(np.int64))
+        return Group(
+            family=self.name, names=[s.name for s in specs], kernel=gear_kernel, params=params,
+            lnodes=lnodes, nmult=0, dofs=dofs, eoff=eoff, nstate=2,
+            aux_names=tuple(n for n, _, _ in GEAR_AUX), aux_units=tuple(u for _, u, _ in GEAR_AUX),
+            aux_desc=tuple(d for _, _, d in GEAR_AUX), commit=_commit_angles,
+            extra={"mesh": info}, naux=NAUX_PUBLIC + 2, dissipative=True,
+        )
+
+
+def _commit_angles(group: Group, state) -> None:
+    """Store the accumulated wheel angles (relative to the mesh frame) after a step."""
+    state.es[group.eoff] = group.aux[:, COL_PHI_A]
+    state.es[group.eoff + 1] = group.aux[:, COL_PHI_B]
+
+
+def mesh_info(model, name: str) -> dict:
+    """Build-time data of gear pair ``name`` in a compiled model: mean stiffness [N/m],
+    damping [N s/m], contact ratio, friction arm [m], operating pitch radii [m], base radius
+    of A in its transverse plane [m], the coefficients c_A, c_B [m/rad] of the wheel
+    rotations in the normal approach, and the normal backlash [m]."""
+    gi, ei = model.group_of[name]
+    return dict(model.groups[gi].extra["mesh"][ei])
+
+
+register(GearPairFamily())

@@ -1,0 +1,322 @@
+"""The gear pair's kernel (numba): flank approach, mesh law, tooth friction and outputs of all
+gear pairs of a model (formulation: :mod:`drivedyn.elements.gears`).
+
+Per element: the mesh coordinates ``s`` (:mod:`~drivedyn.elements.gears.kinematics`), the
+drive and coast flank approaches, the unilateral spring-damper of each flank with the
+stiffness of :func:`~drivedyn.elements.gears.stiffness.mesh_stiffness`, the regularised
+Coulomb friction on the sliding velocity, and the generalised force and matrices by the
+chain rule. Contact status changes the iteration matrix, so a flank within
+:data:`TANGENT_BAND` of contact while neither flank is loaded lends its stiffness to the
+matrix (not to the residual).
+
+Speed: the residual-only loop over parallel pairs is a separate copy with the kind a
+compile-time constant (fixed loop lengths: 1.5x faster), and the code that only bevel and
+crossed pairs need and the assembly of the matrices are compiled out of line.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+import drivedyn.elements.scaffold as sc
+from drivedyn.elements.base import local_arrays
+from drivedyn.elements.gears.kinematics import (
+    KIND_PARALLEL,
+    NP,
+    NS,
+    chain_matrices,
+    generalized_force,
+    parallel_coords,
+    projections,
+    rates,
+    skew_coords,
+)
+from drivedyn.elements.gears.stiffness import mesh_stiffness
+from drivedyn.elements.primitives import cross
+
+TANGENT_BAND = 1e-8  # [m] flank gap within which contact is anticipated in the matrix
+
+GEAR_AUX = (
+    ("normal_force", "N", "normal tooth force (positive: drive flank, negative: coast flank)"),
+    ("tangential_force", "N", "mesh force on wheel B along the tangent t of wheel A at the "
+     "pitch point (gear frame)"),
+    ("radial_force", "N", "mesh force on wheel B along e, from wheel A's axis to the pitch "
+     "point (gear frame; positive separates the wheels)"),
+    ("axial_force", "N", "mesh force on wheel B along wheel A's axis (gear frame)"),
+    ("force_x", "N", "mesh force on wheel B, global x"),
+    ("force_y", "N", "mesh force on wheel B, global y"),
+    ("force_z", "N", "mesh force on wheel B, global z"),
+    ("torque_a", "N m", "torque of the mesh on wheel A about its axis (marker A z)"),
+    ("torque_b", "N m", "torque of the mesh on wheel B about its axis (marker B z)"),
+    ("deflection", "m", "mesh deflection along the tooth normal (positive: drive flank, "
+     "negative: coast flank, 0 in the backlash)"),
+    ("approach", "m", "drive-flank approach along the tooth normal (negative: gap)"),
+    ("sliding_velocity", "m/s", "tooth sliding speed |v_s|"),
+    ("friction_power", "W", "power dissipated by tooth friction"),
+    ("dissipated_power", "W", "power dissipated by mesh damping and tooth friction"),
+    ("angle_a", "rad", "rotation of wheel A relative to the mesh frame since the start "
+     "(accumulated)"),
+    ("angle_b", "rad", "rotation of wheel B relative to the mesh frame since the start "
+     "(accumulated)"),
+    ("stiffness", "N/m", "current mesh stiffness k_m"),
+)
+NAUX_PUBLIC = len(GEAR_AUX)
+COL_PHI_A = NAUX_PUBLIC  # hidden columns: absolute accumulated angles (for commit)
+COL_PHI_B = NAUX_PUBLIC + 1
+
+
+@njit(cache=True, inline="always")
+def _gears(P, C, W, full, skew, idx):
+    """Loop over the elements ``idx``. ``full`` and ``skew`` are literals; the copy with
+    ``skew=False`` handles parallel pairs only, with the kind a compile-time constant (fixed
+    loop lengths, ~1.5x faster) and without the call to the bevel/crossed code."""
+    (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf) = P
+    (L, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap, Bp, Tm, AG, gx, gr, gu,
+     dF, dFN, dFNd, WTv, wk, (ws, wv)) = W
+    rq, _, _, Cd, K, _ = L
+    x, R, _, _, _, es, _, _ = sc.state(C)
+    for ie in range(idx.shape[0]):
+        e = idx[ie]
+        if skew:
+            par = kind[e] == KIND_PARALLEL
+        else:
+            par = True  # constant in this copy: fixed loop trip counts (nprim = 5)
+        nA, nB = sc.pair(C, e)
+        nprim = 5 if par else 7
+        Sj[:, :] = 0.0
+        if full:
+            Spp[:, :, :] = 0.0
+        # -- kinematic primitives p (gradients gp, Hessians Hp) ------------------------------
+        projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e], par, p, gp, Hp,
+                    Ht, full, wk, ws)
+        # -- mesh coordinates s(p) with Jacobian Sj and second derivatives Spp ---------------
+        off = sc.state_offset(C, e)
+        ac = 1.0
+        fr_c0 = 1.0
+        fr_c1 = 0.0
+        if par:
+            ac, fr_c0, fr_c1 = parallel_coords(p, Sj, Spp, s, es[off], es[off + 1], full)
+        elif skew:
+            fr_c0, fr_c1 = skew_coords(R[nA], R[nB], RmA[e], RmB[e], p, gp, Hp, Sj, Spp, s,
+                                       es[off], es[off + 1], full, ws, wv)
+        # -- rates --------------------------------------------------------------------------
+        sc.velocities(C, e, 12, vl)
+        rates(nprim, gp, Sj, vl, pd, sd)
+        # -- mesh law in s ----------------------------------------------------------------
+        dphi = s[0] - s0[e, 0]
+        k, k1, k2 = mesh_stiffness(dphi, kst[e])
+        c = cdamp[e]
+        X = terr[e]
+        xx = x0[e]
+        for j in range(NS):
+            xx += cof[e, j] * (s[j] - s0[e, j])
+            gx[j] = cof[e, j]
+            gr[j] = 0.0
+        hx00 = 0.0
+        if X != 0.0:
+            zz = kst[e, 4]
+            ce = np.cos(zz * dphi)
+            xx += X * (1.0 - ce)
+            gx[0] += X * zz * np.sin(zz * dphi)
+            hx00 = X * zz * zz * ce
+        hr33 = 0.0
+        if par:
+            # rho = ic [w(a_c) - w(a_c0)], w = R inv(alpha_wt) = tq - R atan(tq / R),
+            # tq = sqrt(a_c^2 - R^2); the difference is formed without cancellation:
+            # atan(tq/R) - atan(tq0/R) = atan(R dtq / (R^2 + tq tq0))
+            ic = inv[e, 0]
+            Rb = inv[e, 1]
+            tq0 = inv[e, 2]
+            ac0 = s0[e, 3]
+            tq = np.sqrt(ac * ac - Rb * Rb)
+            dtq = (ac - ac0) * (ac + ac0) / (tq + tq0)
+            zt = Rb * dtq / (Rb * Rb + tq * tq0)
+            if abs(zt) < 1e-2:
+                z2 = zt * zt
+                at = zt * (1.0 - z2 * (1.0 / 3.0 - z2 * (0.2 - z2 * (1.0 / 7.0 - z2 / 9.0))))
+            else:
+                at = np.arctan(zt)
+            rho = ic * (dtq - Rb * at)
+            gr[3] = ic * tq / ac
+            hr33 = ic * Rb * Rb / (ac * ac * tq)
+        else:
+            rho = 0.0
+            for i in range(3):
+                rho += crf[e, i] * (s[2 + i] - s0[e, 2 + i])
+                gr[2 + i] = crf[e, i]
+        xd = 0.0
+        rd = 0.0
+        for j in range(NS):
+            xd += gx[j] * sd[j]
+            rd += gr[j] * sd[j]
+        for j in range(NS):
+            Qs[j] = 0.0
+        if full:
+            dQs[:, :] = 0.0
+            dQd[:, :] = 0.0
+            dFN[:] = 0.0
+            dFNd[:] = 0.0
+        u_p = xx + rho
+        u_m = -xx + rho - bn[e]
+        Fp = 0.0
+        Fm = 0.0
+        V = 0.0
+        Pd = 0.0
+        # contact anticipated in the matrix only: with neither flank loaded, the flank within
+        # TANGENT_BAND of contact lends its stiffness to K and C (an unloaded zero-backlash
+        # mesh would otherwise enter a factorisation with no stiffness at all)
+        ant = 0
+        if full and u_p <= 0.0 and u_m <= 0.0:
+            if u_p >= u_m and u_p > -TANGENT_BAND:
+                ant = 1
+            elif u_m > u_p and u_m > -TANGENT_BAND:
+                ant = 2
+        if ant > 0:
+            sg = 1.0 if ant == 1 else -1.0
+            for i in range(NS):
+                gu[i] = sg * gx[i] + gr[i]
+            for i in range(NS):
+                for j in range(NS):
+                    dQs[i, j] += k * gu[i] * gu[j]
+                    dQd[i, j] += c * gu[i] * gu[j]
+        for fl in range(2):
+            sg = 1.0 if fl == 0 else -1.0
+            u = u_p if fl == 0 else u_m
+            if u <= 0.0:
+                continue
+            ud = sg * xd + rd
+            F = k * u + c * ud
+            if fl == 0:
+                Fp = F
+            else:
+                Fm = F
+            for j in range(NS):
+                gu[j] = sg * gx[j] + gr[j]
+                Qs[j] += F * gu[j]
+            Qs[0] += 0.5 * k1 * u * u
+            V += 0.5 * k * u * u
+            Pd += c * ud * ud
+            if full:
+                sgnF = 1.0 if F >= 0.0 else -1.0
+                for j in range(NS):
+                    dF[j] = k * gu[j]
+                dF[0] += k1 * u + c * sg * hx00 * sd[0]
+                dF[3] += c * hr33 * sd[3]
+                for i in range(NS):
+                    for j in range(NS):
+                        dQs[i, j] += gu[i] * dF[j]
+                        dQd[i, j] += c * gu[i] * gu[j]
+                    dQs[0, i] += k1 * u * gu[i]
+                    dFN[i] += sgnF * dF[i]
+                    dFNd[i] += sgnF * c * gu[i]
+                dQs[0, 0] += F * sg * hx00 + 0.5 * k2 * u * u
+                dQs[3, 3] += F * hr33
+        # -- tooth friction (regularised Coulomb on the sliding vector W s_dot) --------------
+        v1 = 0.0
+        v2 = 0.0
+        for j in range(NS):
+            v1 += Wf[e, 0, j] * sd[j]
+            v2 += Wf[e, 1, j] * sd[j]
+        vn = np.sqrt(v1 * v1 + v2 * v2)
+        FN = abs(Fp) + abs(Fm)
+        mu = fric[e, 0]
+        Pf = 0.0
+        if mu > 0.0 and FN > 0.0:
+            eps = fric[e, 1]
+            if vn < eps:
+                ph = mu * (2.0 - vn / eps) / eps
+                dph = -mu / (eps * eps)
+            else:
+                ph = mu / vn
+                dph = -mu / (vn * vn)
+            for j in range(NS):
+                WTv[j] = Wf[e, 0, j] * v1 + Wf[e, 1, j] * v2
+                Qs[j] += ph * FN * WTv[j]
+            Pf = ph * FN * vn * vn
+            if full:
+                dv = dph * FN / vn if vn > 1e-300 else 0.0
+                for i in range(NS):
+                    for j in range(NS):
+                        dQd[i, j] += (ph * FN * (Wf[e, 0, i] * Wf[e, 0, j]
+                                                 + Wf[e, 1, i] * Wf[e, 1, j])
+                                      + dv * WTv[i] * WTv[j] + ph * WTv[i] * dFNd[j])
+                        dQs[i, j] += ph * WTv[i] * dFN[j]
+        # -- chain to the primitives and to the node coordinates ---------------------------
+        generalized_force(nprim, Sj, gp, Qs, Qp, rq)
+        if full:
+            chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K,
+                           Cd)
+        sc.scatter(C, L, e, 2, full)
+        # -- outputs ------------------------------------------------------------------------
+        fa = wk[4]  # global axis of A
+        fr = wk[11]
+        ft = wk[12]
+        for i in range(3):
+            fr[i] = fr_c0 * wk[2, i] + fr_c1 * wk[3, i]
+        cross(fa, fr, ft)
+        for row in range(3):  # the mesh force on B in A's gear frame (t, e, a)
+            acc = 0.0
+            for i in range(3):
+                gvec = Mf[e, row, 0] * fa[i] + Mf[e, row, 1] * fr[i] + Mf[e, row, 2] * ft[i]
+                acc += gvec * (-rq[6 + i])
+            wk[14, row] = acc
+        if u_p > 0.0 and (u_m <= 0.0 or Fp >= Fm):
+            defl = u_p
+        elif u_m > 0.0:
+            defl = -u_m
+        else:
+            defl = 0.0
+        sc.energy(C, e, 0.0, V, 0.0, Pd + Pf)
+        sc.report(C, e, (
+            Fp - Fm, wk[14, 0], wk[14, 1], wk[14, 2], -rq[6], -rq[7], -rq[8],
+            -(rq[3] * RmA[e, 0, 2] + rq[4] * RmA[e, 1, 2] + rq[5] * RmA[e, 2, 2]),
+            -(rq[9] * RmB[e, 0, 2] + rq[10] * RmB[e, 1, 2] + rq[11] * RmB[e, 2, 2]),
+            defl, u_p, vn, Pf, Pd + Pf, dphi, s[1] - s0[e, 1], k, s[0], s[1]))
+
+
+@njit(cache=True)
+def gear_kernel(
+    kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
+    idx_par, idx_skew, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    """All gear pairs of a model (``nel`` elements; trailing arguments: see
+    :mod:`drivedyn.elements.base`).
+
+    Parameters (per element ``e``; lengths in m, angles in rad):
+        kind (nel,): KIND_PARALLEL or KIND_SKEW (bevel, crossed axes).
+        pA, pB (nel, 3): marker origins in their node frames; RmA, RmB (nel, 3, 3) marker
+            rotations in their node frames (z = wheel axis).
+        cof (nel, 5): coefficients of the odd approach x in the mesh coordinates
+            (c_A, c_B [m/rad], cx [1] for delta_a, delta_r, delta_t).
+        crf (nel, 3): coefficients of the even approach rho in delta (skew pairs).
+        inv (nel, 3): involute term of parallel pairs: (-/+ cos beta_b, R = r_bA +/- r_bB,
+            sqrt(a_c0^2 - R^2)).
+        s0 (nel, 5): mesh coordinates in the initial configuration.
+        x0 (nel,): -initial drive-flank gap (normal); bn (nel,): normal backlash.
+        kst (nel, 6): stiffness law (k_low, k_high [N/m], fraction of the cycle at k_high,
+            smoothing width [cycles], z_A, phase at t = 0 [cycles]).
+        cdamp (nel,): damping [N s/m]; terr (nel,): transmission error amplitude X.
+        fric (nel, 2): (mu, eps_v [m/s]); Wf (nel, 2, 5): sliding velocity rows W [m/rad, 1].
+        Mf (nel, 3, 3): gear frame (t, e, a) in the mesh frame (f_a, f_r, f_t).
+        idx_par, idx_skew: indices of the parallel and of the bevel/crossed elements.
+    State: ``es[eoff[e]], es[eoff[e] + 1]`` hold the accumulated wheel angles phi_A, phi_B
+    of the last accepted step (see :data:`GEAR_AUX` for the outputs).
+    """
+    P = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf)
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
+         rabs, data, eout, aux)
+    W = (local_arrays(12, 0), np.zeros(NP), np.zeros((NP, 12)), np.zeros((NP, 12, 12)),
+         np.zeros((12, 12)), np.zeros((NS, NP)), np.zeros((NS, NP, NP)), np.zeros(NS),
+         np.zeros(NS), np.zeros(NP), np.zeros(12), np.zeros(NS), np.zeros((NS, NS)),
+         np.zeros((NS, NS)), np.zeros(NP), np.zeros((NP, NP)), np.zeros((NP, NP)),
+         np.zeros((NS, NP)), np.zeros((NP, 12)), np.zeros(NS), np.zeros(NS), np.zeros(NS),
+         np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros((16, 3)),
+         sc.workspace())
+    if sc.full_pass(want, mode):
+        _gears(P, C, W, True, True, np.arange(kind.shape[0]))
+    else:
+        _gears(P, C, W, False, False, idx_par)
+        if idx_skew.shape[0] > 0:
+            _gears(P, C, W, False, True, idx_skew)
