@@ -24,8 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 import drivedyn as dd
-from drivedyn.elements.gear_geometry import CylindricalPair
-from drivedyn.elements.gears import mesh_info
+from drivedyn.elements.gears import CylindricalPair, mesh_info
 
 # -- gear data (SI units) --------------------------------------------------------------------
 Z_PINION, Z_WHEEL = 19, 47

@@ -28,7 +28,7 @@ def gear_pair_model(za: int = 20, zb: int = 40, mn: float = 3e-3, beta: float = 
     """Wheel A at the origin, wheel B at the working centre distance along x, both on hinges
     to the ground about global z; ``kw`` goes to :class:`~drivedyn.GearPair`. Returns the
     spec (to be completed) and the :class:`CylindricalPair` geometry."""
-    from drivedyn.elements.gear_geometry import CylindricalPair
+    from drivedyn.elements.gears import CylindricalPair
 
     geo = CylindricalPair.build(za, -zb if internal == "b" else zb, mn, np.radians(20.0), beta)
     a = geo.centre_distance
@@ -51,8 +51,7 @@ def gear_pair(quick: bool = False, figure_dir: str | None = None) -> list[CaseRe
     """Gear pair element: helical force components and deflection (statics), ISO 6336-1
     method B worked example, mesh natural frequency, kinematic ratio over 120 revolutions,
     worm efficiency with tooth friction."""
-    from drivedyn.elements.gear_geometry import CylindricalPair, iso6336_mesh_stiffness
-    from drivedyn.elements.gears import mesh_info
+    from drivedyn.elements.gears import CylindricalPair, iso6336_mesh_stiffness, mesh_info
 
     t0 = time.perf_counter()
     case = "gear_pair"
