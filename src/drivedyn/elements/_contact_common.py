@@ -3,14 +3,14 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 from numba import njit
 
 from drivedyn.elements.base import Group
-from drivedyn.elements.friction import FrictionLaw, friction_arrays, friction_phi, friction_scalar
+from drivedyn.elements.building import make_group, node_dofs
+from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar, friction_table
 from drivedyn.elements.impact_laws import (
     NSTATE,
     ST_COUNT,
@@ -19,7 +19,7 @@ from drivedyn.elements.impact_laws import (
     ST_VS,
     NormalLaw,
     impact_speed,
-    law_arrays,
+    law_table,
     normal_force,
 )
 from drivedyn.elements.primitives import prim_axial
@@ -27,10 +27,10 @@ from drivedyn.errors import ModelError
 
 # --- kernels ------------------------------------------------------------------------------------
 #
-# A force-type contact kernel receives its parameters as ``(*geometry, *law, *friction, na)``
-# (:func:`contact_group`) and packs them as ``P = (geometry, law, friction, na)``; ``law`` =
-# ``(K, n, chi, c, v_min)`` and ``friction`` = ``(kind, mu, mu_static, v_stribeck, eps_v)``
-# are per-element arrays, read through the helpers below.
+# A force-type contact kernel receives its parameters as ``(*geometry, law, friction, na)``
+# (:func:`contact_group`): ``law`` (nel, 5) has the rows ``(K, n, chi, c, v_min)`` of the
+# normal laws, ``friction`` (nel, 5) the rows ``(kind, mu, mu_static, v_stribeck, eps_v)`` of
+# the friction laws, read through the helpers below; ``na`` is the first hidden aux column.
 
 
 @njit(cache=True, inline="always")
@@ -38,7 +38,7 @@ def contact_normal(law, e, delta, rate, es, o):
     """Normal force of element ``e`` at penetration ``delta`` and rate ``rate`` (state block
     at ``es[o]``): ``(F, dF/ddelta, dF/drate, V, P_dis, v_s)`` (see
     :func:`~drivedyn.elements.impact_laws.normal_force`)."""
-    K, n, chi, c, vmin = law[0][e], law[1][e], law[2][e], law[3][e], law[4][e]
+    K, n, chi, c, vmin = law[e, 0], law[e, 1], law[e, 2], law[e, 3], law[e, 4]
     vs = impact_speed(es, o, vmin)
     F, Fd, Fr, V, Pn = normal_force(delta, rate, K, n, chi, c, vs)
     return F, Fd, Fr, V, Pn, vs
@@ -47,19 +47,19 @@ def contact_normal(law, e, delta, rate, es, o):
 @njit(cache=True, inline="always")
 def has_friction(fric, e):
     """True if element ``e`` has a friction law (mu or mu_static > 0)."""
-    return fric[1][e] + fric[2][e] > 0.0
+    return fric[e, 1] + fric[e, 2] > 0.0
 
 
 @njit(cache=True, inline="always")
 def friction_coefficient(fric, e, s):
     """Signed ``mu_R(s)`` and ``dmu_R/ds`` of element ``e`` at the sliding velocity ``s``."""
-    return friction_scalar(s, fric[0][e], fric[1][e], fric[2][e], fric[3][e], fric[4][e])
+    return friction_scalar(s, int(fric[e, 0]), fric[e, 1], fric[e, 2], fric[e, 3], fric[e, 4])
 
 
 @njit(cache=True, inline="always")
 def friction_ratio(fric, e, v):
     """``mu_R(v)/v`` and its derivative of element ``e`` at the sliding speed ``v >= 0``."""
-    return friction_phi(v, fric[0][e], fric[1][e], fric[2][e], fric[3][e], fric[4][e])
+    return friction_phi(v, int(fric[e, 0]), fric[e, 1], fric[e, 2], fric[e, 3], fric[e, 4])
 
 
 @njit(cache=True, inline="always")
@@ -163,17 +163,6 @@ def add_velocity_force(f, dfds, dfdF, J, dJ, Jv, dFq, dFv, rq, K, C, full):
 # --- specs and groups ----------------------------------------------------------------------
 
 
-def positive(what: str, label: str, value: Any, allow_zero: bool = False) -> float:
-    try:
-        val = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{what}.{label}: expected a number [m], got {value!r}") from None
-    if not math.isfinite(val) or val < 0.0 or (val == 0.0 and not allow_zero):
-        raise ModelError(f"{what}.{label}: must be {'>= 0' if allow_zero else '> 0'}, got "
-                         f"{value!r}")
-    return val
-
-
 def coerce_laws(spec: Any, what: str, law_field: str = "law") -> None:
     """Turn mappings given for the normal law and the friction law (model files: TOML tables)
     into :class:`NormalLaw` / :class:`FrictionLaw` on a frozen spec (in ``__post_init__``)."""
@@ -236,27 +225,6 @@ def axial_motion(ctx: Any, nA: int, pA: np.ndarray, abar: np.ndarray, nB: int,
     return float(d @ a), float((vb - va) @ a + d @ np.cross(wa, a))
 
 
-def two_markers(specs: list[Any], ctx: Any) -> tuple[np.ndarray, ...]:
-    """Marker offsets and frames, node pairs and local dofs of a group of two-marker
-    elements (both markers on different bodies; either may be on the ground)."""
-    nel = len(specs)
-    pA = np.zeros((nel, 3))
-    pB = np.zeros((nel, 3))
-    RmA = np.zeros((nel, 3, 3))
-    RmB = np.zeros((nel, 3, 3))
-    lnodes = np.zeros((nel, 2), np.int64)
-    for e, s in enumerate(specs):
-        what = f"{type(s).__name__} {s.name!r}"
-        nA, pA[e], RmA[e] = ctx.marker(s.marker_a, what)
-        nB, pB[e], RmB[e] = ctx.marker(s.marker_b, what)
-        if nA == nB:
-            where = "the ground" if nA == ctx.nn else "one body"
-            raise ModelError(f"{what}: both markers {s.marker_a!r} and {s.marker_b!r} are on "
-                             f"{where}; a contact must connect two different bodies")
-        lnodes[e] = (nA, nB)
-    return pA, pB, RmA, RmB, lnodes
-
-
 def make_commit(c0: int, n: int):
     """A ``commit(group, state)`` copying ``aux[:, c0:c0+n]`` into each element's state."""
     cols = np.arange(n)
@@ -280,23 +248,14 @@ def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tu
                   states: list[list[float]], outputs: tuple[tuple[str, str, str], ...],
                   lnodes: np.ndarray) -> Group:
     """The :class:`Group` of a force-type contact family: kernel parameters
-    ``(*geom, *law arrays, *friction arrays, na)``, the impact state block of each element
+    ``(*geom, law table, friction table, na)``, the impact state block of each element
     written by the kernel into hidden aux columns ``na .. na + NSTATE`` and committed from
     there; exported outputs ``outputs`` (columns 0..) plus :data:`STATE_OUTPUTS`."""
-    nel = len(specs)
-    dofs = np.zeros((nel, 12), np.int64)
-    eoff = np.zeros(nel, np.int64)
-    for e in range(nel):
-        dofs[e] = ctx.local_dofs(list(lnodes[e]), 0, 0)
-        eoff[e] = ctx.alloc_state(states[e])
+    eoff = np.array([ctx.alloc_state(st) for st in states], np.int64)
     na = len(outputs)
     cols = tuple(range(na)) + tuple(na + c for c in (ST_VS, ST_REBOUND, ST_COUNT, ST_FLAG))
-    allout = outputs + STATE_OUTPUTS
-    return Group(
-        family=family, names=[s.name for s in specs], kernel=kernel,
-        params=(*geom, *law_arrays(laws), *friction_arrays(frictions), na),
-        lnodes=lnodes, nmult=0, dofs=dofs, eoff=eoff, nstate=NSTATE,
-        aux_names=tuple(o[0] for o in allout), aux_units=tuple(o[1] for o in allout),
-        aux_desc=tuple(o[2] for o in allout), commit=make_commit(na, NSTATE),
-        naux=na + NSTATE, aux_cols=cols, dissipative=True,
+    return make_group(
+        family, specs, kernel, (*geom, law_table(laws), friction_table(frictions), na), lnodes,
+        node_dofs(ctx, lnodes), outputs + STATE_OUTPUTS, eoff=eoff, nstate=NSTATE,
+        commit=make_commit(na, NSTATE), naux=na + NSTATE, aux_cols=cols, dissipative=True,
     )

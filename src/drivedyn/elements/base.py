@@ -245,6 +245,19 @@ class ElementSpec:
         return None
 
 
+@dataclass(frozen=True)
+class TwoMarkerSpec(ElementSpec):
+    """Base of the elements between two markers: ``name``, ``marker_a``, ``marker_b`` first,
+    then the family's own fields."""
+
+    name: str
+    marker_a: str
+    marker_b: str
+
+    def markers(self) -> tuple[str, ...]:
+        return (self.marker_a, self.marker_b)
+
+
 class Family(abc.ABC):
     """Registry entry: builds a :class:`Group` from all specs of one family.
 

@@ -17,6 +17,7 @@ from numba import njit
 
 import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import Family, Group, local_arrays, register
+from drivedyn.elements.building import make_group, node_dofs
 
 
 @njit(cache=True, inline="always")
@@ -97,23 +98,17 @@ class RigidBodyFamily(Family):
     name = "rigid_body"
 
     def build(self, infos, ctx) -> Group:
-        idx = [i for i, inf in enumerate(infos) if inf.mass > 0]
-        mass = np.array([infos[i].mass for i in idx])
-        inertia = np.array([infos[i].inertia for i in idx]).reshape(-1, 3, 3)
-        lnodes = np.array(idx, dtype=np.int64).reshape(-1, 1)
-        dofs = np.array([ctx.local_dofs([i], 0, 0) for i in idx], dtype=np.int64).reshape(-1, 6)
-        return Group(
-            family=self.name,
-            names=[infos[i].name for i in idx],
-            kernel=rigid_body_kernel,
-            params=(mass, inertia, np.asarray(ctx.gravity, float)),
-            lnodes=lnodes,
-            nmult=0,
-            dofs=dofs,
-            eoff=np.zeros(len(idx), np.int64),
-            aux_names=("angular_momentum_x", "angular_momentum_y", "angular_momentum_z"),
-            aux_units=("kg m^2/s",) * 3,
-            aux_desc=("angular momentum about the centre of mass, global frame",) * 3,
+        bodies = [inf for inf in infos if inf.mass > 0]
+        lnodes = np.array([i for i, inf in enumerate(infos) if inf.mass > 0],
+                          np.int64).reshape(-1, 1)
+        return make_group(
+            self.name, bodies, rigid_body_kernel,
+            (np.array([b.mass for b in bodies]),
+             np.array([b.inertia for b in bodies]).reshape(-1, 3, 3),
+             np.asarray(ctx.gravity, float)),
+            lnodes, node_dofs(ctx, lnodes),
+            tuple((f"angular_momentum_{c}", "kg m^2/s",
+                   "angular momentum about the centre of mass, global frame") for c in "xyz"),
         )
 
 

@@ -80,12 +80,12 @@ from drivedyn.elements._contact_common import (
     friction_ratio,
     has_friction,
     omega_projection,
-    positive,
     transpose_times,
-    two_markers,
     washer_friction_radius,
 )
-from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
+from drivedyn.elements.building import two_markers, what_of
+from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.primitives import prim_axial
@@ -182,7 +182,7 @@ def _plane_contacts(P, C, W, full):
 
 @njit(cache=True)
 def plane_contact_kernel(
-    pA, pB, RmA, radius, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na,
+    pA, pB, RmA, radius, law, fric, na,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
@@ -190,8 +190,7 @@ def plane_contact_kernel(
          sc.grad_hess(12), np.zeros(12), np.zeros(12), np.zeros(12), np.zeros(12),
          (np.zeros(12), np.zeros(12)), (np.zeros(12), np.zeros(12)), sc.workspace(),
          np.empty((3, 3)))
-    sc.run(_plane_contacts, ((pA, pB, RmA, radius), (lK, ln, lchi, lc, lvmin),
-                             (fkind, fmu, fmus, fvst, feps), na),
+    sc.run(_plane_contacts, ((pA, pB, RmA, radius), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
 
@@ -242,14 +241,13 @@ def _washer_contacts(P, C, W, full):
 
 @njit(cache=True)
 def washer_contact_kernel(
-    pA, pB, RmA, rm, area, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na,
+    pA, pB, RmA, rm, area, law, fric, na,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
          np.zeros(12), (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
-    sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), (lK, ln, lchi, lc, lvmin),
-                              (fkind, fmu, fmus, fvst, feps), na),
+    sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
 
@@ -324,15 +322,14 @@ def _journal_contacts(P, C, W, full):
 
 @njit(cache=True)
 def journal_contact_kernel(
-    pA, pB, RmA, clear, rpin, lK, ln, lchi, lc, lvmin, fkind, fmu, fmus, fvst, feps, na,
+    pA, pB, RmA, clear, rpin, law, fric, na,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
          sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12), np.zeros(12),
          (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
-    sc.run(_journal_contacts, ((pA, pB, RmA, clear, rpin), (lK, ln, lchi, lc, lvmin),
-                               (fkind, fmu, fmus, fvst, feps), na),
+    sc.run(_journal_contacts, ((pA, pB, RmA, clear, rpin), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
 
@@ -341,7 +338,7 @@ def journal_contact_kernel(
 
 
 @dataclass(frozen=True)
-class PlaneContact(ElementSpec):
+class PlaneContact(TwoMarkerSpec):
     """Point or sphere (origin of ``marker_b``) against the plane of ``marker_a``.
 
     Attributes:
@@ -354,9 +351,6 @@ class PlaneContact(ElementSpec):
         radius: sphere radius [m] >= 0 (0: a point).
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     law: NormalLaw = field(default_factory=lambda: NormalLaw(1e8))
     friction: FrictionLaw | None = None
     radius: float = 0.0
@@ -364,19 +358,16 @@ class PlaneContact(ElementSpec):
     units: ClassVar[dict[str, str]] = {"radius": "m"}
 
     def __post_init__(self) -> None:
-        coerce_laws(self, f"PlaneContact {self.name!r}")
-
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
+        coerce_laws(self, what_of(self))
 
     def validate(self) -> None:
-        what = f"PlaneContact {self.name!r}"
-        positive(what, "radius", self.radius, allow_zero=True)
+        what = what_of(self)
+        check_number(what, "radius", self.radius, 0.0)
         check_laws(self, what)
 
 
 @dataclass(frozen=True)
-class ThrustWasherContact(ElementSpec):
+class ThrustWasherContact(TwoMarkerSpec):
     """Annular face (``marker_b``, e.g. a gear face) on a thrust washer (``marker_a``).
 
     Attributes:
@@ -388,9 +379,6 @@ class ThrustWasherContact(ElementSpec):
         friction: :class:`FrictionLaw` of this face (each face its own), or None.
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     law: NormalLaw = field(default_factory=lambda: NormalLaw(1e9, 1.0))
     r_int: float = 0.0
     r_ext: float = 0.0
@@ -399,15 +387,12 @@ class ThrustWasherContact(ElementSpec):
     units: ClassVar[dict[str, str]] = {"r_int": "m", "r_ext": "m"}
 
     def __post_init__(self) -> None:
-        coerce_laws(self, f"ThrustWasherContact {self.name!r}")
-
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
+        coerce_laws(self, what_of(self))
 
     def validate(self) -> None:
-        what = f"ThrustWasherContact {self.name!r}"
-        ri = positive(what, "r_int", self.r_int, allow_zero=True)
-        re = positive(what, "r_ext", self.r_ext)
+        what = what_of(self)
+        ri = check_number(what, "r_int", self.r_int, 0.0)
+        re = check_number(what, "r_ext", self.r_ext, 0.0, strict=True)
         if ri >= re:
             raise ModelError(f"{what}: r_int = {self.r_int!r} must be < r_ext = {self.r_ext!r}")
         check_laws(self, what)
@@ -424,7 +409,7 @@ class ThrustWasherContact(ElementSpec):
 
 
 @dataclass(frozen=True)
-class JournalContact(ElementSpec):
+class JournalContact(TwoMarkerSpec):
     """Pin (``marker_b``, its origin the pin centre) in a bore (``marker_a``, z = bore axis).
 
     Attributes:
@@ -437,9 +422,6 @@ class JournalContact(ElementSpec):
         friction: :class:`FrictionLaw` or None.
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     law: NormalLaw = field(default_factory=lambda: NormalLaw(1e9, 1.0))
     bore_radius: float = 0.0
     pin_radius: float = 0.0
@@ -448,15 +430,12 @@ class JournalContact(ElementSpec):
     units: ClassVar[dict[str, str]] = {"bore_radius": "m", "pin_radius": "m"}
 
     def __post_init__(self) -> None:
-        coerce_laws(self, f"JournalContact {self.name!r}")
-
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
+        coerce_laws(self, what_of(self))
 
     def validate(self) -> None:
-        what = f"JournalContact {self.name!r}"
-        rb = positive(what, "bore_radius", self.bore_radius)
-        rp = positive(what, "pin_radius", self.pin_radius)
+        what = what_of(self)
+        rb = check_number(what, "bore_radius", self.bore_radius, 0.0, strict=True)
+        rp = check_number(what, "pin_radius", self.pin_radius, 0.0, strict=True)
         if rp >= rb:
             raise ModelError(f"{what}: pin_radius = {self.pin_radius!r} must be < bore_radius "
                              f"= {self.bore_radius!r} (a clearance is needed)")
@@ -472,7 +451,7 @@ class PlaneContactFamily(Family):
     name = "plane_contact"
 
     def build(self, specs, ctx) -> Group:
-        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx, "a contact")
         states = []
         for e, s in enumerate(specs):
             phi, rate = axial_motion(ctx, lnodes[e, 0], pA[e], RmA[e][:, 2], lnodes[e, 1], pB[e])
@@ -499,7 +478,7 @@ class ThrustWasherContactFamily(Family):
     name = "thrust_washer_contact"
 
     def build(self, specs, ctx) -> Group:
-        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx, "a contact")
         states = []
         for e, s in enumerate(specs):
             phi, rate = axial_motion(ctx, lnodes[e, 0], pA[e], RmA[e][:, 2], lnodes[e, 1], pB[e])
@@ -529,7 +508,7 @@ class JournalContactFamily(Family):
     name = "journal_contact"
 
     def build(self, specs, ctx) -> Group:
-        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx, "a contact")
         states = []
         for e, s in enumerate(specs):
             nA, nB = lnodes[e]

@@ -31,6 +31,7 @@ from drivedyn.elements.base import (
     local_arrays,
     register,
 )
+from drivedyn.elements.building import make_group, what_of
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
 from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
 from drivedyn.errors import ModelError
@@ -216,7 +217,7 @@ class SpeedDifferenceDriverFamily(Family):
         dofs = np.zeros((nel, 25), np.int64)
         eoff = np.zeros(nel, np.int64)
         for e, s in enumerate(specs):
-            what = f"SpeedDifferenceDriver {s.name!r}"
+            what = what_of(s)
             ths = []
             for jj, jn in enumerate((s.joint_1, s.joint_2)):
                 j = _driven_joint(ctx, jn, what)
@@ -232,22 +233,15 @@ class SpeedDifferenceDriverFamily(Family):
             tfid[e] = ctx.time_function(s.function)
             m0 = ctx.alloc_mult(1, f"speed_difference_driver {s.name}", [kk[e]])
             dofs[e] = ctx.local_dofs(list(lnodes[e]), m0, 1)
-        return Group(
-            family=self.name,
-            names=[s.name for s in specs],
-            kernel=speed_difference_kernel,
-            params=(Rm[0], Rm[1], Rm[2], Rm[3], kk, pp, c0, tfid),
-            lnodes=lnodes,
-            nmult=1,
-            dofs=dofs,
-            eoff=eoff,
-            nstate=2,
-            aux_names=("torque", "angle_1", "angle_2", "power"),
-            aux_units=("N m", "rad", "rad", "W"),
-            aux_desc=("torque applied on body B of joint 1 about its axis (minus that on joint 2)",
-                      "accumulated angle of joint 1", "accumulated angle of joint 2",
-                      "power supplied by the driver"),
-            commit=_commit_two_angles,
+        return make_group(
+            self.name, specs, speed_difference_kernel,
+            (Rm[0], Rm[1], Rm[2], Rm[3], kk, pp, c0, tfid), lnodes, dofs,
+            (("torque", "N m", "torque applied on body B of joint 1 about its axis (minus that "
+              "on joint 2)"),
+             ("angle_1", "rad", "accumulated angle of joint 1"),
+             ("angle_2", "rad", "accumulated angle of joint 2"),
+             ("power", "W", "power supplied by the driver")),
+            nmult=1, eoff=eoff, nstate=2, commit=_commit_two_angles,
         )
 
 

@@ -28,13 +28,13 @@ its derivative, from which the Jacobian ``|F_n| (phi I + phi'(v) s s^T / v)`` fo
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 from numba import njit
 
+from drivedyn.elements.checks import check_number
 from drivedyn.errors import ModelError
 
 FRICTION_LAWS = ("coulomb", "tanh")
@@ -71,12 +71,7 @@ class FrictionLaw:
         if self.mu_static is not None:
             vals["mu_static"] = self.mu_static
         for label, val in vals.items():
-            try:
-                x = float(val)
-            except (TypeError, ValueError):
-                raise ModelError(f"{w}.{label}: expected a number, got {val!r}") from None
-            if not math.isfinite(x) or x < 0.0:
-                raise ModelError(f"{w}.{label}: must be finite and >= 0, got {val!r}")
+            check_number(w, label, val, 0.0)
         if self.eps_v <= 0.0:
             raise ModelError(f"{w}.eps_v: must be > 0 m/s, got {self.eps_v!r}")
         if self.stribeck_speed <= 0.0:
@@ -106,12 +101,11 @@ class FrictionLaw:
 NO_FRICTION = FrictionLaw(0.0)
 
 
-def friction_arrays(laws: list[FrictionLaw | None]) -> tuple[np.ndarray, ...]:
-    """Per-element arrays (kind, mu, mu_static, stribeck_speed, eps_v) of a group; elements
-    without friction get mu = 0."""
+def friction_table(laws: list[FrictionLaw | None]) -> np.ndarray:
+    """Per-element parameters (nel, 5) of a group: rows (kind, mu, mu_static,
+    stribeck_speed, eps_v); elements without friction get mu = 0."""
     rows = [(law or NO_FRICTION).params() for law in laws]
-    p = np.array(rows, dtype=float).reshape(-1, 5)
-    return (p[:, 0].astype(np.int64), *(np.ascontiguousarray(p[:, i]) for i in range(1, 5)))
+    return np.array(rows, dtype=float).reshape(-1, 5)
 
 
 @njit(cache=True, inline="always")

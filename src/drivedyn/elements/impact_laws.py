@@ -63,6 +63,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
+from drivedyn.elements.checks import check_number
 from drivedyn.errors import ModelError
 
 LAW_NAMES = ("penalty", "hunt-crossley", "lankarani-nikravesh", "flores", "gonthier",
@@ -158,16 +159,6 @@ def achieved_restitution(law: str, e: float) -> float:
     return restitution_from_chi(damping_factor(law, e))
 
 
-def _number(what: str, label: str, value: object) -> float:
-    try:
-        val = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ModelError(f"{what}.{label}: expected a number, got {value!r}") from None
-    if not math.isfinite(val):
-        raise ModelError(f"{what}.{label}: must be finite, got {value!r}")
-    return val
-
-
 @dataclass(frozen=True)
 class NormalLaw:
     """Normal force law of a contact (see the module docstring).
@@ -196,21 +187,21 @@ class NormalLaw:
         w = f"{what}.law"
         if self.law not in LAW_NAMES:
             raise ModelError(f"{w}: unknown law {self.law!r} (known: {', '.join(LAW_NAMES)})")
-        K = _number(w, "stiffness", self.stiffness)
+        K = check_number(w, "stiffness", self.stiffness)
         if K <= 0.0:
             raise ModelError(f"{w}.stiffness: must be > 0 N/m^n, got {self.stiffness!r}")
-        n = _number(w, "exponent", self.exponent)
+        n = check_number(w, "exponent", self.exponent)
         if n < 1.0:
             raise ModelError(f"{w}.exponent: must be >= 1, got {self.exponent!r}")
-        c = _number(w, "damping", self.damping)
+        c = check_number(w, "damping", self.damping)
         if c < 0.0:
             raise ModelError(f"{w}.damping: must be >= 0 N s/m, got {self.damping!r}")
-        vmin = _number(w, "min_impact_speed", self.min_impact_speed)
+        vmin = check_number(w, "min_impact_speed", self.min_impact_speed)
         if vmin <= 0.0:
             raise ModelError(f"{w}.min_impact_speed: must be > 0 m/s, got "
                              f"{self.min_impact_speed!r}")
         if self.law != "penalty":
-            e = _number(w, "restitution", self.restitution)
+            e = check_number(w, "restitution", self.restitution)
             if not 0.0 < e < 1.0:
                 raise ModelError(f"{w}.restitution: must be in (0, 1) for the {self.law} law, "
                                  f"got {self.restitution!r}")
@@ -231,10 +222,9 @@ class NormalLaw:
                 float(self.damping), float(self.min_impact_speed))
 
 
-def law_arrays(laws: list[NormalLaw]) -> tuple[np.ndarray, ...]:
-    """Per-element parameter arrays (K, n, chi, c, vmin) of a group."""
-    p = np.array([law.params() for law in laws], dtype=float).reshape(-1, 5)
-    return tuple(np.ascontiguousarray(p[:, i]) for i in range(5))
+def law_table(laws: list[NormalLaw]) -> np.ndarray:
+    """Per-element parameters (nel, 5) of a group: rows (K, n, chi, c, vmin)."""
+    return np.array([law.params() for law in laws], dtype=float).reshape(-1, 5)
 
 
 # --- compiled helpers ------------------------------------------------------------------------

@@ -41,12 +41,14 @@ import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import (
     MODE_ACC,
     MODE_DYN,
-    ElementSpec,
     Family,
     Group,
+    TwoMarkerSpec,
     local_arrays,
     register,
 )
+from drivedyn.elements.building import make_group, two_markers, what_of
+from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.elements.primitives import (
     cross,
     mv,
@@ -63,8 +65,16 @@ ROW_DOT = 1  # a_i . b_j
 ROW_SCREW = 2  # d . a3 - pitch/(2 pi) theta - c0
 ROW_DRIVE = 3  # theta - theta0 - f(t)   (or the integral of f for a speed driver)
 
-JOINT_AUX = ("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z",
-             "angle", "power")
+JOINT_OUTPUTS = (
+    ("force_x", "N", "reaction force on body B, global x"),
+    ("force_y", "N", "reaction force on body B, global y"),
+    ("force_z", "N", "reaction force on body B, global z"),
+    ("torque_x", "N m", "reaction torque on body B about marker B, global x"),
+    ("torque_y", "N m", "reaction torque on body B about marker B, global y"),
+    ("torque_z", "N m", "reaction torque on body B about marker B, global z"),
+    ("angle", "rad", "relative rotation of B about the joint axis (accumulated)"),
+    ("power", "W", "power supplied by the constraint (rheonomic rows)"),
+)
 
 
 @njit(cache=True, inline="always")
@@ -206,7 +216,7 @@ def commit_angles(group: Group, state) -> None:
 
 
 @dataclass(frozen=True)
-class Joint(ElementSpec):
+class Joint(TwoMarkerSpec):
     """Base of all joints: between ``marker_a`` and ``marker_b``.
 
     Attributes:
@@ -217,23 +227,15 @@ class Joint(ElementSpec):
         p: penalty factor [N/m or N m/rad]; None = equal to k.
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     k: float | None = None
     p: float | None = None
 
     rows: ClassVar[tuple[tuple[int, int, int], ...]] = ()
     has_angle: ClassVar[bool] = False
 
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
-
     def validate(self) -> None:
-        for label, val in (("k", self.k), ("p", self.p)):
-            if val is not None and not (np.isfinite(val) and val > 0):
-                raise ModelError(f"{type(self).__name__} {self.name!r}.{label}: must be > 0, "
-                                 f"got {val!r}")
+        check_optional(what_of(self), "k", self.k, 0.0, strict=True)
+        check_optional(what_of(self), "p", self.p, 0.0, strict=True)
 
 
 _A, _D, _S = ROW_AXIAL, ROW_DOT, ROW_SCREW
@@ -318,8 +320,7 @@ class Screw(Joint):
 
     def validate(self) -> None:
         super().validate()
-        if not np.isfinite(self.pitch):
-            raise ModelError(f"Screw {self.name!r}.pitch: must be finite, got {self.pitch!r}")
+        check_number(what_of(self), "pitch", self.pitch)
 
 
 def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
@@ -331,30 +332,20 @@ def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
     """
     nel = len(specs)
     nr = len(rows)
-    pA = np.zeros((nel, 3))
-    pB = np.zeros((nel, 3))
-    RmA = np.zeros((nel, 3, 3))
-    RmB = np.zeros((nel, 3, 3))
+    pA, pB, RmA, RmB, lnodes = two_markers(specs, ctx, "a joint")
     kk = np.zeros((nel, nr))
     pp = np.zeros((nel, nr))
     pitch = np.zeros(nel)
     c0 = np.zeros(nel)
-    lnodes = np.zeros((nel, 2), np.int64)
     dofs = np.zeros((nel, 12 + nr), np.int64)
     eoff = np.zeros(nel, np.int64)
     tfid = np.zeros(nel, np.int64)
     tfmode = np.zeros(nel, np.int64)
     tol = ctx.spec.settings.assembly_tolerance
     for e, s in enumerate(specs):
-        what = f"{type(s).__name__} {s.name!r}"
+        what = what_of(s)
         ma, mb = s.markers()[:2]
-        nA, pA[e], RmA[e] = ctx.marker(ma, what)
-        nB, pB[e], RmB[e] = ctx.marker(mb, what)
-        if nA == nB:
-            where = "the ground" if nA == ctx.nn else f"body {ctx.spec.markers[ma].body!r}"
-            raise ModelError(f"{what}: both markers {ma!r} and {mb!r} are on {where}; a joint "
-                             "must connect two different bodies")
-        lnodes[e] = (nA, nB)
+        nA, nB = lnodes[e]
         xA, RA, xB, RB = ctx.x0[nA], ctx.R0[nA], ctx.x0[nB], ctx.R0[nB]
         for i, (typ, a, b) in enumerate(rows):
             rot = typ == ROW_DOT or typ == ROW_DRIVE
@@ -381,27 +372,11 @@ def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
     rt = np.array([r[0] for r in rows], np.int64)
     ai = np.array([r[1] for r in rows], np.int64)
     bj = np.array([r[2] for r in rows], np.int64)
-    return Group(
-        family=family,
-        names=[s.name for s in specs],
-        kernel=constraint_kernel,
-        params=(rt, ai, bj, bool(has_angle), pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
-        lnodes=lnodes,
-        nmult=nr,
-        dofs=dofs,
-        eoff=eoff,
-        nstate=1 if has_angle else 0,
-        aux_names=JOINT_AUX,
-        aux_units=("N", "N", "N", "N m", "N m", "N m", "rad", "W"),
-        aux_desc=("reaction force on body B, global x", "reaction force on body B, global y",
-                  "reaction force on body B, global z",
-                  "reaction torque on body B about marker B, global x",
-                  "reaction torque on body B about marker B, global y",
-                  "reaction torque on body B about marker B, global z",
-                  "relative rotation of B about the joint axis (accumulated)",
-                  "power supplied by the constraint (rheonomic rows)"),
-        commit=commit_angles if has_angle else None,
-        naux=9,
+    return make_group(
+        family, specs, constraint_kernel,
+        (rt, ai, bj, bool(has_angle), pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
+        lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=1 if has_angle else 0,
+        commit=commit_angles if has_angle else None, naux=9,
     )
 
 

@@ -16,6 +16,7 @@ from numba import njit
 
 import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
 from drivedyn.errors import ModelError
 
@@ -120,7 +121,7 @@ class Force(ElementSpec):
         return (self.marker,)
 
     def validate(self) -> None:
-        what = f"{type(self).__name__} {self.name!r}"
+        what = what_of(self)
         if self.frame not in ("global", "marker"):
             raise ModelError(f"{what}.frame: expected 'global' or 'marker', got {self.frame!r}")
         vec = np.asarray(self.vector, dtype=float)
@@ -145,29 +146,21 @@ class _LoadFamily(Family):
         p = np.zeros((nel, 3))
         Rm = np.zeros((nel, 3, 3))
         lnodes = np.zeros((nel, 1), np.int64)
-        dofs = np.zeros((nel, 6), np.int64)
-        tfid = np.zeros(nel, np.int64)
-        follower = np.array([s.frame == "marker" for s in specs], dtype=np.bool_)
         for e, s in enumerate(specs):
-            what = f"{type(s).__name__} {s.name!r}"
-            n, p[e], Rm[e] = ctx.marker(s.marker, what)
-            if n == ctx.nn:
+            what = what_of(s)
+            lnodes[e, 0], p[e], Rm[e] = ctx.marker(s.marker, what)
+            if lnodes[e, 0] == ctx.nn:
                 raise ModelError(f"{what}: marker {s.marker!r} is on the ground; a load must act "
                                  "on a body or node")
-            lnodes[e, 0] = n
-            dofs[e] = ctx.local_dofs([n], 0, 0)
-            tfid[e] = ctx.time_function(s.function)
+        tfid = np.array([ctx.time_function(s.function) for s in specs], np.int64)
+        follower = np.array([s.frame == "marker" for s in specs], dtype=np.bool_)
         vec = np.array([np.asarray(s.vector, float) for s in specs]).reshape(nel, 3)
-        kind = "torque" if self.is_torque else "force"
-        unit = "N m" if self.is_torque else "N"
-        return Group(
-            family=self.name, names=[s.name for s in specs], kernel=load_kernel,
-            params=(self.is_torque, follower, p, Rm, vec, tfid),
-            lnodes=lnodes, nmult=0, dofs=dofs, eoff=np.zeros(nel, np.int64),
-            aux_names=(f"{kind}_x", f"{kind}_y", f"{kind}_z", "power"),
-            aux_units=(unit, unit, unit, "W"),
-            aux_desc=(f"applied {kind}, global x", f"applied {kind}, global y",
-                      f"applied {kind}, global z", "power supplied by the load"),
+        kind, unit = ("torque", "N m") if self.is_torque else ("force", "N")
+        return make_group(
+            self.name, specs, load_kernel, (self.is_torque, follower, p, Rm, vec, tfid), lnodes,
+            node_dofs(ctx, lnodes),
+            (*((f"{kind}_{c}", unit, f"applied {kind}, global {c}") for c in "xyz"),
+             ("power", "W", "power supplied by the load")),
         )
 
 

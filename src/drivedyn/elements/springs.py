@@ -20,10 +20,11 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
+from drivedyn.elements.building import make_group, node_dofs, two_markers, what_of
+from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.elements.joints import relative_angle
 from drivedyn.elements.primitives import prim_angle, prim_distance, unwrap
-from drivedyn.errors import ModelError
 
 
 @njit(cache=True, inline="always")
@@ -82,18 +83,8 @@ def _commit_angle(group: Group, state) -> None:
     state.es[group.eoff] = group.aux[:, 1]
 
 
-def _check(what: str, label: str, value: float, positive: bool = False) -> float:
-    try:
-        val = float(value)
-    except (TypeError, ValueError):
-        raise ModelError(f"{what}.{label}: expected a number, got {value!r}") from None
-    if not np.isfinite(val) or val < 0 or (positive and val == 0):
-        raise ModelError(f"{what}.{label}: must be {'> 0' if positive else '>= 0'}, got {value!r}")
-    return val
-
-
 @dataclass(frozen=True)
-class SpringDamper(ElementSpec):
+class SpringDamper(TwoMarkerSpec):
     """Linear spring-damper between the origins of two markers.
 
     Attributes:
@@ -105,9 +96,6 @@ class SpringDamper(ElementSpec):
         preload: F0 [N], tension at L = L0 (negative: compression).
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     stiffness: float = 0.0
     damping: float = 0.0
     free_length: float | None = None
@@ -120,19 +108,15 @@ class SpringDamper(ElementSpec):
         "preload": "N",
     }
 
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
-
     def validate(self) -> None:
-        what = f"SpringDamper {self.name!r}"
-        _check(what, "stiffness", self.stiffness)
-        _check(what, "damping", self.damping)
-        if self.free_length is not None:
-            _check(what, "free_length", self.free_length)
+        what = what_of(self)
+        check_number(what, "stiffness", self.stiffness, 0.0)
+        check_number(what, "damping", self.damping, 0.0)
+        check_optional(what, "free_length", self.free_length, 0.0)
 
 
 @dataclass(frozen=True)
-class TorsionalSpringDamper(ElementSpec):
+class TorsionalSpringDamper(TwoMarkerSpec):
     """Torsional spring-damper on the relative rotation about the z axis of marker A.
 
     Attributes:
@@ -145,9 +129,6 @@ class TorsionalSpringDamper(ElementSpec):
         preload: T0 [N m], torque at theta = theta0.
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     stiffness: float = 0.0
     damping: float = 0.0
     free_angle: float = 0.0
@@ -160,36 +141,22 @@ class TorsionalSpringDamper(ElementSpec):
         "preload": "N m",
     }
 
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
-
     def validate(self) -> None:
-        what = f"TorsionalSpringDamper {self.name!r}"
-        _check(what, "stiffness", self.stiffness)
-        _check(what, "damping", self.damping)
+        what = what_of(self)
+        check_number(what, "stiffness", self.stiffness, 0.0)
+        check_number(what, "damping", self.damping, 0.0)
 
 
 class _SpringFamily(Family):
     angular = False
 
     def build(self, specs, ctx) -> Group:
+        pA, pB, RmA, RmB, lnodes = two_markers(specs, ctx, "a spring-damper")
         nel = len(specs)
-        pA = np.zeros((nel, 3))
-        pB = np.zeros((nel, 3))
-        RmA = np.zeros((nel, 3, 3))
-        RmB = np.zeros((nel, 3, 3))
-        lnodes = np.zeros((nel, 2), np.int64)
-        dofs = np.zeros((nel, 12), np.int64)
         eoff = np.zeros(nel, np.int64)
         ref = np.zeros(nel)
         for e, s in enumerate(specs):
-            what = f"{type(s).__name__} {s.name!r}"
-            nA, pA[e], RmA[e] = ctx.marker(s.marker_a, what)
-            nB, pB[e], RmB[e] = ctx.marker(s.marker_b, what)
-            if nA == nB:
-                raise ModelError(f"{what}: both markers are on the same body")
-            lnodes[e] = (nA, nB)
-            dofs[e] = ctx.local_dofs([nA, nB], 0, 0)
+            nA, nB = lnodes[e]
             if self.angular:
                 th0 = relative_angle(ctx.R0[nA], ctx.R0[nB], RmA[e], RmB[e])
                 eoff[e] = ctx.alloc_state([th0])
@@ -205,20 +172,17 @@ class _SpringFamily(Family):
             np.array([s.preload for s in specs], float),
         )
         if self.angular:
-            names = ("torque", "angle", "angular_speed", "dissipated_power")
-            units = ("N m", "rad", "rad/s", "W")
-            desc = ("spring-damper torque resisting the relative rotation",
-                    "relative rotation angle (accumulated)", "relative angular speed",
-                    "power dissipated by the damper")
+            outputs = (("torque", "N m", "spring-damper torque resisting the relative rotation"),
+                       ("angle", "rad", "relative rotation angle (accumulated)"),
+                       ("angular_speed", "rad/s", "relative angular speed"))
         else:
-            names = ("force", "length", "length_rate", "dissipated_power")
-            units = ("N", "m", "m/s", "W")
-            desc = ("tension (positive pulls the markers together)", "distance of the markers",
-                    "rate of the distance", "power dissipated by the damper")
-        return Group(
-            family=self.name, names=[s.name for s in specs], kernel=scalar_spring_kernel,
-            params=params, lnodes=lnodes, nmult=0, dofs=dofs, eoff=eoff,
-            nstate=1 if self.angular else 0, aux_names=names, aux_units=units, aux_desc=desc,
+            outputs = (("force", "N", "tension (positive pulls the markers together)"),
+                       ("length", "m", "distance of the markers"),
+                       ("length_rate", "m/s", "rate of the distance"))
+        return make_group(
+            self.name, specs, scalar_spring_kernel, params, lnodes, node_dofs(ctx, lnodes),
+            (*outputs, ("dissipated_power", "W", "power dissipated by the damper")),
+            eoff=eoff, nstate=1 if self.angular else 0,
             commit=_commit_angle if self.angular else None, dissipative=True,
         )
 

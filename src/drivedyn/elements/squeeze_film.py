@@ -60,12 +60,12 @@ from drivedyn.elements._contact_common import (
     friction_coefficient,
     has_friction,
     omega_projection,
-    positive,
     transpose_times,
-    two_markers,
     washer_friction_radius,
 )
-from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
+from drivedyn.elements.building import two_markers, what_of
+from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError
@@ -168,21 +168,20 @@ def _squeeze_films(P, C, W, full):
 
 @njit(cache=True)
 def squeeze_film_kernel(
-    pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area, lK, ln, lchi, lc, lvmin, fkind,
-    fmu, fmus, fvst, feps, na,
+    pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area, law, fric, na,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
          np.zeros(12), (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
     sc.run(_squeeze_films, ((pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area),
-                            (lK, ln, lchi, lc, lvmin), (fkind, fmu, fmus, fvst, feps), na),
+                            law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)
-class SqueezeFilm(ElementSpec):
+class SqueezeFilm(TwoMarkerSpec):
     """Oil film between two annular faces, with metal contact below the roughness.
 
     Attributes:
@@ -198,9 +197,6 @@ class SqueezeFilm(ElementSpec):
         cavitation: clip the film force at zero (no film tension on separation).
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     viscosity: float = 0.0
     r_int: float = 0.0
     r_ext: float = 0.0
@@ -219,10 +215,7 @@ class SqueezeFilm(ElementSpec):
     }
 
     def __post_init__(self) -> None:
-        coerce_laws(self, f"SqueezeFilm {self.name!r}", "contact")
-
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
+        coerce_laws(self, what_of(self), "contact")
 
     @property
     def law(self) -> NormalLaw:
@@ -234,15 +227,15 @@ class SqueezeFilm(ElementSpec):
         return float(self.min_film) if self.min_film is not None else 0.5 * self.roughness
 
     def validate(self) -> None:
-        what = f"SqueezeFilm {self.name!r}"
-        positive(what, "viscosity", self.viscosity)
-        ri = positive(what, "r_int", self.r_int, allow_zero=True)
-        re = positive(what, "r_ext", self.r_ext)
+        what = what_of(self)
+        check_number(what, "viscosity", self.viscosity, 0.0, strict=True)
+        ri = check_number(what, "r_int", self.r_int, 0.0)
+        re = check_number(what, "r_ext", self.r_ext, 0.0, strict=True)
         if ri >= re:
             raise ModelError(f"{what}: r_int = {self.r_int!r} must be < r_ext = {self.r_ext!r}")
-        positive(what, "roughness", self.roughness, allow_zero=True)
+        check_number(what, "roughness", self.roughness, 0.0)
         if self.min_film is not None:
-            positive(what, "min_film", self.min_film)
+            check_number(what, "min_film", self.min_film, 0.0, strict=True)
         elif self.roughness == 0.0:
             raise ModelError(f"{what}.min_film: needed (> 0) when roughness is 0 (the film "
                              "force is regularised below h_min)")
@@ -260,7 +253,7 @@ class SqueezeFilmFamily(Family):
     name = "squeeze_film"
 
     def build(self, specs, ctx) -> Group:
-        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx, "a contact")
         states = []
         for e, s in enumerate(specs):
             h, hd = axial_motion(ctx, lnodes[e, 0], pA[e], RmA[e][:, 2], lnodes[e, 1], pB[e])

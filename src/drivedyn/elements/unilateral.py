@@ -57,19 +57,20 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements._contact_common import axial_motion, make_commit, two_markers
+from drivedyn.elements._contact_common import axial_motion, make_commit
 from drivedyn.elements.base import (
     MODE_ACC,
     MODE_DYN,
     MODE_VEL,
-    ElementSpec,
     Family,
     Group,
+    TwoMarkerSpec,
     local_arrays,
     register,
 )
+from drivedyn.elements.building import make_group, two_markers, what_of
+from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.elements.primitives import prim_axial, quad_form
-from drivedyn.errors import ModelError
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
 NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A
@@ -337,7 +338,7 @@ def unilateral_kernel(
 
 
 @dataclass(frozen=True)
-class UnilateralContact(ElementSpec):
+class UnilateralContact(TwoMarkerSpec):
     """Point (origin of ``marker_b``) on the plane of ``marker_a`` (normal = its z axis) as an
     augmented-Lagrangian unilateral constraint with Coulomb stick/slip friction.
 
@@ -350,30 +351,17 @@ class UnilateralContact(ElementSpec):
         p: penalty (regularisation) parameter [N/m] >= 0; None = k.
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     mu: float = 0.0
     k: float | None = None
     p: float | None = None
     family: ClassVar[str] = "unilateral_contact"
     units: ClassVar[dict[str, str]] = {"k": "N/m", "p": "N/m"}
 
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
-
     def validate(self) -> None:
-        what = f"UnilateralContact {self.name!r}"
-        try:
-            mu = float(self.mu)
-        except (TypeError, ValueError):
-            raise ModelError(f"{what}.mu: expected a number, got {self.mu!r}") from None
-        if not math.isfinite(mu) or mu < 0.0:
-            raise ModelError(f"{what}.mu: must be >= 0, got {self.mu!r}")
-        if self.k is not None and not (math.isfinite(self.k) and self.k > 0):
-            raise ModelError(f"{what}.k: must be > 0, got {self.k!r}")
-        if self.p is not None and not (math.isfinite(self.p) and self.p >= 0):
-            raise ModelError(f"{what}.p: must be >= 0, got {self.p!r}")
+        what = what_of(self)
+        check_number(what, "mu", self.mu, 0.0)
+        check_optional(what, "k", self.k, 0.0, strict=True)
+        check_optional(what, "p", self.p, 0.0)
 
 
 class UnilateralContactFamily(Family):
@@ -382,7 +370,7 @@ class UnilateralContactFamily(Family):
     name = "unilateral_contact"
 
     def build(self, specs, ctx) -> Group:
-        pA, pB, RmA, _, lnodes = two_markers(specs, ctx)
+        pA, pB, RmA, _, lnodes = two_markers(specs, ctx, "a contact")
         nel = len(specs)
         kk = np.zeros(nel)
         pp = np.zeros(nel)
@@ -400,21 +388,20 @@ class UnilateralContactFamily(Family):
             eoff[e] = ctx.alloc_state([float(active), float(sliding), a1, a2])
             m0 = ctx.alloc_mult(3, f"unilateral_contact {s.name}", [kk[e]] * 3)
             dofs[e] = ctx.local_dofs([nA, nB], m0, 3)
-        names = ("normal_force", "gap", "gap_rate", "sliding_speed", "friction_force", "stick",
-                 "active", "dissipated_power")
-        units = ("N", "m", "m/s", "m/s", "N", "1", "1", "W")
-        desc = ("normal contact force N = -sigma_n (>= 0)", "gap of the point above the plane",
-                "rate of the gap", "tangential speed of the point relative to the plane",
-                "friction force magnitude", "1 while sticking", "1 while in contact",
-                "friction power (slip)")
-        g = Group(
-            family=self.name, names=[s.name for s in specs], kernel=unilateral_kernel,
-            params=(pA, pB, RmA, np.array([float(s.mu) for s in specs]), kk, pp,
-                    pp * H_ACC**2),
-            lnodes=lnodes, nmult=3, dofs=dofs, eoff=eoff, nstate=NSTATE_AL,
-            aux_names=names, aux_units=units, aux_desc=desc,
-            commit=make_commit(NAUX_AL, NSTATE_AL), naux=NAUX_AL + NSTATE_AL,
-            dissipative=True,
+        g = make_group(
+            self.name, specs, unilateral_kernel,
+            (pA, pB, RmA, np.array([float(s.mu) for s in specs]), kk, pp, pp * H_ACC**2),
+            lnodes, dofs,
+            (("normal_force", "N", "normal contact force N = -sigma_n (>= 0)"),
+             ("gap", "m", "gap of the point above the plane"),
+             ("gap_rate", "m/s", "rate of the gap"),
+             ("sliding_speed", "m/s", "tangential speed of the point relative to the plane"),
+             ("friction_force", "N", "friction force magnitude"),
+             ("stick", "1", "1 while sticking"),
+             ("active", "1", "1 while in contact"),
+             ("dissipated_power", "W", "friction power (slip)")),
+            nmult=3, eoff=eoff, nstate=NSTATE_AL, commit=make_commit(NAUX_AL, NSTATE_AL),
+            naux=NAUX_AL + NSTATE_AL, dissipative=True,
         )
         g.extra["coupled_multipliers"] = True
         g.extra["active_set"] = True

@@ -5,12 +5,15 @@ from __future__ import annotations
 import numpy as np
 
 from drivedyn.elements.base import Family, Group, register
+from drivedyn.elements.building import make_group, node_dofs, two_markers, what_of
 from drivedyn.elements.gears.kernel import COL_PHI_A, COL_PHI_B, GEAR_AUX, NAUX_PUBLIC, gear_kernel
 from drivedyn.elements.gears.kinematics import KIND_PARALLEL, NS
 from drivedyn.elements.gears.mesh import BUILDERS
 from drivedyn.elements.gears.spec import GearPair
 from drivedyn.elements.gears.stiffness import mesh_cycle_levels
 from drivedyn.errors import ModelError
+
+_CLASH = "{what}: both markers {a!r} and {b!r} are on the same body; a gear pair needs two wheels"
 
 
 def _axis_inertia(ctx, marker: str, what: str, needed: bool) -> float:
@@ -42,10 +45,7 @@ class GearPairFamily(Family):
     def build(self, specs, ctx) -> Group:
         nel = len(specs)
         kind = np.zeros(nel, np.int64)
-        pA = np.zeros((nel, 3))
-        pB = np.zeros((nel, 3))
-        RmA = np.zeros((nel, 3, 3))
-        RmB = np.zeros((nel, 3, 3))
+        pA, pB, RmA, RmB, lnodes = two_markers(specs, ctx, clash=_CLASH)
         cof = np.zeros((nel, NS))
         crf = np.zeros((nel, 3))
         inv = np.zeros((nel, 3))
@@ -58,19 +58,11 @@ class GearPairFamily(Family):
         fric = np.zeros((nel, 2))
         Wf = np.zeros((nel, 2, NS))
         Mf = np.zeros((nel, 3, 3))
-        lnodes = np.zeros((nel, 2), np.int64)
-        dofs = np.zeros((nel, 12), np.int64)
         eoff = np.zeros(nel, np.int64)
         info = []
         for e, s in enumerate(specs):
-            what = f"GearPair {s.name!r}"
-            nA, pA[e], RmA[e] = ctx.marker(s.marker_a, what)
-            nB, pB[e], RmB[e] = ctx.marker(s.marker_b, what)
-            if nA == nB:
-                raise ModelError(f"{what}: both markers {s.marker_a!r} and {s.marker_b!r} are on "
-                                 "the same body; a gear pair needs two wheels")
-            lnodes[e] = (nA, nB)
-            dofs[e] = ctx.local_dofs([nA, nB], 0, 0)
+            what = what_of(s)
+            nA, nB = lnodes[e]
             xA = ctx.x0[nA] + ctx.R0[nA] @ pA[e]
             xB = ctx.x0[nB] + ctx.R0[nB] @ pB[e]
             RA = ctx.R0[nA] @ RmA[e]
@@ -115,12 +107,10 @@ class GearPairFamily(Family):
         params = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf,
                   Mf, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64),
                   np.flatnonzero(kind != KIND_PARALLEL).astype(np.int64))
-        return Group(
-            family=self.name, names=[s.name for s in specs], kernel=gear_kernel, params=params,
-            lnodes=lnodes, nmult=0, dofs=dofs, eoff=eoff, nstate=2,
-            aux_names=tuple(n for n, _, _ in GEAR_AUX), aux_units=tuple(u for _, u, _ in GEAR_AUX),
-            aux_desc=tuple(d for _, _, d in GEAR_AUX), commit=_commit_angles,
-            extra={"mesh": info}, naux=NAUX_PUBLIC + 2, dissipative=True,
+        return make_group(
+            self.name, specs, gear_kernel, params, lnodes, node_dofs(ctx, lnodes), GEAR_AUX,
+            eoff=eoff, nstate=2, commit=_commit_angles, extra={"mesh": info},
+            naux=NAUX_PUBLIC + 2, dissipative=True,
         )
 
 

@@ -7,14 +7,16 @@ from typing import ClassVar
 
 import numpy as np
 
-from drivedyn.elements.base import ElementSpec
+from drivedyn.elements.base import TwoMarkerSpec
+from drivedyn.elements.building import what_of
+from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.errors import ModelError
 
 KINDS = ("parallel", "bevel", "crossed")
 
 
 @dataclass(frozen=True)
-class GearPair(ElementSpec):
+class GearPair(TwoMarkerSpec):
     """A gear mesh between wheel A (``marker_a``) and wheel B (``marker_b``).
 
     Each marker sits at its wheel's centre with its z axis along the wheel axis: for spur,
@@ -71,9 +73,6 @@ class GearPair(ElementSpec):
             angles are checked to the same value in rad.
     """
 
-    name: str
-    marker_a: str
-    marker_b: str
     teeth_a: int
     teeth_b: int
     module: float
@@ -107,9 +106,6 @@ class GearPair(ElementSpec):
     tolerance: float = 1e-3
     family: ClassVar[str] = "gear_pair"
 
-    def markers(self) -> tuple[str, ...]:
-        return (self.marker_a, self.marker_b)
-
     def _fail(self, label: str, msg: str, value) -> None:
         raise ModelError(f"GearPair {self.name!r}.{label}: {msg}, got {value!r}")
 
@@ -118,27 +114,16 @@ class GearPair(ElementSpec):
             val = getattr(self, label)
             if isinstance(val, bool) or int(val) != val or val <= 0:
                 self._fail(label, "must be a positive whole number of teeth", val)
-        fields = ("module", "face_width", "pressure_angle", "helix_angle", "profile_shift_a",
-                  "profile_shift_b", "addendum", "dedendum", "variation_smoothing",
-                  "mesh_phase", "backlash", "initial_gap", "transmission_error", "friction",
-                  "friction_velocity", "youngs_modulus", "rim_factor", "max_misalignment",
-                  "tolerance")
-        for label in fields:
-            val = getattr(self, label)
-            try:
-                ok = np.isfinite(float(val))
-            except (TypeError, ValueError):
-                ok = False
-            if not ok:
-                self._fail(label, "expected a finite number", val)
+        what = what_of(self)
         for label in ("module", "face_width", "friction_velocity", "youngs_modulus",
                       "rim_factor", "tolerance", "addendum", "dedendum"):
-            if getattr(self, label) <= 0:
-                self._fail(label, "must be > 0", getattr(self, label))
+            check_number(what, label, getattr(self, label), 0.0, strict=True)
         for label in ("backlash", "initial_gap", "transmission_error", "friction",
                       "max_misalignment"):
-            if getattr(self, label) < 0:
-                self._fail(label, "must be >= 0", getattr(self, label))
+            check_number(what, label, getattr(self, label), 0.0)
+        for label in ("pressure_angle", "helix_angle", "profile_shift_a", "profile_shift_b",
+                      "variation_smoothing", "mesh_phase"):
+            check_number(what, label, getattr(self, label))
         if not 0.0 < self.pressure_angle < np.radians(45.0):
             self._fail("pressure_angle", "must be in (0, 45 deg) [rad]", self.pressure_angle)
         for label in ("helix_angle", "helix_angle_b"):
@@ -161,19 +146,13 @@ class GearPair(ElementSpec):
         if self.initial_gap > self.backlash:
             self._fail("initial_gap", f"must not exceed the backlash {self.backlash!r}",
                        self.initial_gap)
-        if self.stiffness is not None and not (np.isfinite(self.stiffness)
-                                               and self.stiffness > 0):
-            self._fail("stiffness", "must be > 0 [N/m]", self.stiffness)
+        check_optional(what, "stiffness", self.stiffness, 0.0, strict=True)
         if self.damping is not None and self.damping_ratio is not None:
             self._fail("damping_ratio", "give either damping or damping_ratio",
                        self.damping_ratio)
-        for label in ("damping", "damping_ratio"):
-            val = getattr(self, label)
-            if val is not None and not (np.isfinite(val) and val >= 0):
-                self._fail(label, "must be >= 0", val)
-        if self.contact_ratio is not None and not (np.isfinite(self.contact_ratio)
-                                                   and self.contact_ratio >= 1.0):
-            self._fail("contact_ratio", "must be >= 1", self.contact_ratio)
+        check_optional(what, "damping", self.damping, 0.0)
+        check_optional(what, "damping_ratio", self.damping_ratio, 0.0)
+        check_optional(what, "contact_ratio", self.contact_ratio, 1.0)
         if not 0.0 < self.variation_smoothing <= 0.5:
             self._fail("variation_smoothing", "must be in (0, 0.5] (fraction of a mesh cycle)",
                        self.variation_smoothing)
