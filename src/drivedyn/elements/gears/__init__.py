@@ -102,6 +102,7 @@ from drivedyn.elements.gears.geometry import (
     inverse_involute,
     involute,
     transverse_pressure_angle,
+    undercut_limits,
 )
 from drivedyn.elements.gears.kernel import GEAR_AUX, gear_kernel
 from drivedyn.elements.gears.spec import KINDS, GearPair
@@ -131,4 +132,5 @@ __all__ = [
     "mesh_cycle_levels",
     "mesh_info",
     "transverse_pressure_angle",
+    "undercut_limits",
 ]

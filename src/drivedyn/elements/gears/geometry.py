@@ -54,6 +54,29 @@ def transverse_pressure_angle(alpha_n: float, beta: float) -> float:
     return float(np.arctan(np.tan(alpha_n) / np.cos(beta)))
 
 
+def undercut_limits(teeth: float, alpha_n: float, beta: float = 0.0,
+                    addendum: float = 1.0) -> tuple[float, float, float]:
+    """Undercut limits of an external cylindrical gear cut by a rack (ISO 21771, DIN 3960).
+
+    Args:
+        teeth: number of teeth z (a bevel gear: its virtual number z / cos(delta)).
+        alpha_n: normal pressure angle [rad].
+        beta: helix angle [rad].
+        addendum: rack addendum over the module, h_aP / m_n (the tool's dedendum).
+
+    Returns:
+        ``(z_g, x_theoretical, x_practical)``: the limit number of teeth without undercut at
+        zero profile shift, ``z_g = 2 h_a cos(beta) / sin^2(alpha_t)``; the smallest profile
+        shift coefficient without undercut, ``h_a (1 - z / z_g)``; and the smallest with the
+        slight undercut accepted in practice (DIN 3960, Niemann: limit number of teeth
+        ``z'_g = 5/6 z_g``, 14 for a 20 deg spur gear), ``h_a (5/6 - z / z_g)``.
+    """
+    alpha_t = transverse_pressure_angle(alpha_n, beta)
+    z_g = 2.0 * addendum * np.cos(beta) / np.sin(alpha_t) ** 2
+    return float(z_g), float(addendum * (1.0 - teeth / z_g)), \
+        float(addendum * (5.0 / 6.0 - teeth / z_g))
+
+
 def base_helix_angle(alpha_n: float, beta: float) -> float:
     """``beta_b = asin(sin beta cos alpha_n)`` [rad] (signed like ``beta``)."""
     return float(np.arcsin(np.sin(beta) * np.cos(alpha_n)))

@@ -10,6 +10,7 @@ import numpy as np
 from drivedyn.elements.base import TwoMarkerSpec
 from drivedyn.elements.building import what_of
 from drivedyn.elements.checks import check_number, check_optional
+from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.errors import ModelError
 
 KINDS = ("parallel", "bevel", "crossed")
@@ -105,6 +106,13 @@ class GearPair(TwoMarkerSpec):
     max_misalignment: float = float(np.radians(1.0))
     tolerance: float = 1e-3
     family: ClassVar[str] = "gear_pair"
+    units: ClassVar[dict[str, str]] = {
+        "module": "m", "face_width": "m", "pressure_angle": "rad", "helix_angle": "rad",
+        "helix_angle_b": "rad", "cone_angle_a": "rad", "cone_angle_b": "rad",
+        "stiffness": "N/m", "damping": "N s/m", "backlash": "m", "initial_gap": "m",
+        "transmission_error": "m", "friction_velocity": "m/s", "youngs_modulus": "Pa",
+        "max_misalignment": "rad",
+    }
 
     def _fail(self, label: str, msg: str, value) -> None:
         raise ModelError(f"GearPair {self.name!r}.{label}: {msg}, got {value!r}")
@@ -169,3 +177,32 @@ class GearPair(TwoMarkerSpec):
             if self.stiffness is None:
                 self._fail("stiffness", "crossed-axis (and worm) pairs need an explicit mesh "
                            "stiffness (ISO 6336 does not cover them)", None)
+        self._check_undercut()
+
+    def _check_undercut(self) -> None:
+        """Refuse wheels that undercut beyond the practical limit (DIN 3960: slight undercut
+        accepted, limit number of teeth 5/6 of the theoretical one): an undercut flank has
+        no involute near the root, so the element's involute contact would be fiction. The
+        ring of an internal pair and crossed-axis wheels are not checked."""
+        if self.kind == "crossed":
+            return
+        for w, beta in (("a", self.helix_angle),
+                        ("b", self.helix_angle if self.helix_angle_b is None
+                         else self.helix_angle_b)):
+            if self.internal == w:
+                continue
+            z = float(getattr(self, f"teeth_{w}"))
+            cone = getattr(self, f"cone_angle_{w}")
+            if self.kind == "bevel" and cone is not None and cone < 0.5 * np.pi - 1e-9:
+                z = z / np.cos(cone)  # Tredgold's virtual spur gear
+            elif self.kind == "bevel":
+                continue  # a crown wheel (90 deg cone) has no undercut
+            x = getattr(self, f"profile_shift_{w}")
+            z_g, x_th, x_pr = undercut_limits(z, self.pressure_angle, beta, self.addendum)
+            if x < x_pr - 1e-12:
+                self._fail(f"teeth_{w}", f"the wheel undercuts: {z:g} teeth at "
+                           f"{np.degrees(self.pressure_angle):g} deg pressure angle and "
+                           f"{np.degrees(abs(beta)):g} deg helix need a profile shift "
+                           f"profile_shift_{w} >= {x_pr:.3f} (no undercut at all from "
+                           f"{x_th:.3f}; at zero shift from {5 * z_g / 6:.1f} teeth), got "
+                           f"{x:g}", getattr(self, f"teeth_{w}"))
