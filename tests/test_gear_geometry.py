@@ -127,3 +127,44 @@ def test_effective_sliding_arm_single_pair():
     mean |s| is p/4; long paths (eps_1, eps_2 > 1) stay finite."""
     assert effective_sliding_arm(0.5, 0.5, 1.0) == pytest.approx(0.25, rel=1e-14)
     assert np.isfinite(effective_sliding_arm(1.2, 1.1, 0.01))
+
+
+def test_undercut_limits_spur_and_helical() -> None:
+    """Spur 20 deg: the classical limit 2 / sin^2(20 deg) = 17.1 teeth, practical 14.25
+    (Roloff/Matek x_min = (14 - z) / 17); helical: the rack's addendum line must not pass
+    below the interference point, (h_a - x) m_n <= r sin^2(alpha_t), r = z m_n / (2 cos b)."""
+    from drivedyn.elements.gears import undercut_limits
+
+    a20 = np.radians(20.0)
+    z_g, _, _ = undercut_limits(8, a20)
+    assert z_g == pytest.approx(2 / np.sin(a20) ** 2, rel=1e-14)
+    assert z_g == pytest.approx(17.097, abs=1e-3)
+    for z in range(6, 15):
+        assert undercut_limits(z, a20)[2] == pytest.approx((14 - z) / 17, abs=0.02)
+    mn = 1.5e-3
+    for z, beta in ((10, np.radians(30.0)), (12, np.radians(15.0)), (25, np.radians(40.0))):
+        _, x_th, _ = undercut_limits(z, a20, beta)
+        alpha_t = np.arctan(np.tan(a20) / np.cos(beta))
+        r = z * mn / (2 * np.cos(beta))
+        assert (1.0 - x_th) * mn == pytest.approx(r * np.sin(alpha_t) ** 2, rel=1e-12)
+
+
+def test_gear_pair_refuses_undercut() -> None:
+    from drivedyn.elements import GearPair
+    from drivedyn.errors import ModelError
+
+    kw = dict(module=2e-3, face_width=0.02)
+    with pytest.raises(ModelError, match=r"teeth_a.*undercuts.*profile_shift_a >= 0\.36"):
+        GearPair("g", "a", "b", 8, 40, **kw).validate()
+    GearPair("g", "a", "b", 8, 40, profile_shift_a=0.37, profile_shift_b=-0.37, **kw).validate()
+    GearPair("g", "a", "b", 15, 40, **kw).validate()          # slight undercut accepted
+    # the Type C planets (z 10, 30 deg helix) are within the practical limit
+    GearPair("g", "a", "b", 50, 10, helix_angle=np.radians(30), **kw).validate()
+    # the ring of an internal pair is not a rack-cut external wheel: only the pinion counts
+    GearPair("g", "a", "b", 10, 70, internal="b", helix_angle=np.radians(30), **kw).validate()
+    with pytest.raises(ModelError, match=r"teeth_b.*undercuts"):
+        GearPair("g", "a", "b", 40, 9, **kw).validate()
+    # bevel: Tredgold's virtual number z / cos(delta) (10 teeth on a 20 deg cone: 10.6)
+    with pytest.raises(ModelError, match=r"teeth_a.*undercuts"):
+        GearPair("g", "a", "b", 10, 27, kind="bevel", cone_angle_a=np.radians(20.3),
+                 cone_angle_b=np.radians(69.7), **kw).validate()

@@ -204,5 +204,5 @@ class GearPair(TwoMarkerSpec):
                            f"{np.degrees(self.pressure_angle):g} deg pressure angle and "
                            f"{np.degrees(abs(beta)):g} deg helix need a profile shift "
                            f"profile_shift_{w} >= {x_pr:.3f} (no undercut at all from "
-                           f"{x_th:.3f}; at zero shift from {5 * z_g / 6:.1f} teeth), got "
-                           f"{x:g}", getattr(self, f"teeth_{w}"))
+                           f"{x_th:.3f}; at zero shift from {5 * z_g / 6:.1f} teeth; "
+                           f"profile_shift_{w} is {x:g})", getattr(self, f"teeth_{w}"))
