@@ -16,20 +16,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import partial
 
-from drivedyn.elements.joints import (
-    Cylindrical,
-    Fixed,
-    Hinge,
-    Planar,
-    Prismatic,
-    Screw,
-    Spherical,
-    Universal,
-)
+from drivedyn.elements import REGISTRY
+from drivedyn.elements.joints import JointFamily
 from drivedyn.model.spec import Spec
 from element_cases import basic, contact, gears
 
-_JOINTS = (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, Screw)
+_JOINTS = [f.spec_type for f in REGISTRY.values() if isinstance(f, JointFamily)]
 
 TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "rigid_body": [basic.spinning_body],

@@ -235,6 +235,10 @@ def make_commit(c0: int, n: int):
     return commit
 
 
+GAP_RATE = ("gap_rate", "m/s", "rate of the gap")
+MU_R = ("friction_coefficient", "1", "regularised friction coefficient mu_R")
+CONTACT_POWER = ("dissipated_power", "W", "impact damping + friction power")
+
 STATE_OUTPUTS = (
     ("impact_speed", "m/s", "approach speed at first contact of the current or last contact"),
     ("rebound_speed", "m/s", "separation speed of the last finished contact"),
@@ -244,18 +248,19 @@ STATE_OUTPUTS = (
 
 
 def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tuple,
-                  laws: list[NormalLaw], frictions: list[FrictionLaw | None],
                   states: list[list[float]], outputs: tuple[tuple[str, str, str], ...],
                   lnodes: np.ndarray) -> Group:
     """The :class:`Group` of a force-type contact family: kernel parameters
-    ``(*geom, law table, friction table, na)``, the impact state block of each element
+    ``(*geom, law table, friction table, na)`` (the specs' ``law`` and ``friction``), the
+    impact state block of each element
     written by the kernel into hidden aux columns ``na .. na + NSTATE`` and committed from
     there; exported outputs ``outputs`` (columns 0..) plus :data:`STATE_OUTPUTS`."""
     eoff = np.array([ctx.alloc_state(st) for st in states], np.int64)
     na = len(outputs)
     cols = tuple(range(na)) + tuple(na + c for c in (ST_VS, ST_REBOUND, ST_COUNT, ST_FLAG))
     return make_group(
-        family, specs, kernel, (*geom, law_table(laws), friction_table(frictions), na), lnodes,
+        family, specs, kernel, (*geom, law_table([s.law for s in specs]),
+                                      friction_table([s.friction for s in specs]), na), lnodes,
         node_dofs(ctx, lnodes), outputs + STATE_OUTPUTS, eoff=eoff, nstate=NSTATE,
         commit=make_commit(na, NSTATE), naux=na + NSTATE, aux_cols=cols, dissipative=True,
     )

@@ -103,6 +103,18 @@ def scatter_element(
                       False, r, rabs, data)
 
 
+@njit(cache=True, inline="always")
+def tangent_columns(A, nrows, c0, Tn, node):
+    """``A[:nrows, c0:c0+3] <- A[:nrows, c0:c0+3] Tn[node]``: the columns of a node's rotation
+    dofs times its tangent operator (``MODE_DYN``)."""
+    for i in range(nrows):
+        a0 = A[i, c0]
+        a1 = A[i, c0 + 1]
+        a2 = A[i, c0 + 2]
+        for j in range(3):
+            A[i, c0 + j] = a0 * Tn[node, 0, j] + a1 * Tn[node, 1, j] + a2 * Tn[node, 2, j]
+
+
 @njit(cache=True)
 def _scatter_matrix(M, C, K, G, nnode, nm, lnodes, kmap, Tn, cM, cC, cK, mode, data):
     """Matrix part of :func:`scatter_local` (out of line so that residual-only evaluations
@@ -118,20 +130,8 @@ def _scatter_matrix(M, C, K, G, nnode, nm, lnodes, kmap, Tn, cM, cC, cK, mode, d
     if mode == MODE_DYN:
         # K T and G T on rotation columns
         for a in range(nnode):
-            node = lnodes[a]
-            c0 = 6 * a + 3
-            for i in range(nd):
-                k0 = K[i, c0]
-                k1 = K[i, c0 + 1]
-                k2 = K[i, c0 + 2]
-                for j in range(3):
-                    K[i, c0 + j] = k0 * Tn[node, 0, j] + k1 * Tn[node, 1, j] + k2 * Tn[node, 2, j]
-            for i in range(nm):
-                g0 = G[i, c0]
-                g1 = G[i, c0 + 1]
-                g2 = G[i, c0 + 2]
-                for j in range(3):
-                    G[i, c0 + j] = g0 * Tn[node, 0, j] + g1 * Tn[node, 1, j] + g2 * Tn[node, 2, j]
+            tangent_columns(K, nd, 6 * a + 3, Tn, lnodes[a])
+            tangent_columns(G, nm, 6 * a + 3, Tn, lnodes[a])
         for i in range(nd):
             for j in range(nd):
                 p = kmap[i * nloc + j]

@@ -68,6 +68,9 @@ from numba import njit
 
 import drivedyn.elements.scaffold as sc
 from drivedyn.elements._contact_common import (
+    CONTACT_POWER,
+    GAP_RATE,
+    MU_R,
     add_normal,
     add_velocity_force,
     axial_motion,
@@ -88,7 +91,7 @@ from drivedyn.elements.building import two_markers, what_of
 from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
-from drivedyn.elements.primitives import prim_axial
+from drivedyn.elements.primitives import add_scaled, prim_axial
 from drivedyn.errors import ModelError
 
 # --- point / sphere on plane ----------------------------------------------------------------
@@ -126,19 +129,9 @@ def _plane_contacts(P, C, W, full):
             if rho != 0.0:
                 # contact point below the centre: slip = centre slip -/+ rho (w_B - w_A).t2/t1
                 omega_projection(RA, RB, RmA[e, :, 1], Go, Do, full, M3)
-                for a in range(12):
-                    J1[a] -= rho * Go[a]
-                if full:
-                    for a in range(12):
-                        for b in range(12):
-                            dJ1[a, b] -= rho * Do[a, b]
+                add_scaled(-rho, Go, Do, J1, dJ1, full)
                 omega_projection(RA, RB, RmA[e, :, 0], Go, Do, full, M3)
-                for a in range(12):
-                    J2[a] += rho * Go[a]
-                if full:
-                    for a in range(12):
-                        for b in range(12):
-                            dJ2[a, b] += rho * Do[a, b]
+                add_scaled(rho, Go, Do, J2, dJ2, full)
             s1 = 0.0
             s2 = 0.0
             for a in range(12):
@@ -464,12 +457,11 @@ class PlaneContactFamily(Family):
             ("gap_rate", "m/s", "rate of the gap (< 0: approaching)"),
             ("sliding_speed", "m/s", "sliding speed of the contact point in the plane"),
             ("friction_force", "N", "friction force magnitude"),
-            ("friction_coefficient", "1", "regularised friction coefficient mu_R"),
-            ("dissipated_power", "W", "impact damping + friction power"),
+            MU_R,
+            CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, plane_contact_kernel,
-                             (pA, pB, RmA, radius), [s.law for s in specs],
-                             [s.friction for s in specs], states, outputs, lnodes)
+                             (pA, pB, RmA, radius), states, outputs, lnodes)
 
 
 class ThrustWasherContactFamily(Family):
@@ -489,17 +481,16 @@ class ThrustWasherContactFamily(Family):
             ("normal_force", "N", "axial contact force (>= 0)"),
             ("gap", "m", "axial gap between the faces along the washer normal; < 0: "
              "penetration"),
-            ("gap_rate", "m/s", "rate of the gap"),
+            GAP_RATE,
             ("pressure", "Pa", "mean contact pressure F/S"),
             ("relative_spin", "rad/s", "spin of B relative to A about the washer normal"),
             ("sliding_speed", "m/s", "sliding speed at the friction radius r_m"),
-            ("friction_coefficient", "1", "regularised friction coefficient mu_R"),
+            MU_R,
             ("friction_torque", "N m", "friction torque resisting the relative spin"),
-            ("dissipated_power", "W", "impact damping + friction power"),
+            CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, washer_contact_kernel,
-                             (pA, pB, RmA, rm, area), [s.law for s in specs],
-                             [s.friction for s in specs], states, outputs, lnodes)
+                             (pA, pB, RmA, rm, area), states, outputs, lnodes)
 
 
 class JournalContactFamily(Family):
@@ -524,16 +515,15 @@ class JournalContactFamily(Family):
             ("normal_force", "N", "radial contact force (>= 0)"),
             ("gap", "m", "radial clearance left (bore - pin radius - offset); < 0: "
              "penetration"),
-            ("gap_rate", "m/s", "rate of the gap"),
+            GAP_RATE,
             ("sliding_speed", "m/s", "circumferential sliding speed at the contact point"),
-            ("friction_coefficient", "1", "regularised friction coefficient mu_R"),
+            MU_R,
             ("friction_force", "N", "circumferential friction force at the contact point"),
             ("friction_torque", "N m", "friction torque on the pin about its axis (f r_pin)"),
-            ("dissipated_power", "W", "impact damping + friction power"),
+            CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, journal_contact_kernel,
-                             (pA, pB, RmA, clear, rpin), [s.law for s in specs],
-                             [s.friction for s in specs], states, outputs, lnodes)
+                             (pA, pB, RmA, clear, rpin), states, outputs, lnodes)
 
 
 register(PlaneContactFamily())

@@ -50,6 +50,7 @@ from drivedyn.elements.base import (
 from drivedyn.elements.building import make_group, two_markers, what_of
 from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.elements.primitives import (
+    add_scaled,
     cross,
     mv,
     prim_angle,
@@ -118,12 +119,7 @@ def _constraints(P, C, W, full):
                                  full, ws, wv)
                 c = pitch[e] / (2.0 * np.pi)
                 val -= c * th + c0[e]
-                for a in range(12):
-                    g[a] -= c * gth[a]
-                if full:
-                    for a in range(12):
-                        for b in range(12):
-                            H[a, b] -= c * Hth[a, b]
+                add_scaled(-c, gth, Hth, g, H, full)
             else:  # ROW_DRIVE
                 f = tfid[e]
                 if tfmode[e] == 0:

@@ -138,8 +138,12 @@ class Torque(Force):
     is_torque: ClassVar[bool] = True
 
 
-class _LoadFamily(Family):
-    is_torque = False
+class LoadFamily(Family):
+    """Registry entry of :class:`Force` (``is_torque=False``) or :class:`Torque`."""
+
+    def __init__(self, name: str, is_torque: bool) -> None:
+        self.name = name
+        self.is_torque = is_torque
 
     def build(self, specs, ctx) -> Group:
         nel = len(specs)
@@ -164,14 +168,5 @@ class _LoadFamily(Family):
         )
 
 
-class ForceFamily(_LoadFamily):
-    name = "force"
-
-
-class TorqueFamily(_LoadFamily):
-    name = "torque"
-    is_torque = True
-
-
-register(ForceFamily())
-register(TorqueFamily())
+register(LoadFamily("force", False))
+register(LoadFamily("torque", True))

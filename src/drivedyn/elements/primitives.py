@@ -360,6 +360,17 @@ def quad_form(H, v):
 
 
 @njit(cache=True, inline="always")
+def add_scaled(c, gs, Hs, g, H, full):
+    """``g += c gs`` and, if ``full``, ``H += c Hs`` (gradients (12,), derivatives (12, 12))."""
+    for a in range(12):
+        g[a] += c * gs[a]
+    if full:
+        for a in range(12):
+            for b in range(12):
+                H[a, b] += c * Hs[a, b]
+
+
+@njit(cache=True, inline="always")
 def gather_v(v, dofs, nd, out):
     """Local velocity/acceleration vector (nd,) from the global one (0 for ground dofs)."""
     for i in range(nd):

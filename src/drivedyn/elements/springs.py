@@ -147,8 +147,13 @@ class TorsionalSpringDamper(TwoMarkerSpec):
         check_number(what, "damping", self.damping, 0.0)
 
 
-class _SpringFamily(Family):
-    angular = False
+class SpringFamily(Family):
+    """Registry entry of :class:`SpringDamper` (``angular=False``) or
+    :class:`TorsionalSpringDamper`."""
+
+    def __init__(self, name: str, angular: bool) -> None:
+        self.name = name
+        self.angular = angular
 
     def build(self, specs, ctx) -> Group:
         pA, pB, RmA, RmB, lnodes = two_markers(specs, ctx, "a spring-damper")
@@ -187,14 +192,5 @@ class _SpringFamily(Family):
         )
 
 
-class SpringDamperFamily(_SpringFamily):
-    name = "spring_damper"
-
-
-class TorsionalSpringDamperFamily(_SpringFamily):
-    name = "torsional_spring_damper"
-    angular = True
-
-
-register(SpringDamperFamily())
-register(TorsionalSpringDamperFamily())
+register(SpringFamily("spring_damper", False))
+register(SpringFamily("torsional_spring_damper", True))

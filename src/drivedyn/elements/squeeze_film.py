@@ -284,9 +284,8 @@ class SqueezeFilmFamily(Family):
             ("friction_torque", "N m", "metal friction torque resisting the spin"),
             ("dissipated_power", "W", "film + drag + metal contact and friction power"),
         )
-        return contact_group(self.name, specs, ctx, squeeze_film_kernel, geom,
-                             [s.contact for s in specs], [s.friction for s in specs], states,
-                             outputs, lnodes)
+        return contact_group(self.name, specs, ctx, squeeze_film_kernel, geom, states, outputs,
+                             lnodes)
 
 
 register(SqueezeFilmFamily())

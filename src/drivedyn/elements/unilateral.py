@@ -67,6 +67,7 @@ from drivedyn.elements.base import (
     TwoMarkerSpec,
     local_arrays,
     register,
+    tangent_columns,
 )
 from drivedyn.elements.building import make_group, two_markers, what_of
 from drivedyn.elements.checks import check_number, check_optional
@@ -94,15 +95,7 @@ def _scatter_multipliers(B, Gq, D, nm, C, e):
                 data[p] += B[j, i]
     if sc.mode_of(C) == MODE_DYN:
         for a in range(2):
-            node = lnodes_e[a]
-            c0 = 6 * a + 3
-            for i in range(nm):
-                g0 = Gq[i, c0]
-                g1 = Gq[i, c0 + 1]
-                g2 = Gq[i, c0 + 2]
-                for j in range(3):
-                    Gq[i, c0 + j] = (g0 * Tn[node, 0, j] + g1 * Tn[node, 1, j]
-                                     + g2 * Tn[node, 2, j])
+            tangent_columns(Gq, nm, 6 * a + 3, Tn, lnodes_e[a])
     for i in range(nm):
         for j in range(12):
             p = kmap_e[(12 + i) * nloc + j]
