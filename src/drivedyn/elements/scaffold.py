@@ -190,7 +190,9 @@ def energy(C, e, kinetic, potential, supplied, dissipated):
 
 @njit(cache=True, inline="always")
 def report(C, e, values):
-    """Element ``e``'s outputs ``aux[e, 0:len(values)]`` (a tuple of floats)."""
+    """Element ``e``'s outputs ``aux[e, 0:len(values)]`` (a tuple of floats). The tuple costs
+    a few ns per element over plain ``aux[e, k] = ...`` stores (measured: 7 ns for the 19
+    outputs of a gear pair), which the hottest kernels write directly."""
     aux = C[AUX]
     for k in range(len(values)):
         aux[e, k] = values[k]

@@ -26,10 +26,8 @@ from drivedyn.elements.gears.kinematics import (
     NP,
     NS,
     chain_matrices,
-    generalized_force,
     parallel_coords,
     projections,
-    rates,
     skew_coords,
 )
 from drivedyn.elements.gears.stiffness import mesh_stiffness
@@ -76,6 +74,7 @@ def _gears(P, C, W, full, skew, idx):
      dF, dFN, dFNd, WTv, wk, (ws, wv)) = W
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, es, _, _ = sc.state(C)
+    aux = C[sc.AUX]
     for ie in range(idx.shape[0]):
         e = idx[ie]
         if skew:
@@ -102,7 +101,16 @@ def _gears(P, C, W, full, skew, idx):
                                        es[off], es[off + 1], full, ws, wv)
         # -- rates --------------------------------------------------------------------------
         sc.velocities(C, e, 12, vl)
-        rates(nprim, gp, Sj, vl, pd, sd)
+        for i in range(nprim):
+            acc = 0.0
+            for a in range(12):
+                acc += gp[i, a] * vl[a]
+            pd[i] = acc
+        for j in range(NS):
+            acc = 0.0
+            for i in range(nprim):
+                acc += Sj[j, i] * pd[i]
+            sd[j] = acc
         # -- mesh law in s ----------------------------------------------------------------
         dphi = s[0] - s0[e, 0]
         k, k1, k2 = mesh_stiffness(dphi, kst[e])
@@ -243,7 +251,16 @@ def _gears(P, C, W, full, skew, idx):
                                       + dv * WTv[i] * WTv[j] + ph * WTv[i] * dFNd[j])
                         dQs[i, j] += ph * WTv[i] * dFN[j]
         # -- chain to the primitives and to the node coordinates ---------------------------
-        generalized_force(nprim, Sj, gp, Qs, Qp, rq)
+        for i in range(nprim):
+            acc = 0.0
+            for j in range(NS):
+                acc += Sj[j, i] * Qs[j]
+            Qp[i] = acc
+        for a in range(12):
+            acc = 0.0
+            for i in range(nprim):
+                acc += gp[i, a] * Qp[i]
+            rq[a] = acc
         if full:
             chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K,
                            Cd)
@@ -260,19 +277,29 @@ def _gears(P, C, W, full, skew, idx):
             for i in range(3):
                 gvec = Mf[e, row, 0] * fa[i] + Mf[e, row, 1] * fr[i] + Mf[e, row, 2] * ft[i]
                 acc += gvec * (-rq[6 + i])
-            wk[14, row] = acc
-        if u_p > 0.0 and (u_m <= 0.0 or Fp >= Fm):
-            defl = u_p
-        elif u_m > 0.0:
-            defl = -u_m
-        else:
-            defl = 0.0
+            aux[e, 1 + row] = acc
         sc.energy(C, e, 0.0, V, 0.0, Pd + Pf)
-        sc.report(C, e, (
-            Fp - Fm, wk[14, 0], wk[14, 1], wk[14, 2], -rq[6], -rq[7], -rq[8],
-            -(rq[3] * RmA[e, 0, 2] + rq[4] * RmA[e, 1, 2] + rq[5] * RmA[e, 2, 2]),
-            -(rq[9] * RmB[e, 0, 2] + rq[10] * RmB[e, 1, 2] + rq[11] * RmB[e, 2, 2]),
-            defl, u_p, vn, Pf, Pd + Pf, dphi, s[1] - s0[e, 1], k, s[0], s[1]))
+        aux[e, 0] = Fp - Fm
+        aux[e, 4] = -rq[6]
+        aux[e, 5] = -rq[7]
+        aux[e, 6] = -rq[8]
+        aux[e, 7] = -(rq[3] * RmA[e, 0, 2] + rq[4] * RmA[e, 1, 2] + rq[5] * RmA[e, 2, 2])
+        aux[e, 8] = -(rq[9] * RmB[e, 0, 2] + rq[10] * RmB[e, 1, 2] + rq[11] * RmB[e, 2, 2])
+        if u_p > 0.0 and (u_m <= 0.0 or Fp >= Fm):
+            aux[e, 9] = u_p
+        elif u_m > 0.0:
+            aux[e, 9] = -u_m
+        else:
+            aux[e, 9] = 0.0
+        aux[e, 10] = u_p
+        aux[e, 11] = vn
+        aux[e, 12] = Pf
+        aux[e, 13] = Pd + Pf
+        aux[e, 14] = dphi
+        aux[e, 15] = s[1] - s0[e, 1]
+        aux[e, 16] = k
+        aux[e, 17] = s[0]
+        aux[e, 18] = s[1]
 
 
 @njit(cache=True)

@@ -216,37 +216,6 @@ def skew_coords(RA, RB, RmA, RmB, p, gp, Hp, Sj, Spp, s, ref_a, ref_b, full, ws,
 
 
 
-@njit(cache=True, inline="always")
-def rates(nprim, gp, Sj, vl, pd, sd):
-    """Rates of the primitives ``pd = G v`` and of the mesh coordinates ``sd = Sj pd``."""
-    for i in range(nprim):
-        acc = 0.0
-        for a in range(12):
-            acc += gp[i, a] * vl[a]
-        pd[i] = acc
-    for j in range(NS):
-        acc = 0.0
-        for i in range(nprim):
-            acc += Sj[j, i] * pd[i]
-        sd[j] = acc
-
-
-@njit(cache=True, inline="always")
-def generalized_force(nprim, Sj, gp, Qs, Qp, rq):
-    """The generalised force ``rq = G^T Sj^T Qs`` (12,) of the mesh force ``Qs`` in ``s``
-    (``Qp = Sj^T Qs`` is kept for the matrices)."""
-    for i in range(nprim):
-        acc = 0.0
-        for j in range(NS):
-            acc += Sj[j, i] * Qs[j]
-        Qp[i] = acc
-    for a in range(12):
-        acc = 0.0
-        for i in range(nprim):
-            acc += gp[i, a] * Qp[i]
-        rq[a] = acc
-
-
 @njit(cache=True)
 def chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K, C):
     """K and C of one element from the mesh law's derivatives in s (``dQs``, ``dQd``), the
