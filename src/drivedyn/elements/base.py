@@ -32,6 +32,9 @@ positive = internal/inertial, so ``r = M vd + f_int - f_ext``), the constraint r
 and the local matrices ``M = d rq / d vd``, ``C = d rq / d v``, ``K = d rq / d q`` (right
 perturbations) and ``G = d rl / d q``, then calls :func:`scatter_local`.
 
+Families write their kernels on :mod:`drivedyn.elements.scaffold` (dispatch, common
+arguments, scatter and outputs) and build their groups with :mod:`drivedyn.elements.building`.
+
 Modes: ``MODE_DYN`` (time step / statics: ``rl = k Phi``; matrix
 ``[cM M + cC C + cK K T, G^T; G T, 0]``), ``MODE_ACC`` (consistent accelerations:
 ``rl = k (dPhi/dq . vd + v^T H v + Phi_tt)``, matrix ``[M, G^T; G, 0]``) and ``MODE_VEL``

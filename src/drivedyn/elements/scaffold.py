@@ -43,7 +43,15 @@ Two rules keep the loop fast (measured: breaking them doubled the time of a spri
 unpack ``P``, ``W`` and the arrays of ``C`` (:func:`state`) *before* the element loop, not
 per element (a tuple unpacked inside the loop costs reference counting on every element);
 the per-element helpers below read only scalars and rows of ``C``, as the hand-written loops
-did. No Python runs per element: one kernel call evaluates the whole group.
+did. A helper that takes a tuple (``C``, a law table row...) reads it in a straight-line prefix
+only: a tuple still needed after a branch is reference-counted on every call (measured: a
+``full_pass(C)`` with a short-circuit ``or`` cost 0.2 us per kernel call; it takes the two
+scalars instead). No Python runs per element: one kernel call evaluates the whole group.
+
+Numba's cache checks only the source file of the cached function: after editing this module
+(or :mod:`~drivedyn.elements.base`, :mod:`~drivedyn.elements.primitives`), kernels cached
+from the family modules still hold the old code until their caches are removed
+(``__pycache__/*.nbi``, ``*.nbc``).
 """
 
 from __future__ import annotations
@@ -196,14 +204,6 @@ def report(C, e, values):
     aux = C[AUX]
     for k in range(len(values)):
         aux[e, k] = values[k]
-
-
-@njit(cache=True, inline="always")
-def report_at(C, e, c0, values):
-    """Element ``e``'s outputs ``aux[e, c0:c0 + len(values)]`` (a tuple of floats)."""
-    aux = C[AUX]
-    for k in range(len(values)):
-        aux[e, c0 + k] = values[k]
 
 
 # --- work arrays ------------------------------------------------------------------------------
