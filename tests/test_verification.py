@@ -21,6 +21,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import drivedyn as dd
+import drivedyn.validation
 from drivedyn.validation import base
 from drivedyn.validation import common as VC  # noqa: N812
 from drivedyn.validation import engine as VE  # noqa: N812
@@ -86,7 +87,7 @@ def test_convergence_errors_asymptotic() -> None:
 
 
 def test_case_writes_figure(tmp_path) -> None:
-    results = RM.screw(quick=True, figure_dir=str(tmp_path))
+    results = VE.screw(quick=True, figure_dir=str(tmp_path))
     figs = {f for r in results for f in r.figures}
     assert figs, "a figure directory was given, the case must write a figure"
     for f in figs:
@@ -94,7 +95,7 @@ def test_case_writes_figure(tmp_path) -> None:
 
 
 def test_run_cases_sets_wall_time() -> None:
-    results = base.run_cases(["screw"], quick=True)
+    results = drivedyn.validation.run_cases(["screw"], quick=True)
     assert results and all(r.wall_s > 0 for r in results)
 
 
