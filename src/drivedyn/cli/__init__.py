@@ -62,7 +62,7 @@ class _Group(click.Group):
         except Exception as exc:
             if ctx.meta.get("drivedyn.debug"):
                 raise
-            if isinstance(exc, (ModelError, UnicodeDecodeError)) or _is_input_error(exc):
+            if isinstance(exc, ModelError) or _is_input_error(exc):
                 click.echo(f"error: {exc}", err=True)
                 sys.exit(EXIT_BAD_INPUT)
             click.echo(f"error: internal error ({type(exc).__name__}: {exc}); please report "
