@@ -10,6 +10,7 @@ from drivedyn.solver.settings import (
     StepOutcome,
     StepStatus,
 )
+from drivedyn.solver.modal import Modes, linear_modes
 from drivedyn.solver.simulate import InitializationError, consistent_initial_state, simulate
 from drivedyn.solver.statics import StaticsError, solve_static
 
@@ -20,6 +21,7 @@ __all__ = [
     "GeneralizedAlpha",
     "InitializationError",
     "LinearSolver",
+    "Modes",
     "Newton",
     "SparseLU",
     "StaticsError",
@@ -28,6 +30,7 @@ __all__ = [
     "System",
     "consistent_initial_state",
     "element_outputs",
+    "linear_modes",
     "simulate",
     "solve_static",
 ]

@@ -66,13 +66,13 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
                 if g.commit is not None:
                     g.commit(g, st)
             return st
-        norm0 = float(np.linalg.norm(sys.r))
         try:
             lin.factor(sys.matrix())
         except np.linalg.LinAlgError as exc:
             raise StaticsError(f"singular stiffness matrix ({exc}): the mechanism has a free "
                                "motion with no stiffness; constrain or drive it") from None
         delta = lin.solve(-sys.r)
+        norm0 = float(np.linalg.norm(delta[:nd]))
         last = float(np.abs(delta[:nd]).max()) if nd else 0.0
         alpha = 1.0
         for _ls in range(12):
@@ -80,7 +80,14 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
             _apply(trial, st, alpha * delta[:nd], nn)
             trial.lam[:] = st.lam + alpha * delta[nd:]
             sys.evaluate(trial, 0.0, 0.0, 1.0, MODE_DYN, False)
-            if np.linalg.norm(sys.r) <= (1 - 1e-4 * alpha) * norm0 or alpha < 1e-3:
+            # natural monotonicity test (Deuflhard): the simplified Newton correction at the
+            # trial point, with the same factorisation, must shrink. Affine invariant, unlike
+            # the residual norm, whose rows mix forces, moments and constraint violations
+            # of any scale (a beam's first step raises its axial forces while converging)
+            nxt = lin.solve(-sys.r)
+            ok = np.all(np.isfinite(nxt))
+            if (ok and float(np.linalg.norm(nxt[:nd])) <= (1.0 - 0.25 * alpha) * norm0) \
+                    or alpha < 1e-3:
                 break
             alpha *= 0.5
         st.assign(trial)

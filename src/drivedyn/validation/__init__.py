@@ -1,7 +1,8 @@
 """Validation cases run by ``drivedyn validate``: each compares a simulated quantity with an
 exact or published reference. One module per subject registers its cases:
 :mod:`~drivedyn.validation.engine` (rigid bodies, joints, integrator),
-:mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears` and
+:mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears`,
+:mod:`~drivedyn.validation.beams` and
 :mod:`~drivedyn.validation.torsen`."""
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import time
 from drivedyn.validation import engine  # noqa: F401  (registers the cases)
 from drivedyn.validation import contact  # noqa: F401
 from drivedyn.validation import gears  # noqa: F401
+from drivedyn.validation import beams  # noqa: F401
 from drivedyn.validation import torsen  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case

@@ -1,0 +1,120 @@
+"""SE(3) operators of the geometrically exact beam (Sonneville, Cardona & Bruls 2014).
+
+A frame ``H = (x, R)`` (origin [m], rotation body-to-global) is an element of SE(3). A
+Lie-algebra vector ``d = (u, theta)`` (6,) holds a translational part ``u`` [m] in the body
+frame and a rotation vector ``theta`` [rad]; ``exp(d) = (T(-theta) u, exp(theta))`` with the
+SO(3) tangent ``T`` of :mod:`drivedyn.rotations` (``T(-theta)`` is the left Jacobian).
+
+The right tangent operator of SE(3), ``exp(d + delta) = exp(d) exp(T_SE3(d) delta)``, is the
+series ``sum (-ad_d)^k / (k+1)!`` of the block upper-triangular
+``ad_d = [[theta~, u~], [0, theta~]]``. Any power series ``f`` of such a matrix has the
+diagonal blocks ``f(theta~)`` and the off-diagonal block ``D f(theta~)[u~]`` (the directional
+derivative), so the inverse is::
+
+    T_SE3^-1(d) = [[Ti(theta), D Ti(theta)[u]], [0, Ti(theta)]]
+    Ti(theta)        = I + theta~/2 + c(t) theta~^2,   c(t) = (1 - (t/2) cot(t/2)) / t^2
+    D Ti(theta)[u]   = u~/2 + c(t) (u~ theta~ + theta~ u~) + (c'(t)/t) (theta . u) theta~^2
+
+with ``t = |theta|``. Both ``c`` and ``c'/t`` are analytic functions of ``t^2``; they are
+evaluated from their Bernoulli series for ``t^2 < 1`` and in closed form above, so the
+functions below also accept complex arguments (``t^2 = theta . theta`` without conjugation):
+the beam kernel differentiates its internal forces by complex steps, exact to round-off.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from drivedyn.rotations import exp_so3, log_so3, tangent
+
+# c(t) = sum_k |B_2k| t^(2k-2) / (2k)!  (Bernoulli numbers), k = 1..10: converges for t < 2 pi
+_C = np.array([
+    1.0 / 12.0, 1.0 / 720.0, 1.0 / 30240.0, 1.0 / 1209600.0, 1.0 / 47900160.0,
+    (691.0 / 2730.0) / 479001600.0, (7.0 / 6.0) / 87178291200.0,
+    (3617.0 / 510.0) / 20922789888000.0, (43867.0 / 798.0) / 6402373705728000.0,
+    (174611.0 / 330.0) / 2432902008176640000.0,
+])
+
+
+@njit(cache=True)
+def tangent_inv_coeffs(t2):
+    """``c(t)`` and ``c'(t)/t`` of :func:`tangent_inv_se3` for ``t2 = theta . theta`` (real
+    or complex). The series keeps 16 digits for ``t2 < 1`` (terms shrink by (t/2 pi)^2)."""
+    if t2.real < 1.0:
+        c = _C[9] * t2 + _C[8]
+        e = 18.0 * _C[9] * t2 + 16.0 * _C[8]
+        for k in range(7, 0, -1):
+            c = c * t2 + _C[k]
+            e = e * t2 + 2.0 * k * _C[k]
+        c = c * t2 + _C[0]
+        return c, e
+    t = np.sqrt(t2)
+    h = 0.5 * t
+    s = np.sin(h)
+    cot = np.cos(h) / s
+    c = (1.0 - h * cot) / t2
+    e = -2.0 / (t2 * t2) + cot / (2.0 * t2 * t) + 1.0 / (4.0 * t2 * s * s)
+    return c, e
+
+
+@njit(cache=True, inline="always")
+def _hat(a, S):
+    S[0, 0] = 0.0
+    S[1, 1] = 0.0
+    S[2, 2] = 0.0
+    S[0, 1] = -a[2]
+    S[0, 2] = a[1]
+    S[1, 0] = a[2]
+    S[1, 2] = -a[0]
+    S[2, 0] = -a[1]
+    S[2, 1] = a[0]
+
+
+@njit(cache=True)
+def tangent_inv_se3(d, sign, out, S, U):
+    """``out`` (6, 6) <- ``T_SE3^-1(sign d)`` for ``d`` (6,) ``(u, theta)``, ``sign = +-1``.
+
+    ``S, U`` (3, 3) are work arrays of ``out``'s dtype (real or complex)."""
+    th = d[3:6]
+    u = d[0:3]
+    _hat(th, S)
+    _hat(u, U)
+    t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
+    c, e = tangent_inv_coeffs(t2)
+    tu = sign * sign * (th[0] * u[0] + th[1] * u[1] + th[2] * u[2])
+    for i in range(3):
+        for j in range(3):
+            s2 = S[i, 0] * S[0, j] + S[i, 1] * S[1, j] + S[i, 2] * S[2, j]
+            us = (U[i, 0] * S[0, j] + U[i, 1] * S[1, j] + U[i, 2] * S[2, j]
+                  + S[i, 0] * U[0, j] + S[i, 1] * U[1, j] + S[i, 2] * U[2, j])
+            diag = 1.0 + 0.5 * sign * S[i, j] + c * s2 if i == j else \
+                0.5 * sign * S[i, j] + c * s2
+            out[i, j] = diag
+            out[3 + i, 3 + j] = diag
+            out[i, 3 + j] = 0.5 * sign * U[i, j] + c * us + e * tu * s2
+            out[3 + i, j] = 0.0
+
+
+@njit(cache=True)
+def log_se3(xA, RA, xB, RB, out):
+    """``out`` (6,) <- ``log(H_A^-1 H_B)`` of two frames (positions (3,) [m], rotations
+    (3, 3)): the relative rotation vector ``theta`` and ``u = T(-theta)^-1 R_A^T (x_B - x_A)``
+    (the left Jacobian's inverse is ``Ti(-theta)``)."""
+    Rr = RA.T @ RB
+    th = log_so3(Rr)
+    p = RA.T @ (xB - xA)
+    t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
+    c, _ = tangent_inv_coeffs(t2)
+    # Ti(-theta) p = p - theta x p / 2 + c theta x (theta x p)
+    cx = np.cross(th, p)
+    ccx = np.cross(th, cx)
+    for i in range(3):
+        out[i] = p[i] - 0.5 * cx[i] + c * ccx[i]
+        out[3 + i] = th[i]
+
+
+def exp_se3(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(x, R)`` of ``exp(d)`` for ``d`` (6,) (Python; used by builders and tests)."""
+    th = np.asarray(d[3:6], float)
+    return tangent(-th) @ np.asarray(d[0:3], float), exp_so3(th)
