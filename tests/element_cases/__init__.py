@@ -6,9 +6,9 @@ tangent test (``tests/test_tangents.py``) checks every family's tangent matrices
 fails for a registered family that has no entry here, so a new family cannot be forgotten.
 
 The tables themselves: :mod:`element_cases.basic` (bodies, joints, drivers, springs, loads),
-:mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film) and
-:mod:`element_cases.gears` (gear pairs) and :mod:`element_cases.beams` (beams). Tests import this package as a top-level module
-(pytest puts ``tests/`` on ``sys.path``, as for ``fdcheck``).
+:mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film),
+:mod:`element_cases.gears` (gear pairs) and :mod:`element_cases.beams` (beams). Tests import
+this package as a top-level module (pytest puts ``tests/`` on ``sys.path``, as for ``fdcheck``).
 """
 
 from __future__ import annotations

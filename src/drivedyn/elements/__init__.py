@@ -1,8 +1,8 @@
 """Element families. Importing this package registers every family in ``REGISTRY``."""
 
 from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
-from drivedyn.elements.beams import GeometricallyExactBeam
 from drivedyn.elements.base import REGISTRY, ElementSpec, Family, Group, register
+from drivedyn.elements.beams import GeometricallyExactBeam
 from drivedyn.elements.contact import (
     FrictionLaw,
     JournalContact,

@@ -2,6 +2,7 @@
 
 from drivedyn.solver.assembly import System, element_outputs
 from drivedyn.solver.linear import DenseLU, LinearSolver, SparseLU
+from drivedyn.solver.modal import Modes, linear_modes
 from drivedyn.solver.settings import (
     AdaptiveStep,
     FixedStep,
@@ -10,7 +11,6 @@ from drivedyn.solver.settings import (
     StepOutcome,
     StepStatus,
 )
-from drivedyn.solver.modal import Modes, linear_modes
 from drivedyn.solver.simulate import InitializationError, consistent_initial_state, simulate
 from drivedyn.solver.statics import StaticsError, solve_static
 
