@@ -21,6 +21,7 @@ import numpy as np
 from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
+from drivedyn.config.beams_section import add_beams
 from drivedyn.config.elements_section import generic_element
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
@@ -261,6 +262,8 @@ def build_spec(mf: S.ModelFile) -> Spec:
                             angular_velocity=b.angular_velocity)
     for n in mf.nodes:
         spec.add_node(n.name, n.position, _rotation(n.rotation), n.velocity, n.angular_velocity)
+    # beams create their nodes, which markers may sit on
+    add_beams(spec, mf)
     for m in mf.markers:
         spec.add_marker(m.name, m.body, position=m.position, rotation=_rotation(m.rotation),
                         axis=m.axis)

@@ -17,6 +17,11 @@ File layout (every section optional except what the model needs)::
     [[forces]] / [[torques]]
     [[drivers]]            # prescribed joint angle or speed
     [[speed_difference_drivers]]
+    [[materials]]          # beam materials: E, nu or G, density
+    [[sections]]           # beam sections: solid_circular | hollow_circular | rectangular |
+                           #                general (EA ... EIz, mass_per_length)
+    [[beams]]              # geometrically exact beams: a straight shaft of N elements from
+                           # start to end, or a chain through existing nodes
     [[elements]]           # any other element type by class name (gears, contacts...):
                            # type = "GearPair", name = ..., its constructor's parameters
     [functions]            # named time functions, referenced by name
@@ -26,10 +31,11 @@ File layout (every section optional except what the model needs)::
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+import drivedyn.units as U
 from drivedyn.schema_base import (
     AccelVec,
     Angle,
@@ -53,6 +59,7 @@ from drivedyn.schema_base import (
     TorsionalDamping,
     TorsionalStiffness,
     VelocityVec,
+    scalar,
 )
 
 
@@ -171,6 +178,116 @@ class SpeedDifferenceDriverFile(Strict):
     p: float | None = Field(default=None, ge=0)
 
 
+Pressure = Annotated[float, scalar((-1, 1, -2, 0), positive=True)]
+Density = Annotated[float, scalar((-3, 1, 0, 0), positive=True)]
+PositiveLen = Annotated[float, scalar(U.LENGTH, positive=True)]
+AxialStiffness = Annotated[float, scalar(U.FORCE, positive=True)]
+BendingStiffness = Annotated[float, scalar((3, 1, -2, 0), positive=True)]
+MassPerLength = Annotated[float, scalar((-1, 1, 0, 0), positive=True)]
+MassLength = Annotated[float, scalar((1, 1, 0, 0), positive=True)]
+Volume = Annotated[float, scalar((3, 0, 0, 0), positive=True)]
+DampingTime = Annotated[float, scalar(U.TIME, nonneg=True)]
+
+
+class MaterialFile(Strict):
+    """A beam material: ``E`` and one of ``nu`` / ``G``, and ``density``."""
+
+    name: str
+    E: Pressure
+    nu: float | None = Field(default=None, gt=-1.0, lt=0.5)
+    G: Pressure | None = None
+    density: Density
+
+    @model_validator(mode="after")
+    def _one_shear(self) -> MaterialFile:
+        if (self.nu is None) == (self.G is None):
+            raise ValueError("give exactly one of 'nu' (Poisson's ratio) or 'G' (shear "
+                             "modulus)")
+        return self
+
+
+class SectionFile(Strict):
+    """A beam section; the keys needed depend on ``shape``."""
+
+    name: str
+    shape: Literal["solid_circular", "hollow_circular", "rectangular", "general"]
+    material: str | None = None
+    diameter: PositiveLen | None = None
+    outer_diameter: PositiveLen | None = None
+    inner_diameter: NonNegLength | None = None
+    width_y: PositiveLen | None = None
+    height_z: PositiveLen | None = None
+    EA: AxialStiffness | None = None
+    GAy: AxialStiffness | None = None
+    GAz: AxialStiffness | None = None
+    GJ: BendingStiffness | None = None
+    EIy: BendingStiffness | None = None
+    EIz: BendingStiffness | None = None
+    mass_per_length: MassPerLength | None = None
+    rotary_inertia: tuple[MassLength, MassLength, MassLength] | None = None
+    E: Pressure | None = None
+    y_max: PositiveLen | None = None
+    z_max: PositiveLen | None = None
+    torsion_modulus: Volume | None = None
+
+    @model_validator(mode="after")
+    def _keys_of_shape(self) -> SectionFile:
+        need = {"solid_circular": ("diameter", "material"),
+                "hollow_circular": ("outer_diameter", "inner_diameter", "material"),
+                "rectangular": ("width_y", "height_z", "material"),
+                "general": ("EA", "GAy", "GAz", "GJ", "EIy", "EIz", "mass_per_length")}
+        missing = [k for k in need[self.shape] if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a {self.shape} section needs {', '.join(missing)}")
+        geometric = {"diameter", "outer_diameter", "inner_diameter", "width_y", "height_z"}
+        general = {"EA", "GAy", "GAz", "GJ", "EIy", "EIz", "mass_per_length",
+                   "rotary_inertia", "E", "y_max", "z_max", "torsion_modulus"}
+        allowed = set(need[self.shape]) | ({"material"} if self.shape != "general" else
+                                           general)
+        extra = sorted(k for k in geometric | general | {"material"}
+                       if getattr(self, k) is not None and k not in allowed)
+        if extra:
+            raise ValueError(f"{', '.join(extra)} do(es) not apply to a {self.shape} section "
+                             f"(keys: {', '.join(sorted(allowed))})")
+        return self
+
+
+class BeamFile(Strict):
+    """A beam: a straight shaft of ``elements`` elements from ``start`` to ``end``
+    (optionally starting/ending on existing nodes or bodies ``node_a``/``node_b``), or a
+    chain of elements through existing ``nodes``."""
+
+    name: str
+    section: str
+    start: LengthVec | None = None
+    end: LengthVec | None = None
+    elements: int | None = Field(default=None, ge=1)
+    nodes: list[str] | None = Field(default=None, min_length=2)
+    node_a: str | None = None
+    node_b: str | None = None
+    orientation: DirVec | None = None
+    damping: DampingTime = 0.0
+    mass_matrix: Literal["lumped", "consistent"] = "lumped"
+    curved: bool = False
+    velocity: VelocityVec = (0.0, 0.0, 0.0)
+    angular_velocity: AngVelVec = (0.0, 0.0, 0.0)
+
+    @model_validator(mode="after")
+    def _one_layout(self) -> BeamFile:
+        straight = [k for k in ("start", "end", "elements") if getattr(self, k) is not None]
+        if self.nodes is not None:
+            if straight or self.node_a or self.node_b:
+                raise ValueError("give either 'nodes' (a chain through existing nodes) or "
+                                 "'start', 'end', 'elements' (a straight beam), not both")
+        elif len(straight) != 3:
+            raise ValueError("a straight beam needs 'start', 'end' and 'elements' (or give "
+                             "'nodes')")
+        if self.curved and self.nodes is None:
+            raise ValueError("'curved' applies to a chain through existing 'nodes' (whose "
+                             "frames give the initial shape)")
+        return self
+
+
 class GenericElementFile(BaseModel):
     """Any registered element type by its class name; the other keys are its parameters
     (numbers in SI or strings with units, converted to SI; dimensions are checked by the
@@ -195,6 +312,9 @@ class ModelFile(Strict):
     torques: list[TorqueFile] = Field(default_factory=list)
     drivers: list[DriverFile] = Field(default_factory=list)
     speed_difference_drivers: list[SpeedDifferenceDriverFile] = Field(default_factory=list)
+    materials: list[MaterialFile] = Field(default_factory=list)
+    sections: list[SectionFile] = Field(default_factory=list)
+    beams: list[BeamFile] = Field(default_factory=list)
     elements: list[GenericElementFile] = Field(default_factory=list)
     functions: dict[str, FunctionField] = Field(default_factory=dict)
     solver: SolverFile = Field(default_factory=SolverFile)
