@@ -35,7 +35,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-import drivedyn.units as U
+import drivedyn.units as U  # noqa: N812 - short name, as in schema_base
 from drivedyn.schema_base import (
     AccelVec,
     Angle,
