@@ -18,6 +18,7 @@ import click
 import numpy as np
 
 from drivedyn.cli.common import EXIT_FAILED, FiniteFloat, bad_input, check_output_path, err
+from drivedyn.errors import did_you_mean
 
 
 def _finite(x: float) -> float | None:
@@ -148,12 +149,23 @@ def _groups(names: list[str]) -> dict[str, list[str]]:
 @click.option("--vars", "patterns", multiple=True, metavar="PATTERN",
               help="Variables to plot (glob patterns, e.g. 'crank.*' or '*.torque'); "
                    "default: the energy terms and every body/element, up to 20 figures.")
-def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
-    """Write PNG time histories of a results file, one figure per body or element.
+@click.option("--stress", "stress_elements", multiple=True, metavar="ELEMENT",
+              help="Beam element whose outer-fibre stresses and section forces to draw "
+                   "(repeatable; 'list' lists the beam elements).")
+@click.option("--shape", is_flag=True, help="Snapshots of the deformed beams.")
+@click.option("--scale", type=FiniteFloat(), default=1.0, show_default=True,
+              help="Deformation scale factor of --shape.")
+@click.option("--snapshots", type=click.IntRange(1, 50), default=4, show_default=True,
+              help="Number of instants drawn by --shape.")
+def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
+         stress_elements: tuple[str, ...], shape: bool, scale: float, snapshots: int) -> None:
+    """Write PNG time histories of a results file, one figure per body or element; for
+    beams, the stress history of chosen elements and snapshots of the deformed shape.
 
     \b
-    Example:
+    Examples:
         drivedyn plot pendulum.nc --vars 'rod.*' --vars 'energy.*' --out figs
+        drivedyn plot shaft.nc --stress driveshaft.e6 --shape --scale 200
     """
     import matplotlib
 
@@ -167,6 +179,10 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
         res = load_results(results_file)
     except (OSError, ValueError) as exc:
         bad_input(f"{results_file}: not a drivedyn results file ({exc})")
+    if stress_elements or shape:
+        _beam_plots(res, out_dir, stress_elements, shape, scale, snapshots)
+        if not patterns:
+            return
     names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")]
     if patterns:
         names = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]
@@ -205,6 +221,35 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...]) -> None:
         path = out_dir / f"{prefix}.png"
         fig.savefig(path, dpi=110)
         plt.close(fig)
+        click.echo(str(path))
+
+
+def _beam_plots(res, out_dir: Path, elements: tuple[str, ...], shape: bool, scale: float,
+                snapshots: int) -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from drivedyn.plots.beams import beam_elements, beam_shape_figure, beam_stress_figure
+
+    known = beam_elements(res)
+    if not known:
+        bad_input("the results hold no beam elements (--stress and --shape draw beams)")
+    if "list" in elements:
+        click.echo("\n".join(known))
+        return
+    if not scale > 0:
+        bad_input(f"--scale: must be > 0, got {scale:g}")
+    for e in elements:
+        if e not in known:
+            bad_input(f"--stress: {e!r} is not a beam element{did_you_mean(e, known)} "
+                      f"(e.g. {', '.join(list(known)[:3])}; --stress list shows all)")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    figs = [(f"{e}.stress", beam_stress_figure(res, e)) for e in elements]
+    if shape:
+        figs.append(("beams.shape", beam_shape_figure(res, scale=scale, snapshots=snapshots)))
+    for name, fig in figs:
+        FigureCanvasAgg(fig)
+        path = out_dir / f"{name}.png"
+        fig.savefig(path, dpi=110)
         click.echo(str(path))
 
 

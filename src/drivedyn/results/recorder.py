@@ -188,4 +188,12 @@ class Recorder:
         coords = {"time": ("time", t, {"units": "s", "description": "simulated time"}),
                   "xyz": ("xyz", ["x", "y", "z"]), "row": ("row", [0, 1, 2]),
                   "col": ("col", [0, 1, 2])}
-        return xr.Dataset(data_vars, coords=coords, attrs=attrs or {})
+        attrs = dict(attrs or {})
+        beams = {en: [m.nodes[int(n)].name for n in g.lnodes[ei]]
+                 for g in m.groups if g.family == "beam" for ei, en in enumerate(g.names)}
+        if beams:
+            import json
+
+            # the beams' topology, for the deformed-shape plots: element -> [node_a, node_b]
+            attrs["beam_elements"] = json.dumps(beams)
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
