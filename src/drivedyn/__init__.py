@@ -33,7 +33,17 @@ from drivedyn.elements import (
     UnilateralContact,
     Universal,
 )
+from drivedyn.elements.beams import (
+    STEEL,
+    GeneralSection,
+    GeometricallyExactBeam,
+    HollowCircular,
+    Material,
+    Rectangular,
+    SolidCircular,
+)
 from drivedyn.model import GROUND, Model, ModelError, Spec, State, compile_model
+from drivedyn.model.beams import add_straight_beam
 from drivedyn.results import Results, load_results
 from drivedyn.solver import (
     AdaptiveStep,
@@ -41,6 +51,7 @@ from drivedyn.solver import (
     GeneralizedAlpha,
     Newton,
     element_outputs,
+    linear_modes,
     simulate,
     solve_static,
 )
@@ -50,6 +61,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "GROUND",
+    "STEEL",
     "AdaptiveStep",
     "Constant",
     "Cylindrical",
@@ -58,10 +70,14 @@ __all__ = [
     "Force",
     "FrictionLaw",
     "GearPair",
+    "GeneralSection",
     "GeneralizedAlpha",
+    "GeometricallyExactBeam",
     "Hinge",
+    "HollowCircular",
     "JointDriver",
     "JournalContact",
+    "Material",
     "Model",
     "ModelError",
     "ModelFileError",
@@ -71,9 +87,11 @@ __all__ = [
     "PlaneContact",
     "Prismatic",
     "Ramp",
+    "Rectangular",
     "Results",
     "Screw",
     "SmoothStep",
+    "SolidCircular",
     "Spec",
     "SpeedDifferenceDriver",
     "Spherical",
@@ -86,8 +104,10 @@ __all__ = [
     "TorsionalSpringDamper",
     "UnilateralContact",
     "Universal",
+    "add_straight_beam",
     "compile_model",
     "element_outputs",
+    "linear_modes",
     "load_model",
     "load_results",
     "simulate",

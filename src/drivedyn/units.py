@@ -34,13 +34,20 @@ STIFFNESS: Dim = (0, 1, -2, 0)  # N/m
 DAMPING: Dim = (0, 1, -1, 0)  # N s/m
 TORSIONAL_STIFFNESS: Dim = (2, 1, -2, -1)  # N m/rad
 TORSIONAL_DAMPING: Dim = (2, 1, -1, -1)  # N m s/rad
+PRESSURE: Dim = (-1, 1, -2, 0)  # Pa (moduli, stresses)
+DENSITY: Dim = (-3, 1, 0, 0)  # kg/m^3
+MASS_PER_LENGTH: Dim = (-1, 1, 0, 0)  # kg/m
+MASS_LENGTH: Dim = (1, 1, 0, 0)  # kg m (rotary inertia per length)
+BENDING_STIFFNESS: Dim = (3, 1, -2, 0)  # N m^2 (EI, GJ)
+VOLUME: Dim = (3, 0, 0, 0)  # m^3 (section moduli)
 PITCH: Dim = (1, 0, 0, -1)  # m/rad... a screw pitch is given per revolution, see below
 
 _NAMES = {
     DIMENSIONLESS: "1", LENGTH: "m", MASS: "kg", TIME: "s", ANGLE: "rad", INERTIA: "kg m^2",
     VELOCITY: "m/s", ACCELERATION: "m/s^2", ANGULAR_VELOCITY: "rad/s", FORCE: "N",
     TORQUE: "N m", STIFFNESS: "N/m", DAMPING: "N s/m", TORSIONAL_STIFFNESS: "N m/rad",
-    TORSIONAL_DAMPING: "N m s/rad",
+    TORSIONAL_DAMPING: "N m s/rad", PRESSURE: "Pa", DENSITY: "kg/m^3",
+    MASS_PER_LENGTH: "kg/m", MASS_LENGTH: "kg m", BENDING_STIFFNESS: "N m^2", VOLUME: "m^3",
 }
 
 # symbol -> (factor to SI, dimension)

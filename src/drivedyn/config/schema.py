@@ -178,14 +178,14 @@ class SpeedDifferenceDriverFile(Strict):
     p: float | None = Field(default=None, ge=0)
 
 
-Pressure = Annotated[float, scalar((-1, 1, -2, 0), positive=True)]
-Density = Annotated[float, scalar((-3, 1, 0, 0), positive=True)]
+Pressure = Annotated[float, scalar(U.PRESSURE, positive=True)]
+Density = Annotated[float, scalar(U.DENSITY, positive=True)]
 PositiveLen = Annotated[float, scalar(U.LENGTH, positive=True)]
 AxialStiffness = Annotated[float, scalar(U.FORCE, positive=True)]
-BendingStiffness = Annotated[float, scalar((3, 1, -2, 0), positive=True)]
-MassPerLength = Annotated[float, scalar((-1, 1, 0, 0), positive=True)]
-MassLength = Annotated[float, scalar((1, 1, 0, 0), positive=True)]
-Volume = Annotated[float, scalar((3, 0, 0, 0), positive=True)]
+BendingStiffness = Annotated[float, scalar(U.BENDING_STIFFNESS, positive=True)]
+MassPerLength = Annotated[float, scalar(U.MASS_PER_LENGTH, positive=True)]
+MassLength = Annotated[float, scalar(U.MASS_LENGTH, positive=True)]
+Volume = Annotated[float, scalar(U.VOLUME, positive=True)]
 DampingTime = Annotated[float, scalar(U.TIME, nonneg=True)]
 
 

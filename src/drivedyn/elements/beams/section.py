@@ -284,7 +284,8 @@ def outer_fibre_stresses(kind, p, N, Vy, Vz, T, My, Mz):
 
     ``p`` (8,) per kind:
 
-    * circular ``[A, I, J_p, r_o, kappa, -, -, -]``: 32 points of the outer circle; shear
+    * circular ``[A, I, J_p, r_o, kappa, -, -, -]``: the normal stress exactly
+      (``|N|/A + |M| r_o / I``), shear and von Mises on 32 points of the outer circle; shear
       along the circle ``T r_o / J_p + kappa (V . t) / A`` (``kappa``: Jourawski's factor
       at the neutral axis, 4/3 solid, 2 thin tube; ``t`` the circle's tangent);
     * rectangular ``[A, I_y, I_z, b, h, W_t, k_short, b >= h]``: the 4 corners (no shear
@@ -306,9 +307,12 @@ def outer_fibre_stresses(kind, p, N, Vy, Vz, T, My, Mz):
             s = np.sin(ph)
             sig = N / A + (My * r * s - Mz * r * c) / I
             tau = tt + kap * (-Vy * s + Vz * c) / A
-            smax = max(smax, abs(sig))
             tmax = max(tmax, abs(tau))
             vm = max(vm, _vm(sig, tau))
+        # the normal stress is largest where the bending moment vector's normal points:
+        # exact, not sampled
+        smax = abs(N) / A + np.sqrt(My * My + Mz * Mz) * r / I
+        vm = max(vm, smax)
     elif kind == KIND_RECTANGULAR:
         A, Iy, Iz, b, h, Wt, ks, b_long = p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]
         tl = T / Wt

@@ -1,0 +1,270 @@
+"""The geometrically exact beam: SE(3) operators, builders, model files, results, plots,
+the validation cases and the convergence order of the element.
+
+The tangent of the element is checked against finite differences by the registry test
+(``tests/test_tangents.py``, cases in ``element_cases/beams.py``).
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import drivedyn as dd
+from drivedyn.cli import main as cli
+from drivedyn.elements.beams.se3 import exp_se3, log_se3, tangent_inv_se3
+from drivedyn.validation import base
+from drivedyn.validation.beams import cantilever, load_steps, timoshenko_tip_deflection
+
+BEAM_CASES = ("beam_rollup", "beam_cantilever_tip", "beam_eigenfrequencies",
+              "beam_large_deflection", "beam_energy", "shaft_torsional_mode")
+
+
+# -- SE(3) -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("scale", [1e-3, 0.5, 1.5, 3.0])
+def test_se3_tangent_inverse_is_the_derivative_of_log(scale):
+    """exp(d + delta) = exp(d) exp(T(d) delta): the inverse tangent equals the derivative of
+    log(exp(d)^-1 exp(d + delta)) with respect to delta (central differences), for rotation
+    angles from 1e-3 rad (series branch) to beyond 1 rad (closed form)."""
+    rng = np.random.default_rng(3)
+    d = rng.standard_normal(6) * scale
+    Ti = np.zeros((6, 6))
+    tangent_inv_se3(d, 1.0, Ti, np.zeros((3, 3)), np.zeros((3, 3)))
+    x0, R0 = exp_se3(d)
+    J = np.zeros((6, 6))
+    h = 1e-6
+    for j in range(6):
+        lp, lm = np.zeros(6), np.zeros(6)
+        dp, dm = d.copy(), d.copy()
+        dp[j] += h
+        dm[j] -= h
+        log_se3(x0, R0, *exp_se3(dp), lp)
+        log_se3(x0, R0, *exp_se3(dm), lm)
+        J[:, j] = (lp - lm) / (2 * h)
+    np.testing.assert_allclose(J, np.linalg.inv(Ti), atol=2e-9)
+
+
+def test_se3_log_inverts_exp():
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        d = rng.standard_normal(6)
+        d[3:] *= 2.5 / max(np.linalg.norm(d[3:]), 1.0)  # |theta| < pi
+        out = np.zeros(6)
+        log_se3(np.zeros(3), np.eye(3), *exp_se3(d), out)
+        np.testing.assert_allclose(out, d, atol=1e-13)
+
+
+def test_complex_evaluation_matches_real():
+    """The complex-step derivative needs the complex path to equal the real one."""
+    d = np.array([0.3, -0.2, 0.1, 0.4, 0.9, -0.7])
+    T = np.zeros((6, 6))
+    Tc = np.zeros((6, 6), complex)
+    tangent_inv_se3(d, -1.0, T, np.zeros((3, 3)), np.zeros((3, 3)))
+    tangent_inv_se3(d.astype(complex), -1.0, Tc, np.zeros((3, 3), complex),
+                    np.zeros((3, 3), complex))
+    np.testing.assert_array_equal(Tc.real, T)
+    assert not Tc.imag.any()
+
+
+# -- validation cases --------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", BEAM_CASES)
+def test_validation_case_passes(name):
+    results = base.CASES[name](quick=True, figure_dir=None)
+    assert results
+    for r in results:
+        assert r.source and 0 < r.tolerance < np.inf
+    assert all(r.passed for r in results), "\n".join(
+        f"{r.quantity}: ref {r.reference:.8g} sim {r.simulated:.8g} err {r.error:.3g} "
+        f"tol {r.tolerance:.3g}" for r in results)
+
+
+def test_tip_deflection_converges_at_second_order():
+    """Tip deflection under a tip load with 2, 4, 8, 16 elements against Timoshenko theory:
+    the fitted order is 2 (one-point, constant-strain element). Printed for the record."""
+    L = 0.5
+    sec = dd.SolidCircular(0.02)
+    p = sec.properties(dd.STEEL)
+    ref = timoshenko_tip_deflection(10.0, L, p.stiffness[4], p.stiffness[1])
+    ns, errs = [2, 4, 8, 16], []
+    for n in ns:
+        spec, nodes = cantilever(n, L, sec)
+        spec.add(dd.Force("P", "tip", (0, 0, 10.0), dd.Ramp(0, 1, 0, 1)))
+        model = dd.compile_model(spec)
+        st = load_steps(model, 1)
+        errs.append(abs(st.x[model.node_index[nodes[-1]], 2] - ref) / ref)
+    order = -np.polyfit(np.log(ns), np.log(errs), 1)[0]
+    print("\nelements  relative tip error\n" + "\n".join(
+        f"{n:8d}  {e:.3e}" for n, e in zip(ns, errs, strict=True)) + f"\nfitted order {order:.3f}")
+    assert order == pytest.approx(2.0, abs=0.02)
+
+
+# -- builders and refusals ---------------------------------------------------------------------
+
+
+def test_straight_beam_nodes_and_frames():
+    spec = dd.Spec()
+    nodes = dd.add_straight_beam(spec, "s", (0, 0, 0), (0, 0, 2.0), 4, dd.SolidCircular(0.02),
+                                 dd.STEEL)
+    assert nodes == [f"s.n{i}" for i in range(5)]
+    np.testing.assert_allclose(spec.nodes["s.n2"].position, (0, 0, 1.0))
+    # node x along the beam
+    np.testing.assert_allclose(spec.nodes["s.n0"].rotation[:, 0], (0, 0, 1.0), atol=1e-15)
+    assert [e.name for e in spec.elements] == [f"s.e{i}" for i in range(4)]
+
+
+@pytest.mark.parametrize(("build", "message"), [
+    (lambda s: dd.add_straight_beam(s, "b", (0, 0, 0), (1, 0, 0), 0, dd.SolidCircular(0.01),
+                                    dd.STEEL), "n_elements"),
+    (lambda s: dd.add_straight_beam(s, "b", (1, 0, 0), (1, 0, 0), 3, dd.SolidCircular(0.01),
+                                    dd.STEEL), "zero length"),
+    (lambda s: dd.add_straight_beam(s, "b", (0, 0, 0), (1, 0, 0), 3, dd.SolidCircular(0.01),
+                                    dd.STEEL, orientation=(2, 0, 0)), "parallel"),
+])
+def test_builder_refusals(build, message):
+    with pytest.raises(dd.ModelError, match=message):
+        build(dd.Spec())
+
+
+@pytest.mark.parametrize(("element", "message"), [
+    (dict(node_a="a", node_b="nowhere"), "node_b: unknown node 'nowhere'"),
+    (dict(node_a="a", node_b="c"), "zero-length element"),
+    (dict(node_a="a", node_b="b", damping=-1.0), "damping: must be >= 0"),
+    (dict(node_a="a", node_b="b", mass_matrix="diagonal"), "mass_matrix"),
+    (dict(node_a="a", node_b="b", material=None), "material"),
+])
+def test_compile_refusals(element, message):
+    spec = dd.Spec()
+    spec.add_node("a", (0, 0, 0))
+    spec.add_node("b", (1, 0, 0))
+    spec.add_node("c", (0, 0, 0))
+    kw = dict(section=dd.SolidCircular(0.01), material=dd.STEEL) | element
+    spec.add(dd.GeometricallyExactBeam("e", **kw))
+    with pytest.raises(dd.ModelError, match=message):
+        dd.compile_model(spec)
+
+
+# -- model files, results, plots ------------------------------------------------------------
+
+BEAM_FILE = """
+[model]
+name = "cantilever"
+[[materials]]
+name = "steel"
+E = "210 GPa"
+nu = 0.3
+density = "7850 kg/m^3"
+[[sections]]
+name = "rod"
+shape = "solid_circular"
+diameter = "20 mm"
+material = "steel"
+[[beams]]
+name = "rod"
+section = "rod"
+start = [0, 0, 0]
+end = ["0.5 m", 0, 0]
+elements = 10
+[[markers]]
+name = "wall"
+body = "ground"
+[[markers]]
+name = "root"
+body = "rod.n0"
+[[markers]]
+name = "tip"
+body = "rod.n10"
+[[joints]]
+type = "fixed"
+name = "clamp"
+marker_a = "wall"
+marker_b = "root"
+[[forces]]
+name = "P"
+marker = "tip"
+vector = [0, 0, "10 N"]
+function = { type = "smooth_step", t0 = 0.0, t1 = 0.01, v0 = 0.0, v1 = 1.0 }
+[solver]
+t_end = "0.02 s"
+rho_inf = 0.5
+step = { mode = "fixed", h = "0.2 ms" }
+[output]
+dt = "1 ms"
+"""
+
+
+def _write(tmp_path, text, name="beam.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def test_beam_file_matches_python_model(tmp_path):
+    """The file's cantilever is the Python one: same static tip deflection."""
+    model = dd.load_model(_write(tmp_path, BEAM_FILE))
+    st = dd.solve_static(model, t=1.0)
+    spec, nodes = cantilever(10, 0.5, dd.SolidCircular(0.02))
+    spec.add(dd.Force("P", "tip", (0, 0, 10.0)))
+    ref = dd.solve_static(dd.compile_model(spec))
+    assert st.x[model.node_index["rod.n10"], 2] == pytest.approx(
+        ref.x[dd.compile_model(spec).node_index[nodes[-1]], 2], rel=1e-12)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (('E = "210 GPa"', 'E = "-210 GPa"'), r"materials\[0\] \(steel\).E: must be > 0 Pa"),
+    (('nu = 0.3', 'nu = 0.7'), r"materials\[0\] \(steel\).nu"),
+    (('diameter = "20 mm"', 'diameter = "0 mm"'), r"sections\[0\] \(rod\).diameter: must be > 0 m"),
+    (('diameter = "20 mm"', 'diameter = "20 kg"'), r"sections\[0\] \(rod\).diameter"),
+    (('shape = "solid_circular"', 'shape = "tube"'), r"sections\[0\] \(rod\).shape"),
+    (('diameter = "20 mm"', 'outer_diameter = "20 mm"'), "needs diameter"),
+    (('section = "rod"\nstart', 'section = "bar"\nstart'), "unknown section 'bar'"),
+    (('material = "steel"', 'material = "steal"'), "did you mean 'steel'"),
+    (('elements = 10', 'elements = 0'), r"beams\[0\] \(rod\).elements"),
+    (('end = ["0.5 m", 0, 0]', 'end = [0, 0, 0]'), "zero length"),
+    (('body = "rod.n10"', 'body = "rod.n11"'), "rod.n11"),
+])
+def test_bad_beam_files_name_the_key(tmp_path, edit, message):
+    text = BEAM_FILE.replace(*edit, 1)
+    assert text != BEAM_FILE
+    with pytest.raises((dd.ModelFileError, dd.ModelError), match=message):
+        dd.load_model(_write(tmp_path, text))
+    res = CliRunner().invoke(cli, ["run", str(tmp_path / "beam.toml"), "--out",
+                                   str(tmp_path / "r.nc")])
+    assert res.exit_code == 2, res.output
+    assert re.search(message, res.output), res.output
+    assert "Traceback" not in res.output
+
+
+def test_results_hold_stresses_with_units_and_plots(tmp_path):
+    res = CliRunner().invoke(cli, ["run", str(_write(tmp_path, BEAM_FILE)), "--out",
+                                   str(tmp_path / "r.nc")])
+    assert res.exit_code == 0, res.output
+    r = dd.load_results(tmp_path / "r.nc")
+    ds = r.dataset
+    for name, unit in (("von_mises", "Pa"), ("normal_stress", "Pa"), ("torque", "N m"),
+                       ("bending_moment_y", "N m"), ("curvature_z", "1/m")):
+        var = ds[f"rod.e0.{name}"]
+        assert var.attrs["units"] == unit and var.attrs["description"]
+    # the outer-fibre normal stress is |N|/A + |M| r / I of the recorded section forces
+    A, Iy = np.pi * 0.02**2 / 4, np.pi * 0.02**4 / 64
+    N, My, Mz = (ds[f"rod.e0.{k}"].values for k in ("axial_force", "bending_moment_y",
+                                                     "bending_moment_z"))
+    np.testing.assert_allclose(ds["rod.e0.normal_stress"].values,
+                               np.abs(N) / A + np.hypot(My, Mz) * 0.01 / Iy, rtol=1e-12)
+    assert np.abs(My).max() > 1.0  # the tip load bends the rod about y
+    assert "rod.n10.position" in ds and "rod.n10.rotation" in ds
+    out = tmp_path / "plots"
+    res = CliRunner().invoke(cli, ["plot", str(tmp_path / "r.nc"), "--stress", "rod.e0",
+                                   "--shape", "--scale", "100", "--out", str(out)])
+    assert res.exit_code == 0, res.output
+    assert (out / "rod.e0.stress.png").stat().st_size > 10_000
+    assert (out / "beams.shape.png").stat().st_size > 10_000
+    res = CliRunner().invoke(cli, ["plot", str(tmp_path / "r.nc"), "--stress", "rod.e99",
+                                   "--out", str(out)])
+    assert res.exit_code == 2 and "rod.e99" in res.output
