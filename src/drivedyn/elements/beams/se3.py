@@ -100,18 +100,32 @@ def tangent_inv_se3(d, sign, out, S, U):
 def log_se3(xA, RA, xB, RB, out):
     """``out`` (6,) <- ``log(H_A^-1 H_B)`` of two frames (positions (3,) [m], rotations
     (3, 3)): the relative rotation vector ``theta`` and ``u = T(-theta)^-1 R_A^T (x_B - x_A)``
-    (the left Jacobian's inverse is ``Ti(-theta)``)."""
-    Rr = RA.T @ RB
-    th = log_so3(Rr)
-    p = RA.T @ (xB - xA)
-    t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
-    c, _ = tangent_inv_coeffs(t2)
-    # Ti(-theta) p = p - theta x p / 2 + c theta x (theta x p)
-    cx = np.cross(th, p)
-    ccx = np.cross(th, cx)
+    (the left Jacobian's inverse is ``Ti(-theta)``). Written with scalar loops and no
+    temporaries: it runs for every element at every evaluation (3x3 products through BLAS
+    and small allocations cost more than the arithmetic)."""
+    Rr = np.empty((3, 3))
     for i in range(3):
-        out[i] = p[i] - 0.5 * cx[i] + c * ccx[i]
-        out[3 + i] = th[i]
+        for j in range(3):
+            Rr[i, j] = RA[0, i] * RB[0, j] + RA[1, i] * RB[1, j] + RA[2, i] * RB[2, j]
+    th = log_so3(Rr)
+    d0 = xB[0] - xA[0]
+    d1 = xB[1] - xA[1]
+    d2 = xB[2] - xA[2]
+    p0 = RA[0, 0] * d0 + RA[1, 0] * d1 + RA[2, 0] * d2
+    p1 = RA[0, 1] * d0 + RA[1, 1] * d1 + RA[2, 1] * d2
+    p2 = RA[0, 2] * d0 + RA[1, 2] * d1 + RA[2, 2] * d2
+    t0, t1, t2 = th[0], th[1], th[2]
+    c, _ = tangent_inv_coeffs(t0 * t0 + t1 * t1 + t2 * t2)
+    # Ti(-theta) p = p - theta x p / 2 + c theta x (theta x p)
+    c0 = t1 * p2 - t2 * p1
+    c1 = t2 * p0 - t0 * p2
+    c2 = t0 * p1 - t1 * p0
+    out[0] = p0 - 0.5 * c0 + c * (t1 * c2 - t2 * c1)
+    out[1] = p1 - 0.5 * c1 + c * (t2 * c0 - t0 * c2)
+    out[2] = p2 - 0.5 * c2 + c * (t0 * c1 - t1 * c0)
+    out[3] = t0
+    out[4] = t1
+    out[5] = t2
 
 
 def exp_se3(d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

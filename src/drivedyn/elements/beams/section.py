@@ -24,6 +24,10 @@ KIND_CIRCULAR = 0
 KIND_RECTANGULAR = 1
 KIND_GENERAL = 2
 
+_NPTS = 32  # points sampled on the outer circle
+_COS = np.cos(2.0 * np.pi * np.arange(_NPTS) / _NPTS)  # tables: the kernels call the stress
+_SIN = np.sin(2.0 * np.pi * np.arange(_NPTS) / _NPTS)  # recovery at every evaluation
+
 
 def _positive(what: str, value: float, unit: str) -> float:
     try:
@@ -301,10 +305,9 @@ def outer_fibre_stresses(kind, p, N, Vy, Vz, T, My, Mz):
     if kind == KIND_CIRCULAR:
         A, I, Jp, r, kap = p[0], p[1], p[2], p[3], p[4]
         tt = T * r / Jp
-        for k in range(32):
-            ph = 2.0 * np.pi * k / 32.0
-            c = np.cos(ph)
-            s = np.sin(ph)
+        for k in range(_NPTS):
+            c = _COS[k]
+            s = _SIN[k]
             sig = N / A + (My * r * s - Mz * r * c) / I
             tau = tt + kap * (-Vy * s + Vz * c) / A
             tmax = max(tmax, abs(tau))
