@@ -30,6 +30,11 @@ def _apply(st: State, base: State, dx: np.ndarray, nn: int) -> None:
         st.R[i] = base.R[i] @ exp_so3(dx[6 * i + 3 : 6 * i + 6])
 
 
+def _block_norms(delta: np.ndarray, nd: int) -> tuple[float, float]:
+    """Norms of the position part and of the multiplier part of a Newton correction."""
+    return float(np.linalg.norm(delta[:nd])), float(np.linalg.norm(delta[nd:]))
+
+
 def solve_static(model: Model, state: State | None = None, t: float = 0.0,
                  newton: Newton | None = None, max_iter: int = 50,
                  linear_solver: LinearSolver | None = None) -> State:
@@ -72,8 +77,12 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
             raise StaticsError(f"singular stiffness matrix ({exc}): the mechanism has a free "
                                "motion with no stiffness; constrain or drive it") from None
         delta = lin.solve(-sys.r)
-        norm0 = float(np.linalg.norm(delta[:nd]))
         last = float(np.abs(delta[:nd]).max()) if nd else 0.0
+        # round-off floors of the two blocks: a block whose correction is already at
+        # round-off (positions held by drivers, multipliers of a linear problem) does not vote
+        floors = (stall, 64.0 * np.finfo(float).eps * max(1.0, float(np.abs(st.lam).max(
+            initial=0.0)), float(np.abs(delta[nd:]).max(initial=0.0))))
+        norm0 = _block_norms(delta, nd)
         alpha = 1.0
         for _ls in range(12):
             trial.assign(st)
@@ -81,12 +90,14 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
             trial.lam[:] = st.lam + alpha * delta[nd:]
             sys.evaluate(trial, 0.0, 0.0, 1.0, MODE_DYN, False)
             # natural monotonicity test (Deuflhard): the simplified Newton correction at the
-            # trial point, with the same factorisation, must shrink. Affine invariant, unlike
-            # the residual norm, whose rows mix forces, moments and constraint violations
-            # of any scale (a beam's first step raises its axial forces while converging)
+            # trial point, with the same factorisation, must shrink, in the positions and in
+            # the multipliers. Affine invariant, unlike the residual norm, whose rows mix
+            # forces, moments and constraint violations of any scale (a beam's first step
+            # raises its axial forces while it converges)
             nxt = lin.solve(-sys.r)
-            ok = np.all(np.isfinite(nxt))
-            if (ok and float(np.linalg.norm(nxt[:nd])) <= (1.0 - 0.25 * alpha) * norm0) \
+            if np.all(np.isfinite(nxt)) and all(
+                    n1 <= max((1.0 - 0.25 * alpha) * n0, 10.0 * f)
+                    for n0, n1, f in zip(norm0, _block_norms(nxt, nd), floors, strict=True)) \
                     or alpha < 1e-3:
                 break
             alpha *= 0.5
