@@ -95,10 +95,10 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
             # forces, moments and constraint violations of any scale (a beam's first step
             # raises its axial forces while it converges)
             nxt = lin.solve(-sys.r)
-            if np.all(np.isfinite(nxt)) and all(
-                    n1 <= max((1.0 - 0.25 * alpha) * n0, 10.0 * f)
-                    for n0, n1, f in zip(norm0, _block_norms(nxt, nd), floors, strict=True)) \
-                    or alpha < 1e-3:
+            shrinks = np.all(np.isfinite(nxt)) and all(
+                n1 <= max((1.0 - 0.25 * alpha) * n0, 10.0 * f)
+                for n0, n1, f in zip(norm0, _block_norms(nxt, nd), floors, strict=True))
+            if shrinks or alpha < 1e-3:
                 break
             alpha *= 0.5
         st.assign(trial)
