@@ -77,10 +77,10 @@ def linear_modes(model: Model, state: State | None = None, n_modes: int = 10, t:
     """The first ``n_modes`` modes of ``model`` linearised about ``state`` (default: the
     initial state; usually a static equilibrium from ``solve_static``) at time ``t`` [s].
 
-    ``damped=False``: undamped modes of ``K y = w^2 M y`` (velocities of ``state`` enter
-    only through nothing: M and K). ``damped=True``: eigenvalues of the first-order system
-    with ``C`` (damping and gyroscopic terms at the state's velocities); massless
-    coordinates are condensed with their stiffness only.
+    ``damped=False``: undamped modes of ``K y = w^2 M y`` (assembled with the velocities
+    set to zero). ``damped=True``: eigenvalues of the first-order system with ``C`` (damping
+    and the gyroscopic terms at the state's velocities); massless coordinates are condensed
+    with their stiffness only.
     """
     st = (state or model.initial_state()).copy()
     st.t = t

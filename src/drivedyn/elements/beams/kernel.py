@@ -197,7 +197,7 @@ def _beams(P, C, W, full):
             rq[3 + i] = CA[i, 0] * fA[3] + CA[i, 1] * fA[4] + CA[i, 2] * fA[5]
             rq[6 + i] = RsB[i, 0] * fB[0] + RsB[i, 1] * fB[1] + RsB[i, 2] * fB[2]
             rq[9 + i] = CB[i, 0] * fB[3] + CB[i, 1] * fB[4] + CB[i, 2] * fB[5]
-        # consistent translational mass and weight
+        # translational mass (lumped or consistent) and weight
         m = mass[e]
         # consistent (cmix = 1): m/6 [[2, 1], [1, 2]]; lumped (cmix = 0): m/2 [[1, 0], [0, 1]]
         MO = cmix[e] / 6.0
