@@ -318,3 +318,71 @@ def test_shipped_flexible_driveshaft_carries_the_final_drive_torque():
     assert abs(mean("final_drive.torque_b")) == pytest.approx(200.0, rel=3e-3)
     # the helical mesh with friction 0.05 passes 99 % of the power: 3 |T_a| > |T_b|
     assert 0.98 < abs(mean("final_drive.torque_b")) / (3 * abs(pinion)) < 1.0
+
+
+# -- sections ------------------------------------------------------------------------------------
+
+
+def test_section_properties_against_hand_formulas():
+    mat = dd.Material.from_nu(210e9, 0.3, 7850.0)
+    nu, G = 0.3, mat.G
+    p = dd.SolidCircular(0.02).properties(mat)
+    A, I = np.pi * 0.01**2, np.pi * 0.02**4 / 64
+    k = 6 * (1 + nu) / (7 + 6 * nu)  # Cowper: 0.8864
+    np.testing.assert_allclose(p.stiffness, [210e9 * A, k * G * A, k * G * A, G * 2 * I,
+                                             210e9 * I, 210e9 * I], rtol=1e-14)
+    np.testing.assert_allclose(p.rotary_inertia, 7850 * np.array([2 * I, I, I]), rtol=1e-14)
+    # a thin tube tends to Cowper's 2 (1 + nu) / (4 + 3 nu)
+    t = dd.HollowCircular(0.1, 0.0998).properties(mat)
+    A_t = np.pi * (0.05**2 - 0.0499**2)
+    assert t.stiffness[1] / (G * A_t) == pytest.approx(2 * (1 + nu) / (4 + 3 * nu), rel=2e-3)
+    r = dd.Rectangular(0.02, 0.04).properties(mat)
+    assert r.stiffness[1] / (G * 0.02 * 0.04) == pytest.approx(10 * (1 + nu) / (12 + 11 * nu))
+    assert r.stiffness[4] == pytest.approx(210e9 * 0.02 * 0.04**3 / 12, rel=1e-14)
+
+
+@pytest.mark.parametrize(("ratio", "beta", "alpha"), [(1, 0.141, 0.208), (2, 0.229, 0.246),
+                                                      (10, 0.312, 0.312)])
+def test_rectangle_torsion_matches_timoshenko_goodier(ratio, beta, alpha):
+    from drivedyn.elements.beams.section import rectangle_torsion
+
+    b, a, _ = rectangle_torsion(float(ratio), 1.0)
+    assert round(b, 3) == beta and round(a, 3) == alpha
+
+
+def test_outer_fibre_stresses_of_a_solid_shaft_in_torsion_and_bending():
+    from drivedyn.elements.beams.section import outer_fibre_stresses
+
+    d = 0.03
+    p = dd.SolidCircular(d).properties(dd.STEEL)
+    T, M = 120.0, 80.0
+    s, tau, vm = outer_fibre_stresses(p.stress_kind, p.stress_params, 0.0, 0.0, 0.0, T, 0.0, 0.0)
+    assert tau == pytest.approx(16 * T / (np.pi * d**3), rel=1e-12)
+    assert vm == pytest.approx(np.sqrt(3) * tau, rel=1e-12) and s == 0.0
+    s, tau, vm = outer_fibre_stresses(p.stress_kind, p.stress_params, 0.0, 0.0, 0.0, T, M, 0.0)
+    sb = 32 * M / (np.pi * d**3)
+    assert s == pytest.approx(sb, rel=1e-12)
+    # bending peaks where the torsional shear is uniform: von Mises sqrt(sb^2 + 3 tau^2),
+    # sampled on 32 points that include the peak (phi = 90 deg)
+    assert vm == pytest.approx(np.hypot(sb, np.sqrt(3) * 16 * T / (np.pi * d**3)), rel=1e-12)
+
+
+@pytest.mark.parametrize(("build", "message"), [
+    (lambda: dd.Material.from_nu(-1.0, 0.3, 7850.0), r"material.E: must be > 0 Pa, got -1.0"),
+    (lambda: dd.Material.from_nu(210e9, 0.6, 7850.0), r"material.nu"),
+    (lambda: dd.Material(210e9, 81e9, 0.0), r"material.density"),
+    (lambda: dd.HollowCircular(0.02, 0.02), r"inner_diameter: must be >= 0 and < outer"),
+    (lambda: dd.SolidCircular(0.0), r"section.diameter: must be > 0 m, got 0.0"),
+    (lambda: dd.SolidCircular(0.02).properties(None), r"material .* is required"),
+    (lambda: dd.GeneralSection(1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 1.0), r"section.GJ"),
+])
+def test_section_and_material_refusals(build, message):
+    with pytest.raises(dd.ModelError, match=message):
+        build()
+
+
+def test_general_section_stresses_need_fibre_data():
+    from drivedyn.elements.beams.section import outer_fibre_stresses
+
+    p = dd.GeneralSection(1e8, 4e7, 4e7, 1e4, 2e4, 2e4, 3.0).properties()
+    assert np.isnan(outer_fibre_stresses(p.stress_kind, p.stress_params, 1e3, 0, 0, 5, 7, 0)[2])
