@@ -42,7 +42,7 @@ import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import local_arrays
 from drivedyn.elements.beams.se3 import log_se3, tangent_inv_se3
 from drivedyn.elements.beams.section import outer_fibre_stresses
-from drivedyn.elements.primitives import set_skew
+from drivedyn.elements.primitives import mm, mtv, set_skew
 
 ROUNDOFF_SCALE = 1e-6  # see _term_scale
 CSTEP = 1e-30  # complex step on d [m or rad]: no cancellation, so any tiny value is exact
@@ -74,21 +74,6 @@ def section_forces(d, etaA, etaB, L, eps0, Ks, beta, TiP, TiM, S, U, eps, epsd, 
             b += TiP[j, i] * sig[j]
         fA[i] = -a
         fB[i] = b
-
-
-@njit(cache=True, inline="always")
-def _frame(Rn, Cs, out):
-    """out = Rn Cs (3x3)."""
-    for i in range(3):
-        for j in range(3):
-            out[i, j] = Rn[i, 0] * Cs[0, j] + Rn[i, 1] * Cs[1, j] + Rn[i, 2] * Cs[2, j]
-
-
-@njit(cache=True, inline="always")
-def _tmul(A, v, out, o):
-    """out[o:o+3] = A^T v."""
-    for i in range(3):
-        out[o + i] = A[0, i] * v[0] + A[1, i] * v[1] + A[2, i] * v[2]
 
 
 @njit(cache=True, inline="always")
@@ -177,15 +162,15 @@ def _beams(P, C, W, full):
         nA, nB = sc.pair(C, e)
         CA = CAs[e]
         CB = CBs[e]
-        _frame(R[nA], CA, RsA)
-        _frame(R[nB], CB, RsB)
+        mm(R[nA], CA, RsA)
+        mm(R[nB], CB, RsB)
         log_se3(x[nA], RsA, x[nB], RsB, d)
         sc.velocities(C, e, 12, vl)
         sc.accelerations(C, e, 12, al)
-        _tmul(RsA, vl[0:3], etaA, 0)
-        _tmul(CA, vl[3:6], etaA, 3)
-        _tmul(RsB, vl[6:9], etaB, 0)
-        _tmul(CB, vl[9:12], etaB, 3)
+        mtv(RsA, vl[0:3], etaA[0:3])
+        mtv(CA, vl[3:6], etaA[3:6])
+        mtv(RsB, vl[6:9], etaB[0:3])
+        mtv(CB, vl[9:12], etaB[3:6])
         Le = length[e]
         be = beta[e]
         section_forces(d, etaA, etaB, Le, eps0[e], Ks[e], be, TiP, TiM, S, U, eps, epsd, sig,

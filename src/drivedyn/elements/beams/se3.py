@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from drivedyn.elements.primitives import mtm, set_skew
 from drivedyn.rotations import exp_so3, log_so3, tangent
 
 # c(t) = sum_k |B_2k| t^(2k-2) / (2k)!  (Bernoulli numbers), k = 1..10: converges for t < 2 pi
@@ -58,19 +59,6 @@ def tangent_inv_coeffs(t2):
     return c, e
 
 
-@njit(cache=True, inline="always")
-def _hat(a, S):
-    S[0, 0] = 0.0
-    S[1, 1] = 0.0
-    S[2, 2] = 0.0
-    S[0, 1] = -a[2]
-    S[0, 2] = a[1]
-    S[1, 0] = a[2]
-    S[1, 2] = -a[0]
-    S[2, 0] = -a[1]
-    S[2, 1] = a[0]
-
-
 @njit(cache=True)
 def tangent_inv_se3(d, sign, out, S, U):
     """``out`` (6, 6) <- ``T_SE3^-1(sign d)`` for ``d`` (6,) ``(u, theta)``, ``sign = +-1``.
@@ -78,8 +66,8 @@ def tangent_inv_se3(d, sign, out, S, U):
     ``S, U`` (3, 3) are work arrays of ``out``'s dtype (real or complex)."""
     th = d[3:6]
     u = d[0:3]
-    _hat(th, S)
-    _hat(u, U)
+    set_skew(th, S)
+    set_skew(u, U)
     t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
     c, e = tangent_inv_coeffs(t2)
     tu = sign * sign * (th[0] * u[0] + th[1] * u[1] + th[2] * u[2])
@@ -104,9 +92,7 @@ def log_se3(xA, RA, xB, RB, out):
     temporaries: it runs for every element at every evaluation (3x3 products through BLAS
     and small allocations cost more than the arithmetic)."""
     Rr = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            Rr[i, j] = RA[0, i] * RB[0, j] + RA[1, i] * RB[1, j] + RA[2, i] * RB[2, j]
+    mtm(RA, RB, Rr)
     th = log_so3(Rr)
     d0 = xB[0] - xA[0]
     d1 = xB[1] - xA[1]
