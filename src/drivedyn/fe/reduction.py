@@ -1,0 +1,261 @@
+"""Craig-Bampton reduction of a solid part for the floating frame of reference.
+
+Interfaces are *rigid spiders* (RBE2): the nodes of interface ``k`` move rigidly with a
+6-dof reference point ``P_k`` (``u_i = t_k + theta_k x (X_i - P_k)``). Interface 0 defines
+the floating frame: the part's rigid motion is the motion of that spider (the marker the part
+is mounted on), so the elastic basis holds the spider at rest. The basis (Craig & Bampton
+1968) is, in the frame of interface 0:
+
+* the *constraint modes* of the other interfaces: static shapes for a unit motion of each of
+  their 6 dofs with all other spiders held (``-K_ii^-1 K_ib``); their amplitudes are the
+  interface motions relative to the frame [m, rad];
+* the first ``n_modes`` *fixed-interface modes* (all spiders held), mass-normalised.
+
+``Kr = B^T K B`` and ``Mr = B^T M B`` are the reduced matrices; ``Phi`` (n, 3, nq) the nodal
+displacement of each basis vector and ``stress`` (n, 6, nq) its nodal stresses. The check of
+a reduction compares the eigenfrequencies of the reduced and the full model (both with the
+spiders, and either free or with the frame interface held).
+
+Results are cached on disk (``$DRIVEDYN_CACHE``, default ``~/.cache/drivedyn``) keyed by the
+mesh, the material, the interfaces and the number of modes: a part is reduced once.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from drivedyn.errors import ModelError
+from drivedyn.fe.solid import SolidModel
+
+CACHE_VERSION = "cb1"
+
+
+@dataclass(frozen=True)
+class Interface:
+    """A rigid spider: the ``nodes`` of the part move rigidly with the point ``point`` [m]
+    (part frame). ``name`` names it in messages and results."""
+
+    name: str
+    nodes: np.ndarray
+    point: np.ndarray
+
+
+@dataclass
+class ReducedPart:
+    """A reduced part, ready for :class:`~drivedyn.elements.flexible.FlexibleBody`.
+
+    All arrays in the frame of interface 0 (origin ``interfaces[0].point``, axes of the part
+    frame).
+
+    Attributes:
+        name: part name.
+        X: (n, 3) node positions [m].
+        Ms: (n, n) scalar consistent mass [kg] (CSR).
+        Phi: (n, 3, nq) nodal displacements of the basis [m per unit coordinate].
+        Kr, Mr: (nq, nq) reduced stiffness [N/m...] and mass [kg...].
+        stress: (n, 6, nq) nodal stresses of the basis [Pa per unit coordinate].
+        n_constraint: number of constraint-mode coordinates (6 per interface after the
+            first); they come first in the basis.
+        interfaces: the spiders (points relative to interface 0).
+        freq_fixed: (n_modes,) fixed-interface eigenfrequencies [Hz].
+        solid: the :class:`SolidModel` (None when loaded from the cache).
+        key: cache key.
+    """
+
+    name: str
+    X: np.ndarray
+    Ms: sp.csr_matrix
+    Phi: np.ndarray
+    Kr: np.ndarray
+    Mr: np.ndarray
+    stress: np.ndarray
+    n_constraint: int
+    interfaces: list[Interface]
+    freq_fixed: np.ndarray
+    cells: np.ndarray
+    kind: str
+    solid: SolidModel | None = None
+    key: str = ""
+
+    @property
+    def nq(self) -> int:
+        return self.Phi.shape[2]
+
+    @property
+    def n(self) -> int:
+        return self.X.shape[0]
+
+    @property
+    def mass(self) -> float:
+        return float(self.Ms.sum())
+
+    def basis_matrix(self) -> np.ndarray:
+        """B (3n, nq): the basis with interleaved dofs."""
+        return self.Phi.reshape(3 * self.n, self.nq)
+
+
+def _spider_map(solid: SolidModel, interfaces: Sequence[Interface]):
+    """T (3n, nf + 6k) with u = T [u_internal; s_1..s_k] and the internal dof indices."""
+    n = solid.n
+    owner = np.full(n, -1)
+    for k, itf in enumerate(interfaces):
+        if np.any(owner[itf.nodes] >= 0):
+            other = interfaces[int(owner[itf.nodes][owner[itf.nodes] >= 0][0])].name
+            raise ModelError(f"interfaces {other!r} and {itf.name!r} share nodes")
+        owner[itf.nodes] = k
+    internal = np.flatnonzero(owner < 0)
+    idof = (3 * internal[:, None] + np.arange(3)).ravel()
+    nf = idof.size
+    rows, cols, vals = [idof, ], [np.arange(nf)], [np.ones(nf)]
+    for k, itf in enumerate(interfaces):
+        c0 = nf + 6 * k
+        d = solid.nodes[itf.nodes] - itf.point
+        for a in range(3):
+            rows.append(3 * itf.nodes + a)
+            cols.append(np.full(len(itf.nodes), c0 + a))
+            vals.append(np.ones(len(itf.nodes)))
+        # theta x d: component a = e_abc theta_b d_c
+        for a, b, c, sgn in ((0, 1, 2, 1), (0, 2, 1, -1), (1, 2, 0, 1), (1, 0, 2, -1),
+                             (2, 0, 1, 1), (2, 1, 0, -1)):
+            rows.append(3 * itf.nodes + a)
+            cols.append(np.full(len(itf.nodes), c0 + 3 + b))
+            vals.append(sgn * d[:, c])
+    T = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(3 * n, nf + 6 * len(interfaces)))
+    return T, nf
+
+
+def _cache_dir() -> Path:
+    return Path(os.environ.get("DRIVEDYN_CACHE", Path.home() / ".cache" / "drivedyn"))
+
+
+def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: int,
+                  name: str = "part", cache: bool = True) -> ReducedPart:
+    """Reduce ``solid`` with rigid-spider ``interfaces`` (the first defines the floating
+    frame) and ``n_modes`` fixed-interface modes (see the module docstring)."""
+    if not interfaces:
+        raise ModelError(f"part {name!r}: at least one interface (the mounting face) is needed")
+    if int(n_modes) != n_modes or n_modes < 0:
+        raise ModelError(f"part {name!r}: n_modes must be an integer >= 0, got {n_modes!r}")
+    n_modes = int(n_modes)
+    h = hashlib.sha1(f"{CACHE_VERSION}/{solid.digest()}/{n_modes}".encode())
+    for itf in interfaces:
+        h.update(np.asarray(itf.nodes, np.int64).tobytes())
+        h.update(np.asarray(itf.point, float).tobytes())
+    key = h.hexdigest()
+    path = _cache_dir() / "reduction" / f"{key}.npz"
+    if cache and path.is_file():
+        try:
+            return _load(path, name, interfaces, solid, key)
+        except (OSError, ValueError, KeyError):
+            pass  # a damaged cache entry is recomputed
+    T, nf = _spider_map(solid, interfaces)
+    Ks = (T.T @ solid.K @ T).tocsc()
+    Ms = (T.T @ solid.M @ T).tocsc()
+    k = len(interfaces)
+    bnd = np.arange(nf + 6, nf + 6 * k)        # other interfaces
+    inn = np.arange(nf)
+    Kii = Ks[inn][:, inn].tocsc()
+    if n_modes > nf:
+        raise ModelError(f"part {name!r}: n_modes = {n_modes} exceeds the {nf} internal dofs")
+    lu = spla.splu(Kii)
+    cols = []
+    if bnd.size:
+        Psi = -lu.solve(Ks[inn][:, bnd].toarray())
+        C = np.zeros((nf + 6 * k, bnd.size))
+        C[inn] = Psi
+        C[bnd, np.arange(bnd.size)] = 1.0
+        cols.append(C)
+    freq = np.zeros(0)
+    if n_modes:
+        Mii = Ms[inn][:, inn].tocsc()
+        w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM")
+        order = np.argsort(w2)
+        w2, V = w2[order], V[:, order]
+        V /= np.sqrt(np.einsum("ij,ij->j", V, Mii @ V))
+        F = np.zeros((nf + 6 * k, n_modes))
+        F[inn] = V
+        cols.append(F)
+        freq = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
+    Bs = np.hstack(cols) if cols else np.zeros((nf + 6 * k, 0))
+    B = np.asarray(T @ Bs)
+    Kr = B.T @ (solid.K @ B)
+    Mr = B.T @ (solid.M @ B)
+    stress = solid.stress_modes(B) if B.shape[1] else np.zeros((solid.n, 6, 0))
+    P0 = np.asarray(interfaces[0].point, float)
+    part = ReducedPart(
+        name=name, X=solid.nodes - P0, Ms=solid.Ms, Phi=B.reshape(solid.n, 3, -1),
+        Kr=0.5 * (Kr + Kr.T), Mr=0.5 * (Mr + Mr.T), stress=stress, n_constraint=bnd.size,
+        interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0)
+                    for i in interfaces],
+        freq_fixed=freq, cells=solid.mesh.cells, kind=solid.mesh.kind, solid=solid, key=key)
+    if cache:
+        _save(path, part)
+    return part
+
+
+def _save(path: Path, part: ReducedPart) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+    Ms = part.Ms.tocsr()
+    np.savez(tmp, X=part.X, Ms_data=Ms.data, Ms_indices=Ms.indices, Ms_indptr=Ms.indptr,
+             Phi=part.Phi, Kr=part.Kr, Mr=part.Mr, stress=part.stress,
+             n_constraint=part.n_constraint, freq=part.freq_fixed, cells=part.cells,
+             kind=part.kind)
+    os.replace(tmp, path)
+
+
+def _load(path: Path, name: str, interfaces, solid, key) -> ReducedPart:
+    with np.load(path, allow_pickle=False) as z:
+        n = z["X"].shape[0]
+        Ms = sp.csr_matrix((z["Ms_data"], z["Ms_indices"], z["Ms_indptr"]), shape=(n, n))
+        P0 = np.asarray(interfaces[0].point, float)
+        return ReducedPart(
+            name=name, X=z["X"], Ms=Ms, Phi=z["Phi"], Kr=z["Kr"], Mr=z["Mr"],
+            stress=z["stress"], n_constraint=int(z["n_constraint"]),
+            interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0)
+                        for i in interfaces],
+            freq_fixed=z["freq"], cells=z["cells"], kind=str(z["kind"]), solid=solid, key=key)
+
+
+def frequency_check(part: ReducedPart, solid: SolidModel, interfaces: Sequence[Interface],
+                    n: int = 5, free: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """First ``n`` eigenfrequencies [Hz] of the full model with the spiders and of the reduced
+    model: with the frame interface held (``free=False``, the part on a heavy mount) or
+    free-free (``free=True``, rigid-body modes skipped). Returns (full, reduced)."""
+    T, nf = _spider_map(solid, interfaces)
+    Ks = (T.T @ solid.K @ T).tocsc()
+    Ms = (T.T @ solid.M @ T).tocsc()
+    keep = np.arange(Ks.shape[0]) if free else np.setdiff1d(np.arange(Ks.shape[0]),
+                                                              np.arange(nf, nf + 6))
+    Kk = Ks[keep][:, keep].tocsc()
+    Mk = Ms[keep][:, keep].tocsc()
+    nr = n + (6 if free else 0)
+    shift = -(2 * np.pi * 1.0) ** 2 if free else 0.0
+    w2 = spla.eigsh(Kk, k=nr, M=Mk, sigma=shift, which="LM", return_eigenvectors=False)
+    full = np.sqrt(np.maximum(np.sort(w2), 0.0))[-n:] / (2 * np.pi)
+    B = part.basis_matrix()
+    if free:
+        X = part.X
+        R6 = np.zeros((3 * part.n, 6))
+        for a in range(3):
+            R6[a::3, a] = 1.0
+        R6[1::3, 3], R6[2::3, 3] = -X[:, 2], X[:, 1]
+        R6[0::3, 4], R6[2::3, 4] = X[:, 2], -X[:, 0]
+        R6[0::3, 5], R6[1::3, 5] = -X[:, 1], X[:, 0]
+        B = np.hstack([R6, B])
+    import scipy.linalg as sla
+
+    Kr = B.T @ (solid.K @ B)
+    Mr = B.T @ (solid.M @ B)
+    wr = sla.eigh(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T), eigvals_only=True)
+    red = np.sqrt(np.maximum(np.sort(wr), 0.0))[(6 if free else 0):][:n] / (2 * np.pi)
+    return full, red

@@ -1,0 +1,253 @@
+"""Linear elastic solid: stiffness, consistent mass and stress recovery with scikit-fem.
+
+Quadratic elements on the cells of a :class:`~drivedyn.fe.mesh.SolidMesh`: 27-node Lagrange
+hexahedra (``ElementHex2``) or 10-node tetrahedra (``ElementTetP2``); integration of order 4
+(exact for the mass matrix of affine cells). The *nodes* of the model are the element nodes
+(vertices, edge, face and cell nodes), ``nodes`` (n, 3) [m] in the part frame; displacement
+dofs are interleaved, ``3 i + d`` for node ``i`` and direction ``d``.
+
+Why scikit-fem: BSD, pure Python on numpy/scipy (installs anywhere pip does), assembles a
+vector Lagrange basis in a few lines and exposes the quadrature data we need for stress
+recovery; netgen/ngsolve would add an LGPL binary for the same matrices.
+
+Matrices:
+* ``K`` (3n, 3n) stiffness [N/m], isotropic Hooke's law;
+* ``Ms`` (n, n) scalar consistent mass [kg]: the vector mass matrix is ``Ms (x) I3`` (same
+  density in every direction), which the floating-frame invariants use;
+* stresses: ``stress_modes(U)`` gives, for displacement columns ``U`` (3n, m), the six
+  Cauchy stress components at the nodes (L2 projection of the quadrature-point stresses onto
+  the quadratic space, order ``xx, yy, zz, yz, xz, xy``) [Pa per unit of U].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from drivedyn.errors import ModelError
+from drivedyn.fe.mesh import HEX, SolidMesh
+
+VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
+
+
+@dataclass(frozen=True)
+class SolidMaterial:
+    """Isotropic linear elastic material.
+
+    Attributes:
+        youngs_modulus: E [Pa] > 0.
+        poisson_ratio: nu [-], -1 < nu < 0.5.
+        density: rho [kg/m^3] > 0.
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.3
+    density: float = 7850.0
+
+    def __post_init__(self) -> None:
+        for key, lo, hi in (("youngs_modulus", 0.0, math.inf), ("poisson_ratio", -1.0, 0.5),
+                            ("density", 0.0, math.inf)):
+            v = getattr(self, key)
+            if not (isinstance(v, int | float) and math.isfinite(v) and lo < v < hi):
+                raise ModelError(f"material.{key}: must be in ({lo}, {hi}), got {v!r}")
+
+    @property
+    def lame(self) -> tuple[float, float]:
+        """Lame parameters (lambda, mu) [Pa]."""
+        E, nu = self.youngs_modulus, self.poisson_ratio
+        return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+
+    def digest(self) -> str:
+        return f"{self.youngs_modulus!r}/{self.poisson_ratio!r}/{self.density!r}"
+
+
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """Von Mises stress of Voigt stresses ``s`` (..., 6) [Pa] -> (...)."""
+    xx, yy, zz, yz, xz, xy = (s[..., i] for i in range(6))
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2)
+                   + 3.0 * (yz**2 + xz**2 + xy**2))
+
+
+def principal_stresses(s: np.ndarray) -> np.ndarray:
+    """Principal stresses (..., 3), descending, of Voigt stresses ``s`` (..., 6) [Pa]."""
+    T = np.empty(s.shape[:-1] + (3, 3))
+    T[..., 0, 0], T[..., 1, 1], T[..., 2, 2] = s[..., 0], s[..., 1], s[..., 2]
+    T[..., 1, 2] = T[..., 2, 1] = s[..., 3]
+    T[..., 0, 2] = T[..., 2, 0] = s[..., 4]
+    T[..., 0, 1] = T[..., 1, 0] = s[..., 5]
+    return np.linalg.eigvalsh(T)[..., ::-1]
+
+
+class SolidModel:
+    """Finite-element model of one part (mesh + material); matrices built on first use.
+
+    Attributes:
+        mesh: the :class:`SolidMesh`.
+        material: the :class:`SolidMaterial`.
+        nodes: (n, 3) node coordinates [m], part frame.
+    """
+
+    def __init__(self, mesh: SolidMesh, material: SolidMaterial) -> None:
+        import meshio
+        from skfem import Basis, ElementHex2, ElementTetP2, ElementVector
+        from skfem.io.meshio import from_meshio
+
+        self.mesh = mesh
+        self.material = material
+        cell_type = "hexahedron" if mesh.kind == HEX else "tetra"
+        self._skmesh = from_meshio(meshio.Mesh(mesh.points, [(cell_type, mesh.cells)]))
+        el = ElementHex2() if mesh.kind == HEX else ElementTetP2()
+        self._sbasis = Basis(self._skmesh, el, intorder=4)
+        self._vbasis = Basis(self._skmesh, ElementVector(el), intorder=4)
+        self.nodes = np.ascontiguousarray(self._sbasis.doflocs.T)
+        jac = self._sbasis.dx
+        if np.any(jac <= 0):
+            raise ModelError(f"mesh {mesh.name!r}: inverted or degenerate cells (negative "
+                             "Jacobian); check the vertex order")
+
+    @property
+    def n(self) -> int:
+        """Number of nodes."""
+        return self.nodes.shape[0]
+
+    def digest(self) -> str:
+        return self.mesh.digest() + "/" + self.mesh.kind + "/" + self.material.digest()
+
+    @cached_property
+    def K(self) -> sp.csr_matrix:
+        """Stiffness (3n, 3n) [N/m]."""
+        from skfem import asm
+        from skfem.models.elasticity import linear_elasticity
+
+        lam, mu = self.material.lame
+        return asm(linear_elasticity(lam, mu), self._vbasis).tocsr()
+
+    @cached_property
+    def Ms(self) -> sp.csr_matrix:
+        """Scalar consistent mass (n, n) [kg]."""
+        from skfem import BilinearForm, asm
+
+        rho = self.material.density
+
+        @BilinearForm
+        def mass(u, v, w):
+            return rho * u * v
+
+        return asm(mass, self._sbasis).tocsr()
+
+    @cached_property
+    def M(self) -> sp.csr_matrix:
+        """Vector consistent mass (3n, 3n) [kg], ``Ms (x) I3`` interleaved."""
+        return sp.kron(self.Ms, sp.eye(3), format="csr")
+
+    @property
+    def mass(self) -> float:
+        """Total mass [kg]."""
+        return float(self.Ms.sum())
+
+    @cached_property
+    def _projector(self):
+        from skfem import BilinearForm, asm
+
+        @BilinearForm
+        def l2(u, v, w):
+            return u * v
+
+        return spla.splu(asm(l2, self._sbasis).tocsc())
+
+    def stress_modes(self, U: np.ndarray) -> np.ndarray:
+        """Nodal stresses (n, 6, m) [Pa] of displacement columns ``U`` (3n, m) [m]."""
+        from skfem import LinearForm, asm
+        from skfem.helpers import sym_grad
+
+        U = np.asarray(U, float).reshape(3 * self.n, -1)
+        lam, mu = self.material.lame
+        out = np.empty((self.n, 6, U.shape[1]))
+        pairs = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+        for k in range(U.shape[1]):
+            eps = sym_grad(self._vbasis.interpolate(U[:, k]))
+            tr = eps[0, 0] + eps[1, 1] + eps[2, 2]
+            for c, (i, j) in enumerate(pairs):
+                sig = 2 * mu * eps[i, j] + (lam * tr if i == j else 0.0)
+
+                @LinearForm
+                def rhs(v, w, sig=sig):
+                    return sig * v
+
+                out[:, c, k] = self._projector.solve(asm(rhs, self._sbasis))
+        return out
+
+    def select(self, axis: str | None = None, value: float | None = None,
+               r_min: float | None = None, r_max: float | None = None,
+               tol: float | None = None) -> np.ndarray:
+        """Indices of the nodes on the plane ``x[axis] = value`` and/or within the radial band
+        ``r_min <= sqrt(x^2 + y^2) <= r_max`` (``tol`` [m]: 1e-6 of the part size)."""
+        size = float(np.ptp(self.nodes, axis=0).max())
+        tol = 1e-6 * size if tol is None else tol
+        mask = np.ones(self.n, bool)
+        if axis is not None:
+            if axis not in ("x", "y", "z"):
+                raise ModelError(f"node selection: axis must be 'x', 'y' or 'z', got {axis!r}")
+            if value is None:
+                raise ModelError("node selection: 'axis' needs a 'value' [m]")
+            mask &= np.abs(self.nodes[:, "xyz".index(axis)] - value) <= tol
+        r = np.hypot(self.nodes[:, 0], self.nodes[:, 1])
+        if r_min is not None:
+            mask &= r >= r_min - tol
+        if r_max is not None:
+            mask &= r <= r_max + tol
+        idx = np.flatnonzero(mask)
+        if idx.size == 0:
+            raise ModelError(f"node selection (axis={axis}, value={value}, r_min={r_min}, "
+                             f"r_max={r_max}) selects no node of mesh {self.mesh.name!r}")
+        return idx
+
+    def face_areas(self, nodes: np.ndarray) -> np.ndarray:
+        """Tributary area [m^2] of each of ``nodes`` on the boundary faces whose nodes all
+        belong to ``nodes``: the consistent load of a unit pressure, sum = face area."""
+        from skfem import FacetBasis, LinearForm, asm
+
+        sel = np.zeros(self.n, bool)
+        sel[nodes] = True
+        facets = self._skmesh.boundary_facets()
+        fverts = self._skmesh.facets[:, facets]
+        # vertices of the sk mesh coincide with the first nodes of the scalar basis
+        keep = facets[np.all(sel[fverts], axis=0)]
+        if keep.size == 0:
+            raise ModelError("face_areas: the nodes hold no complete boundary face")
+        fb = FacetBasis(self._skmesh, self._sbasis.elem, facets=keep, intorder=4)
+
+        @LinearForm
+        def unit(v, w):
+            return v
+
+        a = asm(unit, fb)
+        return a[nodes]
+
+    def static(self, fixed: np.ndarray, f: np.ndarray) -> np.ndarray:
+        """Static displacement (3n,) [m] under nodal forces ``f`` (3n,) [N] with the dofs
+        ``fixed`` held at zero."""
+        free = np.setdiff1d(np.arange(3 * self.n), fixed)
+        u = np.zeros(3 * self.n)
+        u[free] = spla.spsolve(self.K[free][:, free].tocsc(), f[free])
+        return u
+
+    def to_meshio(self, point_data: dict | None = None):
+        """A meshio Mesh of the vertices and linear cells with ``point_data`` given on the
+        nodes (the vertex values are taken; the vertices are the first nodes)."""
+        import meshio
+
+        nv = self.mesh.points.shape[0]
+        cell_type = "hexahedron" if self.mesh.kind == HEX else "tetra"
+        pts = self.nodes[:nv]
+        pd = {k: np.asarray(v)[:nv] for k, v in (point_data or {}).items()}
+        return meshio.Mesh(pts, [(cell_type, self._cells_sk_order())], point_data=pd)
+
+    def _cells_sk_order(self) -> np.ndarray:
+        # the skfem mesh renumbers nothing: its vertices are the mesh points in order
+        return self.mesh.cells
