@@ -7,7 +7,8 @@ fails for a registered family that has no entry here, so a new family cannot be 
 
 The tables themselves: :mod:`element_cases.basic` (bodies, joints, drivers, springs, loads),
 :mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film),
-:mod:`element_cases.gears` (gear pairs) and :mod:`element_cases.beams` (beams). Tests import
+:mod:`element_cases.gears` (gear pairs), :mod:`element_cases.beams` (beams) and
+:mod:`element_cases.flexible` (reduced flexible bodies). Tests import
 this package as a top-level module (pytest puts ``tests/`` on ``sys.path``, as for ``fdcheck``).
 """
 
@@ -19,7 +20,7 @@ from functools import partial
 from drivedyn.elements import REGISTRY
 from drivedyn.elements.joints import JointFamily
 from drivedyn.model.spec import Spec
-from element_cases import basic, beams, contact, gears
+from element_cases import basic, beams, contact, flexible, gears
 
 _JOINTS = [f.spec_type for f in REGISTRY.values() if isinstance(f, JointFamily)]
 
@@ -40,4 +41,6 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "unilateral_contact": [contact.unilateral_case, contact.unilateral_ground_case],
     "gear_pair": list(gears.CASES),
     "beam": list(beams.CASES),
+    "flexible_body": list(flexible.CASES),
+    "flexible_washer_contact": [flexible.washer_case],
 }

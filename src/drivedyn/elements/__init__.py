@@ -3,6 +3,7 @@
 from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
 from drivedyn.elements.base import REGISTRY, ElementSpec, Family, Group, register
 from drivedyn.elements.beams import GeometricallyExactBeam
+from drivedyn.elements.flexible import FlexibleBody
 from drivedyn.elements.contact import (
     FrictionLaw,
     JournalContact,
@@ -33,6 +34,7 @@ __all__ = [
     "ElementSpec",
     "Family",
     "Fixed",
+    "FlexibleBody",
     "Force",
     "FrictionLaw",
     "GearPair",

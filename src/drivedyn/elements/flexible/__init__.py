@@ -1,0 +1,7 @@
+"""Reduced flexible bodies (floating frame of reference, Craig-Bampton modes) and the
+contact of a rigid face on a flexible washer's surface nodes."""
+
+from drivedyn.elements.flexible.family import FlexibleBody
+from drivedyn.elements.flexible.washer import FlexibleWasherContact
+
+__all__ = ["FlexibleBody", "FlexibleWasherContact"]
