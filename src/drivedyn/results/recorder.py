@@ -28,6 +28,25 @@ def _trapezoid(eout, pin_prev, pd_prev, diss, h):
     return dw, ek, ep
 
 
+def _fields(m: Model, g, ei: int, en: str, A: np.ndarray) -> dict[str, tuple]:
+    """Field variables of element ``ei`` of group ``g`` (meshed flexible parts and their
+    contacts) from its aux history ``A`` (nt, naux)."""
+    if "parts" in g.extra:
+        from drivedyn.results.flexible_fields import part_variables
+
+        mount = g.extra["mounts"][ei]
+        return part_variables(en, g.extra["parts"][ei], mount,
+                              m.nodes[mount["node"]].name, A, g.extra["q_column"])
+    if "fields" in g.extra:
+        f = g.extra["fields"][ei]
+        pd = f"{en}.point"
+        return {f"{en}.{f['name']}": (("time", pd), A[:, f["column"]:f["column"] + f["count"]],
+                                      f["units"], f["description"]),
+                f"{en}.face_points": ((pd, "xyz"), f["points"], "m",
+                                      "face nodes in the washer's host frame")}
+    return {}
+
+
 class EnergyAccount:
     """Energy bookkeeping of a run (trapezoidal integration of powers over accepted steps).
 
@@ -162,6 +181,12 @@ class Recorder:
                     D = np.asarray([d[gi][ei] for d in self.diss])
                     put(f"{en}.dissipated_energy", ("time",), D, "J",
                         f"energy dissipated by {en} since the start")
+            for ei, en in enumerate(g.names):
+                # fields of meshed parts (stresses, pressures), see flexible_fields
+                for name, spec in _fields(m, g, ei, en, A[:, ei, :]).items():
+                    put(name, spec[0], spec[1], spec[2], spec[3])
+                    if len(spec) > 4:
+                        data_vars[name].attrs.update(spec[4])
             if g.family == "rigid_body":
                 for ei, en in enumerate(g.names):
                     put(f"{en}.angular_momentum", ("time", "xyz"), A[:, ei, :3], "kg m^2/s",

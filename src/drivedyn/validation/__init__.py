@@ -15,6 +15,7 @@ from drivedyn.validation import engine  # noqa: F401  (registers the cases)
 from drivedyn.validation import contact  # noqa: F401
 from drivedyn.validation import gears  # noqa: F401
 from drivedyn.validation import beams  # noqa: F401
+from drivedyn.validation import fe  # noqa: F401
 from drivedyn.validation import torsen  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case

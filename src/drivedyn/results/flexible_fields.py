@@ -1,0 +1,119 @@
+"""Fields of meshed flexible parts over time: stresses from the elastic coordinates, deformed
+node positions, contact pressures; export for ParaView (VTU series with a PVD index).
+
+Variables written into a run's Dataset (by :meth:`Recorder.dataset`) for each
+:class:`~drivedyn.elements.flexible.FlexibleBody` ``P`` and flexible washer contact ``W``:
+
+==============================  =================  ==========================================
+``P.q``                         (time, mode)       elastic coordinates
+``P.von_mises``                 (time, P.node)     nodal von Mises stress [Pa]
+``P.principal_max/min``         (time, P.node)     largest / smallest principal stress [Pa]
+``P.max_von_mises``             (time,)            largest nodal von Mises stress [Pa]
+``P.displacement``              (time, P.node, 3)  elastic displacement, host frame [m]
+``P.mesh_points``               (P.node, 3)        undeformed nodes, host frame [m]
+``P.mesh_cells``                (P.cell, 8 or 4)   vertex indices of the linear cells
+``W.pressure``                  (time, W.point)    contact pressure at the face nodes [Pa]
+``W.face_points``               (W.point, 3)       face nodes, washer host frame [m]
+==============================  =================  ==========================================
+
+The host node of a part is named by the attribute ``host`` of ``P.mesh_points``; its
+``position`` and ``rotation`` variables place the part: ``r = x + R (X + u)``.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+def stress_of(part: Any, q: np.ndarray) -> np.ndarray:
+    """Nodal stresses (n, 6) [Pa] (part frame, Voigt ``xx yy zz yz xz xy``) of the elastic
+    coordinates ``q`` (nq,): they depend on ``q`` only, not on the rigid motion."""
+    return np.einsum("nck,k->nc", part.stress, np.asarray(q, float))
+
+
+def _von_mises(s: np.ndarray) -> np.ndarray:
+    xx, yy, zz, yz, xz, xy = (s[..., i] for i in range(6))
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2)
+                   + 3.0 * (yz**2 + xz**2 + xy**2))
+
+
+def _principal(s: np.ndarray) -> np.ndarray:
+    T = np.empty(s.shape[:-1] + (3, 3))
+    T[..., 0, 0], T[..., 1, 1], T[..., 2, 2] = s[..., 0], s[..., 1], s[..., 2]
+    T[..., 1, 2] = T[..., 2, 1] = s[..., 3]
+    T[..., 0, 2] = T[..., 2, 0] = s[..., 4]
+    T[..., 0, 1] = T[..., 1, 0] = s[..., 5]
+    return np.linalg.eigvalsh(T)
+
+
+def part_variables(name: str, part: Any, mount: dict, host: str, A: np.ndarray,
+                   q_col: int) -> dict[str, tuple]:
+    """Dataset variables ``name -> (dims, values, units, description)`` of a flexible part
+    from its recorded aux rows ``A`` (nt, naux)."""
+    nq = part.nq
+    q = A[:, q_col:q_col + nq]
+    S = np.einsum("nck,tk->tnc", part.stress, q)
+    vm = _von_mises(S)
+    pr = _principal(S)
+    u = np.einsum("ndk,tk->tnd", mount["Phi"], q)
+    nd, cd = f"{name}.node", f"{name}.cell"
+    return {
+        f"{name}.q": (("time", f"{name}.mode"), q, "1",
+                      "elastic coordinates (constraint modes [m, rad], then modal)"),
+        f"{name}.von_mises": (("time", nd), vm, "Pa", "nodal von Mises stress"),
+        f"{name}.principal_max": (("time", nd), pr[..., 2], "Pa", "largest principal stress"),
+        f"{name}.principal_min": (("time", nd), pr[..., 0], "Pa", "smallest principal stress"),
+        f"{name}.max_von_mises": (("time",), vm.max(axis=1), "Pa",
+                                  "largest nodal von Mises stress of the part"),
+        f"{name}.displacement": (("time", nd, "xyz"), u, "m",
+                                 "elastic displacement of the nodes, host frame"),
+        f"{name}.mesh_points": ((nd, "xyz"), mount["X"], "m",
+                                f"undeformed nodes in the frame of node {host}", {"host": host}),
+        f"{name}.mesh_cells": ((cd, f"{name}.vertex"), np.asarray(part.cells), "1",
+                               f"linear cells ({'hexahedron' if part.kind == 'hex' else 'tetra'}"
+                               "), node indices", {"cell_type": "hexahedron" if part.kind ==
+                                                  "hex" else "tetra"}),
+    }
+
+
+def write_vtu_series(ds: Any, part: str, out_dir: str | os.PathLike,
+                     scale: float = 1.0) -> Path:
+    """Write the deformed, stress-coloured ``part`` of the results ``ds`` at every output
+    time as VTU files plus a ``{part}.pvd`` index for ParaView (global frame, displacements
+    magnified by ``scale``); returns the PVD path."""
+    import meshio
+
+    from drivedyn.errors import ModelError
+
+    key = f"{part}.mesh_points"
+    if key not in ds:
+        parts = sorted(k[:-12] for k in ds.data_vars if k.endswith(".mesh_points"))
+        raise ModelError(f"no flexible part {part!r} in the results (parts: "
+                         f"{', '.join(parts) or 'none'})")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    X = ds[key].values
+    host = ds[key].attrs["host"]
+    cells = ds[f"{part}.mesh_cells"].values
+    ctype = ds[f"{part}.mesh_cells"].attrs["cell_type"]
+    nv = int(cells.max()) + 1
+    xs = ds[f"{host}.position"].values
+    Rs = ds[f"{host}.rotation"].values
+    U = ds[f"{part}.displacement"].values
+    vm = ds[f"{part}.von_mises"].values
+    entries = []
+    for k, t in enumerate(ds["time"].values):
+        r = xs[k] + (X[:nv] + scale * U[k, :nv]) @ Rs[k].T
+        f = out / f"{part}_{k:05d}.vtu"
+        meshio.write(f, meshio.Mesh(r, [(ctype, cells)], point_data={
+            "von_mises": vm[k, :nv], "displacement": U[k, :nv] @ Rs[k].T,
+            "principal_max": ds[f"{part}.principal_max"].values[k, :nv]}))
+        entries.append(f'    <DataSet timestep="{float(t)!r}" file="{f.name}"/>')
+    pvd = out / f"{part}.pvd"
+    pvd.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+                   "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
+    return pvd

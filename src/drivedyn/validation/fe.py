@@ -1,0 +1,259 @@
+"""Validation cases of meshed solid parts: finite elements, Craig-Bampton reduction, the
+floating-frame body and the flexible washer contact."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from drivedyn.elements.contact import FrictionLaw, NormalLaw
+from drivedyn.elements.flexible import FlexibleWasherContact
+from drivedyn.elements.joints import Cylindrical, Fixed
+from drivedyn.elements.drivers import JointDriver
+from drivedyn.elements.loads import Force
+from drivedyn.fe import (
+    Interface,
+    SolidMaterial,
+    SolidModel,
+    annular_washer,
+    box,
+    craig_bampton,
+    frequency_check,
+    von_mises,
+)
+from drivedyn.model.compile import compile_model
+from drivedyn.model.flexible import add_flexible_body
+from drivedyn.model.spec import Spec
+from drivedyn.results import flexible_fields
+from drivedyn.solver import FixedStep, GeneralizedAlpha, simulate
+from drivedyn.validation.base import CaseResult, compare, register_case
+
+STEEL = SolidMaterial(210e9, 0.3, 7850.0)
+
+
+def clamp(solid: SolidModel, nodes: np.ndarray) -> np.ndarray:
+    """All dofs of ``nodes``."""
+    return (3 * nodes[:, None] + np.arange(3)).ravel()
+
+
+@register_case("fe_cantilever")
+def fe_cantilever(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """A 1 m x 0.1 m x 0.1 m steel block clamped at x = 0 with a shear load P at x = 1
+    (27-node hexahedra) vs Timoshenko beam theory; and uniform tension vs sigma = F/A."""
+    L, a, P = 1.0, 0.1, 1000.0
+    solid = SolidModel(box(L, a, a, 20, 2, 2), STEEL)
+    tip = solid.select("x", L)
+    area = solid.face_areas(tip)
+    f = np.zeros(3 * solid.n)
+    f[3 * tip + 2] = -P * area / area.sum()
+    u = solid.static(clamp(solid, solid.select("x", 0.0)), f)
+    E, nu = STEEL.youngs_modulus, STEEL.poisson_ratio
+    I, A = a**4 / 12, a * a
+    k = 10 * (1 + nu) / (12 + 11 * nu)  # Cowper, rectangle
+    ref = P * L**3 / (3 * E * I) + P * L / (k * E / (2 * (1 + nu)) * A)
+    sim = -float(np.sum(u[3 * tip + 2] * area) / area.sum())
+    out = [compare("fe_cantilever", "tip deflection under a 1 kN shear load", ref, sim, "m",
+                   0.02, "Timoshenko beam: P L^3/(3 E I) + P L/(k G A), Cowper k")]
+    # uniform tension with symmetry supports: exact constant stress
+    root = solid.select("x", 0.0)
+    fixed = np.concatenate([3 * root, 3 * root[np.abs(solid.nodes[root, 1]) < 1e-9] + 1,
+                            3 * root[np.abs(solid.nodes[root, 2]) < 1e-9] + 2])
+    sigma = 1e6
+    f = np.zeros(3 * solid.n)
+    f[3 * tip] = sigma * area
+    s = solid.stress_modes(solid.static(fixed, f)[:, None])[:, :, 0]
+    worst = float(np.max(np.abs(von_mises(s) - sigma)))
+    out.append(compare("fe_cantilever", "uniform tension: largest nodal von Mises error",
+                       sigma, sigma + worst, "Pa", 1e-6, "sigma = F/A exactly"))
+    return out
+
+
+def annular_plate_deflection(q: float, a: float, b: float, t: float, E: float,
+                             nu: float) -> float:
+    """Deflection [m] of the free inner edge (r = b) of an annular plate clamped at its outer
+    edge r = a under uniform pressure q: the closed-form Kirchhoff solution behind Roark's
+    Table 11.2 (case outer edge fixed, inner edge free), constants solved exactly.
+
+    w = q r^4/(64 D) + C1 + C2 r^2 + C3 ln r + C4 r^2 ln r with w(a) = w'(a) = 0 and
+    M_r(b) = Q_r(b) = 0."""
+    D = E * t**3 / (12 * (1 - nu**2))
+
+    def rows(r):
+        # w, w', M_r/(-D) = w'' + nu w'/r, Q_r/(-D) = d/dr(w'' + w'/r) per basis function
+        lr = math.log(r)
+        w = [1.0, r * r, lr, r * r * lr]
+        dw = [0.0, 2 * r, 1 / r, 2 * r * lr + r]
+        d2 = [0.0, 2.0, -1 / r**2, 2 * lr + 3]
+        d3 = [0.0, 0.0, 2 / r**3, 2 / r]
+        m = [d2[i] + nu * dw[i] / r for i in range(4)]
+        qq = [d3[i] + d2[i] / r - dw[i] / r**2 for i in range(4)]
+        p = q / (64 * D)
+        part = (p * r**4, 4 * p * r**3, 12 * p * r * r + nu * 4 * p * r * r,
+                24 * p * r + 12 * p * r - 4 * p * r)
+        return w, dw, m, qq, part
+
+    wa, dwa, _, _, pa = rows(a)
+    _, _, mb, qb, pb = rows(b)
+    Amat = np.array([wa, dwa, mb, qb])
+    rhs = -np.array([pa[0], pa[1], pb[2], pb[3]])
+    C = np.linalg.solve(Amat, rhs)
+    wb, _, _, _, pbb = rows(b)
+    return float(np.dot(C, wb) + pbb[0])
+
+
+@register_case("fe_annular_plate")
+def fe_annular_plate(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """Annular steel plate (b = 50 mm, a = 100 mm, t = 3 mm) clamped at r = a, uniform
+    pressure 0.1 MPa on its face: inner-edge deflection vs Roark."""
+    b, a, t, q = 0.05, 0.1, 0.003, 1e5
+    nt = 36 if quick else 48
+    solid = SolidModel(annular_washer(b, a, t, 6 if quick else 8, nt, 1), STEEL)
+    # the mid-side nodes of the faceted rim sit at a cos(pi/nt): the clamp holds them too
+    rim = a * math.cos(math.pi / nt) * (1 - 1e-9)
+    top = solid.select("z", t)
+    area = solid.face_areas(top)
+    f = np.zeros(3 * solid.n)
+    f[3 * top + 2] = -q * area
+    u = solid.static(clamp(solid, solid.select(r_min=rim)), f)
+    inner = solid.select(r_max=b * (1 + 1e-9))
+    sim = -float(np.mean(u[3 * inner + 2]))
+    ref = -annular_plate_deflection(-q, a, b, t, STEEL.youngs_modulus, STEEL.poisson_ratio)
+    return [compare("fe_annular_plate", "deflection of the free inner edge, 0.1 MPa", ref, sim,
+                    "m", 0.03, "Roark Table 11.2, outer edge fixed, inner edge free "
+                    "(closed-form Kirchhoff plate)")]
+
+
+@register_case("fe_modes")
+def fe_modes(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """Free-free steel bar 1 m x 20 mm x 20 mm (slender: shear and rotary inertia change the
+    third bending frequency by about 0.7 %): bending eigenfrequencies vs Euler-Bernoulli;
+    Craig-Bampton (interface x = 0) vs the full model."""
+    L, a = 1.0, 0.02
+    solid = SolidModel(box(L, a, a, 30, 1, 1), STEEL)
+    itf = [Interface("end", solid.select("x", 0.0), np.zeros(3))]
+    part = craig_bampton(solid, itf, 16, "bar", cache=False)
+    full, red = frequency_check(part, solid, itf, 8, free=True)
+    E, rho = STEEL.youngs_modulus, STEEL.density
+    EI_mA = E * a**4 / 12 / (rho * a * a)
+    bend = [(bl**2) * math.sqrt(EI_mA) / (2 * math.pi * L**2)
+            for bl in (4.730041, 7.853205, 10.995608)]
+    out = []
+    for k, fr in enumerate(bend):
+        sim = full[np.argmin(np.abs(full - fr))]
+        out.append(compare("fe_modes", f"free-free bending mode {k + 1}", fr, sim, "Hz", 0.02,
+                           "Euler-Bernoulli free-free beam (beta L = 4.730, 7.853, 10.996)"))
+    for k in range(5):
+        out.append(compare("fe_modes", f"Craig-Bampton (16 modes) vs full, mode {k + 1}",
+                           full[k], red[k], "Hz", 0.005, "full finite-element model"))
+    return out
+
+
+def spinning_part(spin: float, kick: float):
+    """A bar (0.5 x 0.05 x 0.05 m, 6 fixed-interface modes) mounted by its end on a free
+    node spinning at ``spin`` rad/s, its first mode excited with amplitude ``kick``."""
+    solid = SolidModel(box(0.5, 0.05, 0.05, 6, 1, 1), STEEL)
+    part = craig_bampton(solid, [Interface("root", solid.select("x", 0.0), np.zeros(3))], 6,
+                         "bar")
+    sp = Spec()
+    sp.add_node("hub", angular_velocity=(0.0, 0.0, spin))
+    sp.add_marker("mount", "hub")
+    q0 = np.zeros(part.nq)
+    q0[0] = kick
+    add_flexible_body(sp, "bar", part, "mount", q0=q0)
+    return sp, part
+
+
+@register_case("ffrf_energy")
+def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """Undamped free bar spinning at 50 rad/s and vibrating (first mode 168 Hz): energy
+    drift; and a rigid rotation of a deformed state changes no stress."""
+    sp, part = spinning_part(50.0, 1e-3)
+    model = compile_model(sp)
+    t_end = 0.02 if quick else 0.05
+    res = simulate(model, t_end, step=FixedStep(2e-5), integrator=GeneralizedAlpha(1.0),
+                   output_dt=1e-3)
+    E = res.dataset["energy.kinetic"].values + res.dataset["energy.potential"].values
+    drift = float(np.max(np.abs(E - E[0])))
+    out = [compare("ffrf_energy", f"energy drift over {t_end} s, 2e-5 s steps", E[0],
+                   E[0] + drift, "J", 1e-3, "conservation (no damping, rho_inf = 1)")]
+    # a large rigid rotation of a deformed state: stresses unchanged, shape turned rigidly
+    from drivedyn.rotations import exp_so3
+
+    ds = res.dataset
+    q = ds["bar.q"].values[-1]
+    s1 = flexible_fields.stress_of(part, q)
+    Rrot = exp_so3(np.array([1.2, -0.8, 1.5]))
+    st = model.initial_state()
+    st.R[0] = Rrot @ st.R[0]
+    st.x[0] = Rrot @ st.x[0]
+    for j in range(math.ceil(part.nq / 3)):
+        st.x[1 + j] = ds[f"bar.q{j}.position"].values[-1]
+    from drivedyn.solver.assembly import System
+
+    sysm = System(model)
+    sysm.evaluate(st, 0.0, 0.0, 1.0, 0, False)
+    g = model.groups[model.group_of["bar"][0]]
+    s2 = flexible_fields.stress_of(part, g.aux[0, 1:1 + part.nq])
+    vm = von_mises(s1)
+    out.append(compare("ffrf_energy", "stress change under a rigid rotation (relative to the "
+                       "largest von Mises)", 0.0,
+                       float(np.max(np.abs(von_mises(s2) - vm)) / vm.max()), "1", 1e-9,
+                       "frame invariance: stresses depend on q only"))
+    # an undeformed part turned by the same rotation and at rest stays unstrained
+    sp0, _ = spinning_part(0.0, 0.0)
+    m0 = compile_model(sp0)
+    s0 = m0.initial_state()
+    s0.R[0] = Rrot
+    r0 = simulate(m0, 0.002, state=s0, step=FixedStep(1e-4), output_dt=1e-3)
+    out.append(compare("ffrf_energy", "strain energy of a rigidly rotated part at rest", 0.0,
+                       float(np.abs(r0.dataset["bar.elastic_energy"].values).max()), "J", 1e-9,
+                       "no strain from rigid motion"))
+    return out
+
+
+def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes: int = 6):
+    """A steel washer (r 20..35 mm, 2 mm) mounted by its back face on a carrier fixed to the
+    ground, pressed by a spinning rigid face with the axial force ``load`` [N]."""
+    ri, re, t = 0.020, 0.035, 0.002
+    solid = SolidModel(annular_washer(ri, re, t, 2, 36, 1), STEEL)
+    part = craig_bampton(solid, [Interface("back", solid.select("z", 0.0), np.zeros(3))],
+                         n_modes, "washer")
+    sp = Spec()
+    sp.add_rigid_body("carrier", 0.5, (1e-3, 1e-3, 2e-3))
+    sp.add_rigid_body("gear", 0.3, (3e-4, 3e-4, 5e-4), position=(0, 0, t + 0.01),
+                      angular_velocity=(0, 0, spin))
+    sp.add_marker("ground_c", "ground", axis=(0, 0, 1))
+    sp.add_marker("carrier_c", "carrier", axis=(0, 0, 1))
+    sp.add(Fixed("carrier_fix", "ground_c", "carrier_c"))
+    sp.add_marker("ground_g", "ground", position=(0, 0, t + 0.01), axis=(0, 0, 1))
+    sp.add_marker("gear_g", "gear", axis=(0, 0, 1))
+    sp.add(Cylindrical("gear_bearing", "ground_g", "gear_g"))
+    sp.add(JointDriver("gear_spin", "gear_bearing", spin, quantity="speed"))
+    sp.add(Force("load", "gear_g", vector=(0, 0, -load)))
+    sp.add_marker("face", "gear", position=(0, 0, -0.01), axis=(0, 0, -1))
+    fb = add_flexible_body(sp, "washer", part, "carrier_c")
+    sp.add(FlexibleWasherContact(
+        "contact", "carrier_c", "face", body=fb.name, face=solid.select("z", t),
+        law=NormalLaw(k_contact, 1.0, law="penalty", damping=2e4),
+        friction=FrictionLaw(mu, eps_v=1e-4)))
+    return sp, (ri, re)
+
+
+@register_case("washer_pressure")
+def washer_pressure(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """Rigid spinning face on a flexible washer under 2 kN: integrated pressure vs load and
+    friction torque vs mu F r_m (uniform pressure: contact compliance >> washer's)."""
+    load, mu, spin = 2000.0, 0.1, 10.0
+    sp, (ri, re) = washer_bench(load, mu, spin, 1e9)
+    res = simulate(compile_model(sp), 0.03, step=FixedStep(1e-4), output_dt=1e-3)
+    ds = res.dataset
+    F = float(ds["contact.normal_force"].values[-1])
+    M = float(ds["contact.friction_torque"].values[-1])
+    rm = 2 * (re**3 - ri**3) / (3 * (re**2 - ri**2))
+    return [
+        compare("washer_pressure", "integrated face pressure under a 2 kN load", load, F, "N",
+                1e-3, "equilibrium of the pressed face"),
+        compare("washer_pressure", "friction torque, mu = 0.1 (magnitude)", mu * load * rm,
+                abs(M), "N m", 0.01, "M = mu F r_m, r_m = 2 (re^3 - ri^3)/(3 (re^2 - ri^2))"),
+    ]
