@@ -3,7 +3,6 @@
 from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
 from drivedyn.elements.base import REGISTRY, ElementSpec, Family, Group, register
 from drivedyn.elements.beams import GeometricallyExactBeam
-from drivedyn.elements.flexible import FlexibleBody
 from drivedyn.elements.contact import (
     FrictionLaw,
     JournalContact,
@@ -14,6 +13,7 @@ from drivedyn.elements.contact import (
     UnilateralContact,
 )
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver
+from drivedyn.elements.flexible import FlexibleBody
 from drivedyn.elements.gears import GearPair
 from drivedyn.elements.joints import (
     Cylindrical,

@@ -75,7 +75,7 @@ def von_mises(s: np.ndarray) -> np.ndarray:
 
 def principal_stresses(s: np.ndarray) -> np.ndarray:
     """Principal stresses (..., 3), descending, of Voigt stresses ``s`` (..., 6) [Pa]."""
-    T = np.empty(s.shape[:-1] + (3, 3))
+    T = np.empty((*s.shape[:-1], 3, 3))
     T[..., 0, 0], T[..., 1, 1], T[..., 2, 2] = s[..., 0], s[..., 1], s[..., 2]
     T[..., 1, 2] = T[..., 2, 1] = s[..., 3]
     T[..., 0, 2] = T[..., 2, 0] = s[..., 4]

@@ -28,26 +28,13 @@ from typing import Any
 
 import numpy as np
 
+from drivedyn.fe.solid import principal_stresses, von_mises
+
 
 def stress_of(part: Any, q: np.ndarray) -> np.ndarray:
     """Nodal stresses (n, 6) [Pa] (part frame, Voigt ``xx yy zz yz xz xy``) of the elastic
     coordinates ``q`` (nq,): they depend on ``q`` only, not on the rigid motion."""
     return np.einsum("nck,k->nc", part.stress, np.asarray(q, float))
-
-
-def _von_mises(s: np.ndarray) -> np.ndarray:
-    xx, yy, zz, yz, xz, xy = (s[..., i] for i in range(6))
-    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2)
-                   + 3.0 * (yz**2 + xz**2 + xy**2))
-
-
-def _principal(s: np.ndarray) -> np.ndarray:
-    T = np.empty(s.shape[:-1] + (3, 3))
-    T[..., 0, 0], T[..., 1, 1], T[..., 2, 2] = s[..., 0], s[..., 1], s[..., 2]
-    T[..., 1, 2] = T[..., 2, 1] = s[..., 3]
-    T[..., 0, 2] = T[..., 2, 0] = s[..., 4]
-    T[..., 0, 1] = T[..., 1, 0] = s[..., 5]
-    return np.linalg.eigvalsh(T)
 
 
 def part_variables(name: str, part: Any, mount: dict, host: str, A: np.ndarray,
@@ -57,16 +44,16 @@ def part_variables(name: str, part: Any, mount: dict, host: str, A: np.ndarray,
     nq = part.nq
     q = A[:, q_col:q_col + nq]
     S = np.einsum("nck,tk->tnc", part.stress, q)
-    vm = _von_mises(S)
-    pr = _principal(S)
+    vm = von_mises(S)
+    pr = principal_stresses(S)
     u = np.einsum("ndk,tk->tnd", mount["Phi"], q)
     nd, cd = f"{name}.node", f"{name}.cell"
     return {
         f"{name}.q": (("time", f"{name}.mode"), q, "1",
                       "elastic coordinates (constraint modes [m, rad], then modal)"),
         f"{name}.von_mises": (("time", nd), vm, "Pa", "nodal von Mises stress"),
-        f"{name}.principal_max": (("time", nd), pr[..., 2], "Pa", "largest principal stress"),
-        f"{name}.principal_min": (("time", nd), pr[..., 0], "Pa", "smallest principal stress"),
+        f"{name}.principal_max": (("time", nd), pr[..., 0], "Pa", "largest principal stress"),
+        f"{name}.principal_min": (("time", nd), pr[..., 2], "Pa", "smallest principal stress"),
         f"{name}.max_von_mises": (("time",), vm.max(axis=1), "Pa",
                                   "largest nodal von Mises stress of the part"),
         f"{name}.displacement": (("time", nd, "xyz"), u, "m",

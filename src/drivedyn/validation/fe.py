@@ -8,9 +8,9 @@ import math
 import numpy as np
 
 from drivedyn.elements.contact import FrictionLaw, NormalLaw
+from drivedyn.elements.drivers import JointDriver
 from drivedyn.elements.flexible import FlexibleWasherContact
 from drivedyn.elements.joints import Cylindrical, Fixed
-from drivedyn.elements.drivers import JointDriver
 from drivedyn.elements.loads import Force
 from drivedyn.fe import (
     Interface,

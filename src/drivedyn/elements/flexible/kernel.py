@@ -52,8 +52,8 @@ def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Om
                 zero, Qq, G, Hd, Hdd, B, rx, rth, rq):
     """Generalised inertia, gravity, elastic and damping forces of one body (see the module
     docstring) into ``rx`` (3, global), ``rth`` (3, body) and ``rq`` (nq,). Works in real or
-    complex arithmetic (complex steps; ``zero`` is 0 in that arithmetic). Work arrays: ``Qq`` (3, 3, nq), ``G, Hd, Hdd, B``
-    (3, 3), of the arithmetic of ``q``."""
+    complex arithmetic (complex steps; ``zero`` is 0 in that arithmetic). Work arrays:
+    ``Qq`` (3, 3, nq), ``G, Hd, Hdd, B`` (3, 3), of the arithmetic of ``q``."""
     # alpha = R^T (xdd - g)
     a0 = xdd[0] - g[0]
     a1 = xdd[1] - g[1]

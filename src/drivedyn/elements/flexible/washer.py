@@ -24,7 +24,11 @@ the pressure distribution: a uniform pressure gives ``M = mu F r_m`` with the fr
 
 The forces act on the washer's generalised coordinates through the virtual work of the node
 displacements (host node, elastic coordinates) and on the face's node at the same points.
-The tangent matrices come from complex steps of the residual (exact to round-off).
+The tangent matrices are assembled node by node: the derivatives of the nodal force with
+respect to the node's position and velocity and to the face's pose and velocity come from
+complex steps of :func:`node_force` (18 evaluations of a few dozen operations, exact to
+round-off), chained with the node's kinematic Jacobian, plus the geometric terms of the
+Jacobians themselves (the force held).
 """
 
 from __future__ import annotations
@@ -58,130 +62,70 @@ NOUT = len(OUTPUTS)
 
 
 @njit(cache=True)
-def washer_forces(X, Phi, af, nf, nq, law, fric, xB, RB, pB, nB, vB, wB, xh, Rh, vh, Wh, q, qd,
-                  zero, res, nodal, want_nodal):
-    """Residual (local: B node 0..5, host 6..11, q slots) into ``res`` and, if
-    ``want_nodal``, per-node normal forces into ``nodal`` (real arithmetic only). Returns
-    (F, M_fric, V, P_dis, pen_max, F r sum)."""
+def node_force(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, zero, p):
+    """Force ``p`` (3, global) of the face on one washer node at ``r`` moving with ``rd``
+    (face node B at ``xB``, rotation ``RB``, velocity ``vB``, body angular velocity ``wB``).
+    Real or complex arithmetic. Returns (F normal, delta, V, P_dis, in contact)."""
     K, n, chi, c, vs = law[0], law[1], law[2], law[3], law[4]
     mu, epsv = fric[0], fric[1]
-    for i in range(res.shape[0]):
-        res[i] = zero
-    # global normal and marker origin of face B
-    ng = (RB[0, 0] * nB[0] + RB[0, 1] * nB[1] + RB[0, 2] * nB[2],
-          RB[1, 0] * nB[0] + RB[1, 1] * nB[1] + RB[1, 2] * nB[2],
-          RB[2, 0] * nB[0] + RB[2, 1] * nB[1] + RB[2, 2] * nB[2])
-    xo = (xB[0] + RB[0, 0] * pB[0] + RB[0, 1] * pB[1] + RB[0, 2] * pB[2],
-          xB[1] + RB[1, 0] * pB[0] + RB[1, 1] * pB[1] + RB[1, 2] * pB[2],
-          xB[2] + RB[2, 0] * pB[0] + RB[2, 1] * pB[1] + RB[2, 2] * pB[2])
-    wg = (RB[0, 0] * wB[0] + RB[0, 1] * wB[1] + RB[0, 2] * wB[2],
-          RB[1, 0] * wB[0] + RB[1, 1] * wB[1] + RB[1, 2] * wB[2],
-          RB[2, 0] * wB[0] + RB[2, 1] * wB[1] + RB[2, 2] * wB[2])
-    Ftot = zero
-    Mf = zero
-    V = zero
-    Pd = zero
-    pen = -1e300
-    Fr = zero
-    u = np.empty(3, dtype=res.dtype)
-    ud = np.empty(3, dtype=res.dtype)
-    r = np.empty(3, dtype=res.dtype)
-    s = np.empty(3, dtype=res.dtype)
-    pl = np.empty(3, dtype=res.dtype)
-    for i in range(nf):
-        for a in range(3):
-            ua = X[i, a] + zero
-            ua2 = zero
-            for k in range(nq):
-                ua += Phi[i, a, k] * q[k]
-                ua2 += Phi[i, a, k] * qd[k]
-            u[a] = ua
-            ud[a] = ua2
-        # ud = Wh x u + Phi qd (body frame)
-        ud0 = Wh[1] * u[2] - Wh[2] * u[1] + ud[0]
-        ud1 = Wh[2] * u[0] - Wh[0] * u[2] + ud[1]
-        ud2 = Wh[0] * u[1] - Wh[1] * u[0] + ud[2]
-        for a in range(3):
-            r[a] = xh[a] + Rh[a, 0] * u[0] + Rh[a, 1] * u[1] + Rh[a, 2] * u[2]
-        d0 = r[0] - xo[0]
-        d1 = r[1] - xo[1]
-        d2 = r[2] - xo[2]
-        delta = -(d0 * ng[0] + d1 * ng[1] + d2 * ng[2])
-        if delta.real > pen:
-            pen = delta.real
-        if want_nodal:
-            nodal[i] = 0.0
-        if delta.real <= 0.0:
-            continue
-        e0 = r[0] - xB[0]
-        e1 = r[1] - xB[1]
-        e2 = r[2] - xB[2]
-        for a in range(3):
-            s[a] = vh[a] + Rh[a, 0] * ud0 + Rh[a, 1] * ud1 + Rh[a, 2] * ud2 - vB[a]
-        s[0] -= wg[1] * e2 - wg[2] * e1
-        s[1] -= wg[2] * e0 - wg[0] * e2
-        s[2] -= wg[0] * e1 - wg[1] * e0
-        sn = s[0] * ng[0] + s[1] * ng[1] + s[2] * ng[2]
-        rate = -sn
-        kdn = K * delta**n
-        Fi = af[i] * (kdn * (1.0 + chi * rate / vs) + c * rate)
-        if Fi.real <= 0.0:
-            V += af[i] * kdn * delta / (n + 1.0)
-            continue
-        V += af[i] * kdn * delta / (n + 1.0)
-        Pd += (Fi - af[i] * kdn) * rate
-        # friction
-        st0 = s[0] - sn * ng[0]
-        st1 = s[1] - sn * ng[1]
-        st2 = s[2] - sn * ng[2]
-        den = np.sqrt(st0 * st0 + st1 * st1 + st2 * st2 + epsv * epsv)
-        g = mu * Fi / den
-        p0 = Fi * ng[0] - g * st0
-        p1 = Fi * ng[1] - g * st1
-        p2 = Fi * ng[2] - g * st2
-        Pd += g * (st0 * st0 + st1 * st1 + st2 * st2)
-        Ftot += Fi
-        Fr += Fi * np.sqrt(d0 * d0 + d1 * d1 + d2 * d2 - (d0 * ng[0] + d1 * ng[1]
-                                                          + d2 * ng[2]) ** 2)
-        # friction moment on the washer about the normal through the face origin
-        Mf += ng[0] * (d1 * (-g * st2) - d2 * (-g * st1)) + ng[1] * (d2 * (-g * st0)
-                                                                      - d0 * (-g * st2)) \
-            + ng[2] * (d0 * (-g * st1) - d1 * (-g * st0))
-        if want_nodal:
-            nodal[i] = Fi.real
-        # on the washer: r_x -= p, r_th -= u x (Rh^T p), r_q -= Phi^T Rh^T p
-        for a in range(3):
-            pl[a] = Rh[0, a] * p0 + Rh[1, a] * p1 + Rh[2, a] * p2
-        res[6] -= p0
-        res[7] -= p1
-        res[8] -= p2
-        res[9] -= u[1] * pl[2] - u[2] * pl[1]
-        res[10] -= u[2] * pl[0] - u[0] * pl[2]
-        res[11] -= u[0] * pl[1] - u[1] * pl[0]
-        for k in range(nq):
-            res[12 + 6 * (k // 3) + (k % 3)] -= (Phi[i, 0, k] * pl[0] + Phi[i, 1, k] * pl[1]
-                                                 + Phi[i, 2, k] * pl[2])
-        # on face B: r_x += p, r_th += rho x (RB^T p), rho = RB^T (r - x_B)
-        res[0] += p0
-        res[1] += p1
-        res[2] += p2
-        rho0 = RB[0, 0] * e0 + RB[1, 0] * e1 + RB[2, 0] * e2
-        rho1 = RB[0, 1] * e0 + RB[1, 1] * e1 + RB[2, 1] * e2
-        rho2 = RB[0, 2] * e0 + RB[1, 2] * e1 + RB[2, 2] * e2
-        q0 = RB[0, 0] * p0 + RB[1, 0] * p1 + RB[2, 0] * p2
-        q1 = RB[0, 1] * p0 + RB[1, 1] * p1 + RB[2, 1] * p2
-        q2 = RB[0, 2] * p0 + RB[1, 2] * p1 + RB[2, 2] * p2
-        res[3] += rho1 * q2 - rho2 * q1
-        res[4] += rho2 * q0 - rho0 * q2
-        res[5] += rho0 * q1 - rho1 * q0
-    return Ftot, Mf, V, Pd, pen, Fr
+    p[0] = zero
+    p[1] = zero
+    p[2] = zero
+    ng0 = RB[0, 0] * nB[0] + RB[0, 1] * nB[1] + RB[0, 2] * nB[2]
+    ng1 = RB[1, 0] * nB[0] + RB[1, 1] * nB[1] + RB[1, 2] * nB[2]
+    ng2 = RB[2, 0] * nB[0] + RB[2, 1] * nB[1] + RB[2, 2] * nB[2]
+    e0 = r[0] - xB[0]
+    e1 = r[1] - xB[1]
+    e2 = r[2] - xB[2]
+    d0 = e0 - (RB[0, 0] * pB[0] + RB[0, 1] * pB[1] + RB[0, 2] * pB[2])
+    d1 = e1 - (RB[1, 0] * pB[0] + RB[1, 1] * pB[1] + RB[1, 2] * pB[2])
+    d2 = e2 - (RB[2, 0] * pB[0] + RB[2, 1] * pB[1] + RB[2, 2] * pB[2])
+    delta = -(d0 * ng0 + d1 * ng1 + d2 * ng2)
+    if delta.real <= 0.0:
+        return zero, delta, zero, zero, False
+    wg0 = RB[0, 0] * wB[0] + RB[0, 1] * wB[1] + RB[0, 2] * wB[2]
+    wg1 = RB[1, 0] * wB[0] + RB[1, 1] * wB[1] + RB[1, 2] * wB[2]
+    wg2 = RB[2, 0] * wB[0] + RB[2, 1] * wB[1] + RB[2, 2] * wB[2]
+    s0 = rd[0] - vB[0] - (wg1 * e2 - wg2 * e1)
+    s1 = rd[1] - vB[1] - (wg2 * e0 - wg0 * e2)
+    s2 = rd[2] - vB[2] - (wg0 * e1 - wg1 * e0)
+    sn = s0 * ng0 + s1 * ng1 + s2 * ng2
+    rate = -sn
+    kdn = af * K * delta**n
+    V = kdn * delta / (n + 1.0)
+    F = kdn * (1.0 + chi * rate / vs) + af * c * rate
+    if F.real <= 0.0:
+        return zero, delta, V, zero, False
+    st0 = s0 - sn * ng0
+    st1 = s1 - sn * ng1
+    st2 = s2 - sn * ng2
+    st2n = st0 * st0 + st1 * st1 + st2 * st2
+    g = mu * F / np.sqrt(st2n + epsv * epsv)
+    p[0] = F * ng0 - g * st0
+    p[1] = F * ng1 - g * st1
+    p[2] = F * ng2 - g * st2
+    return F, delta, V, (F - kdn) * rate + g * st2n, True
+
+
+@njit(cache=True, inline="always")
+def _skew_into(a, S):
+    S[0, 0] = 0.0
+    S[1, 1] = 0.0
+    S[2, 2] = 0.0
+    S[0, 1] = -a[2]
+    S[0, 2] = a[1]
+    S[1, 0] = a[2]
+    S[1, 2] = -a[0]
+    S[2, 0] = -a[1]
+    S[2, 1] = a[0]
 
 
 @njit(cache=True, inline="always")
 def _washers(P, C, W, full):
     X, Phi, af, nfs, nqs, area, law, fric, pB, nB = P
-    L, vl, res, nodal, cres, (cxB, cRB, cvB, cwB, cxh, cRh, cvh, cWh, cq, cqd), qv, qdv = W
-    rq, _, M, Cd, K, _ = L
+    (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, cr, crd, cxB, cRB, cvB, cwB, cp,
+     S1, S2, S3, Dp, Dv, Dq) = W
+    rq, _, _, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     aux = C[sc.AUX]
     nnode = C[sc.LNODES].shape[1]
@@ -192,101 +136,234 @@ def _washers(P, C, W, full):
         nh = sc.node(C, e, 1)
         nq = nqs[e]
         nf = nfs[e]
+        ncol = 12 + nq
         sc.velocities(C, e, nd, vl)
         sc.clear(L, full)
         for k in range(nq):
             qv[k] = x[sc.node(C, e, 2 + k // 3), k % 3]
             qdv[k] = vl[12 + 6 * (k // 3) + (k % 3)]
-        F, Mf, V, Pd, pen, Fr = washer_forces(
-            X[e], Phi[e], af[e], nf, nq, law[e], fric[e], x[nb], R[nb], pB[e], nB[e],
-            vl[0:3], vl[3:6], x[nh], R[nh], vl[6:9], vl[9:12], qv, qdv, 0.0, res, nodal, True)
-        for i in range(nd):
-            rq[i] = res[i]
-        if full:
-            # complex steps on positions (K) and velocities (C) of B, host and q
-            for i in range(3):
-                cxB[i] = x[nb, i]
-                cvB[i] = vl[i]
-                cwB[i] = vl[3 + i]
-                cxh[i] = x[nh, i]
-                cvh[i] = vl[6 + i]
-                cWh[i] = vl[9 + i]
-                for j in range(3):
-                    cRB[i, j] = R[nb, i, j]
-                    cRh[i, j] = R[nh, i, j]
-            for k in range(nq):
-                cq[k] = qv[k]
-                cqd[k] = qdv[k]
-            ncol = 12 + nq
-            for cc in range(2 * ncol):
-                pos = cc < ncol
-                j = cc if pos else cc - ncol
-                if j < 12:
-                    blk = j // 6   # 0: B, 1: host
-                    t = j % 6
-                    if pos:
-                        if t < 3:
-                            if blk == 0:
-                                cxB[t] = x[nb, t] + 1j * h
-                            else:
-                                cxh[t] = x[nh, t] + 1j * h
-                        else:
-                            tt = t - 3
-                            b1 = (tt + 1) % 3
-                            b2 = (tt + 2) % 3
-                            Rs = R[nb] if blk == 0 else R[nh]
-                            cR = cRB if blk == 0 else cRh
-                            for a in range(3):
-                                cR[a, b1] = Rs[a, b1] + 1j * h * Rs[a, b2]
-                                cR[a, b2] = Rs[a, b2] - 1j * h * Rs[a, b1]
-                    else:
-                        if blk == 0:
-                            if t < 3:
-                                cvB[t] = vl[t] + 1j * h
-                            else:
-                                cwB[t - 3] = vl[t] + 1j * h
-                        else:
-                            if t < 3:
-                                cvh[t] = vl[6 + t] + 1j * h
-                            else:
-                                cWh[t - 3] = vl[6 + t] + 1j * h
-                    col = j
-                else:
-                    k = j - 12
-                    if pos:
-                        cq[k] = qv[k] + 1j * h
-                    else:
-                        cqd[k] = qdv[k] + 1j * h
-                    col = 12 + 6 * (k // 3) + (k % 3)
-                washer_forces(X[e], Phi[e], af[e], nf, nq, law[e], fric[e], cxB, cRB, pB[e],
-                              nB[e], cvB, cwB, cxh, cRh, cvh, cWh, cq, cqd, 0j, cres, nodal,
-                              False)
-                T = K if pos else Cd
-                for i in range(nd):
-                    T[i, col] = cres[i].imag / h
-                # restore
-                for i in range(3):
-                    cxB[i] = x[nb, i]
-                    cvB[i] = vl[i]
-                    cwB[i] = vl[3 + i]
-                    cxh[i] = x[nh, i]
-                    cvh[i] = vl[6 + i]
-                    cWh[i] = vl[9 + i]
-                    for jj in range(3):
-                        cRB[i, jj] = R[nb, i, jj]
-                        cRh[i, jj] = R[nh, i, jj]
-                if j >= 12:
-                    cq[j - 12] = qv[j - 12]
-                    cqd[j - 12] = qdv[j - 12]
-        sc.scatter(C, L, e, nnode, full)
-        sc.energy(C, e, 0.0, V, 0.0, Pd)
+        xB = x[nb]
+        RB = R[nb]
+        xh = x[nh]
+        Rh = R[nh]
+        Ftot = 0.0
+        Mf = 0.0
+        Vt = 0.0
+        Pd = 0.0
+        pen = -1e300
+        Fr = 0.0
         pmax = 0.0
         for i in range(nf):
-            pi = nodal[i] / (af[e, i] * area[e])
+            # node kinematics: u (body), r, rd (global)
+            for d in range(3):
+                ua = X[e, i, d]
+                va = 0.0
+                for k in range(nq):
+                    ua += Phi[e, i, d, k] * qv[k]
+                    va += Phi[e, i, d, k] * qdv[k]
+                u[d] = ua
+                ud[d] = va
+            w0, w1, w2 = vl[9], vl[10], vl[11]
+            t0 = w1 * u[2] - w2 * u[1] + ud[0]
+            t1 = w2 * u[0] - w0 * u[2] + ud[1]
+            t2 = w0 * u[1] - w1 * u[0] + ud[2]
+            for d in range(3):
+                r[d] = xh[d] + Rh[d, 0] * u[0] + Rh[d, 1] * u[1] + Rh[d, 2] * u[2]
+                rd[d] = vl[6 + d] + Rh[d, 0] * t0 + Rh[d, 1] * t1 + Rh[d, 2] * t2
+            F, delta, V, Pdi, on = node_force(r, rd, xB, RB, vl[0:3], vl[3:6], pB[e], nB[e],
+                                              af[e, i], law[e], fric[e], 0.0, p)
+            if delta > pen:
+                pen = delta
+            Vt += V
+            aux[e, NOUT + i] = 0.0
+            if not on:
+                continue
+            Pd += Pdi
+            Ftot += F
+            pi = F / (af[e, i] * area[e])
+            aux[e, NOUT + i] = pi
             if pi > pmax:
                 pmax = pi
-            aux[e, NOUT + i] = pi
-        sc.report(C, e, (F, pmax, F / area[e], pen, Mf, Fr / F if F > 0.0 else 0.0, Pd))
+            # radius about the face normal and friction moment on the washer
+            ng0 = RB[0, 0] * nB[e, 0] + RB[0, 1] * nB[e, 1] + RB[0, 2] * nB[e, 2]
+            ng1 = RB[1, 0] * nB[e, 0] + RB[1, 1] * nB[e, 1] + RB[1, 2] * nB[e, 2]
+            ng2 = RB[2, 0] * nB[e, 0] + RB[2, 1] * nB[e, 1] + RB[2, 2] * nB[e, 2]
+            d0 = r[0] - xB[0] - (RB[0, 0] * pB[e, 0] + RB[0, 1] * pB[e, 1] + RB[0, 2] * pB[e, 2])
+            d1 = r[1] - xB[1] - (RB[1, 0] * pB[e, 0] + RB[1, 1] * pB[e, 1] + RB[1, 2] * pB[e, 2])
+            d2 = r[2] - xB[2] - (RB[2, 0] * pB[e, 0] + RB[2, 1] * pB[e, 1] + RB[2, 2] * pB[e, 2])
+            dn = d0 * ng0 + d1 * ng1 + d2 * ng2
+            Fr += F * np.sqrt(max(d0 * d0 + d1 * d1 + d2 * d2 - dn * dn, 0.0))
+            Mf += ng0 * (d1 * p[2] - d2 * p[1]) + ng1 * (d2 * p[0] - d0 * p[2]) \
+                + ng2 * (d0 * p[1] - d1 * p[0])
+            # residual: washer -J_r^T p, face J_B^T p
+            for d in range(3):
+                a[d] = Rh[0, d] * p[0] + Rh[1, d] * p[1] + Rh[2, d] * p[2]   # Rh^T p
+                b[d] = RB[0, d] * p[0] + RB[1, d] * p[1] + RB[2, d] * p[2]   # RB^T p
+                rho[d] = (RB[0, d] * (r[0] - xB[0]) + RB[1, d] * (r[1] - xB[1])
+                          + RB[2, d] * (r[2] - xB[2]))
+            rq[6] -= p[0]
+            rq[7] -= p[1]
+            rq[8] -= p[2]
+            rq[9] -= u[1] * a[2] - u[2] * a[1]
+            rq[10] -= u[2] * a[0] - u[0] * a[2]
+            rq[11] -= u[0] * a[1] - u[1] * a[0]
+            for k in range(nq):
+                rq[12 + 6 * (k // 3) + (k % 3)] -= (Phi[e, i, 0, k] * a[0] + Phi[e, i, 1, k]
+                                                    * a[1] + Phi[e, i, 2, k] * a[2])
+            rq[0] += p[0]
+            rq[1] += p[1]
+            rq[2] += p[2]
+            rq[3] += rho[1] * b[2] - rho[2] * b[1]
+            rq[4] += rho[2] * b[0] - rho[0] * b[2]
+            rq[5] += rho[0] * b[1] - rho[1] * b[0]
+            if not full:
+                continue
+            # --- tangent: dp/d(r, rd, xB, thB, vB, wB) by complex steps of node_force ---
+            for c in range(18):
+                for d in range(3):
+                    cr[d] = r[d]
+                    crd[d] = rd[d]
+                    cxB[d] = xB[d]
+                    cvB[d] = vl[d]
+                    cwB[d] = vl[3 + d]
+                    for f in range(3):
+                        cRB[d, f] = RB[d, f]
+                blk, j = c // 3, c % 3
+                if blk == 0:
+                    cr[j] += 1j * h
+                elif blk == 1:
+                    crd[j] += 1j * h
+                elif blk == 2:
+                    cxB[j] += 1j * h
+                elif blk == 3:
+                    b1 = (j + 1) % 3
+                    b2 = (j + 2) % 3
+                    for d in range(3):
+                        cRB[d, b1] = RB[d, b1] + 1j * h * RB[d, b2]
+                        cRB[d, b2] = RB[d, b2] - 1j * h * RB[d, b1]
+                elif blk == 4:
+                    cvB[j] += 1j * h
+                else:
+                    cwB[j] += 1j * h
+                node_force(cr, crd, cxB, cRB, cvB, cwB, pB[e], nB[e], af[e, i], law[e],
+                           fric[e], 0j, cp)
+                for d in range(3):
+                    dP[d, c] = cp[d].imag / h
+            # J_r (3, ncol) over [xB thB xh thh q]: dr/dxh = I, dr/dthh = -Rh u~, dr/dq = Rh Phi
+            # Jd: d rd / d positions: thh: -Rh (W~u + Phi qd)~, q: Rh W~ Phi
+            for d in range(3):
+                for cc in range(ncol):
+                    Jr[d, cc] = 0.0
+                    Jd[d, cc] = 0.0
+                Jr[d, 6 + d] = 1.0
+            ud[0], ud[1], ud[2] = t0, t1, t2
+            _skew_into(u, S1)
+            _skew_into(ud, S2)
+            for d in range(3):
+                for f in range(3):
+                    Jr[d, 9 + f] = -(Rh[d, 0] * S1[0, f] + Rh[d, 1] * S1[1, f]
+                                     + Rh[d, 2] * S1[2, f])
+                    Jd[d, 9 + f] = -(Rh[d, 0] * S2[0, f] + Rh[d, 1] * S2[1, f]
+                                     + Rh[d, 2] * S2[2, f])
+                for k in range(nq):
+                    sp_ = 0.0
+                    for m in range(3):
+                        sp_ += Rh[d, m] * Phi[e, i, m, k]
+                    # W~ Phi_k
+                    wp0 = w1 * Phi[e, i, 2, k] - w2 * Phi[e, i, 1, k]
+                    wp1 = w2 * Phi[e, i, 0, k] - w0 * Phi[e, i, 2, k]
+                    wp2 = w0 * Phi[e, i, 1, k] - w1 * Phi[e, i, 0, k]
+                    sw = Rh[d, 0] * wp0 + Rh[d, 1] * wp1 + Rh[d, 2] * wp2
+                    Jr[d, 12 + k] = sp_
+                    Jd[d, 12 + k] = sw
+            # dp/dpos (3, ncol) and dp/dvel (3, ncol)
+            for d in range(3):
+                for cc in range(ncol):
+                    sp_ = 0.0
+                    sv = 0.0
+                    for m in range(3):
+                        sp_ += dP[d, m] * Jr[m, cc] + dP[d, 3 + m] * Jd[m, cc]
+                        sv += dP[d, 3 + m] * Jr[m, cc]
+                    if cc < 6:
+                        sp_ += dP[d, 6 + cc]
+                        sv += dP[d, 12 + cc]
+                    Dp[d, cc] = sp_
+                    Dv[d, cc] = sv
+            # rows: washer -J_r^T (.), face J_B^T (.) with J_B = [I, -RB rho~] on B cols
+            _skew_into(a, S1)     # a~
+            _skew_into(b, S2)     # b~
+            _skew_into(rho, S3)   # rho~
+            for cc in range(ncol):
+                col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
+                for d in range(3):
+                    K[6 + d, col] -= Dp[d, cc]
+                    Cd[6 + d, col] -= Dv[d, cc]
+                    K[d, col] += Dp[d, cc]
+                    Cd[d, col] += Dv[d, cc]
+                # theta_h rows: -(Rh u~)^T ... = u~ Rh^T (.), negated
+                for f in range(3):
+                    kp = 0.0
+                    kv = 0.0
+                    kb = 0.0
+                    kbv = 0.0
+                    for d in range(3):
+                        kp += Jr[d, 9 + f] * Dp[d, cc]
+                        kv += Jr[d, 9 + f] * Dv[d, cc]
+                    K[9 + f, col] -= kp
+                    Cd[9 + f, col] -= kv
+                    # theta_B rows: (RB rho~)^T... J_B^T rows: rho~ RB^T (.)
+                    for d in range(3):
+                        m_ = 0.0
+                        for m in range(3):
+                            m_ += S3[f, m] * RB[d, m]
+                        kb += m_ * Dp[d, cc]
+                        kbv += m_ * Dv[d, cc]
+                    K[3 + f, col] += kb
+                    Cd[3 + f, col] += kbv
+                for k in range(nq):
+                    kp = 0.0
+                    kv = 0.0
+                    for d in range(3):
+                        kp += Jr[d, 12 + k] * Dp[d, cc]
+                        kv += Jr[d, 12 + k] * Dv[d, cc]
+                    row = 12 + 6 * (k // 3) + (k % 3)
+                    K[row, col] -= kp
+                    Cd[row, col] -= kv
+            # geometric terms (p held): washer: d[u x a] = -a~ Phi dq + u~ a~ dth_h;
+            # d[Phi^T a] = Phi^T a~ dth_h; face: d[rho x b] = -b~ RB^T (dr - dxB)
+            #   + (rho~ b~ - b~ rho~) dth_B
+            _skew_into(u, Dq)     # u~
+            for f in range(3):
+                for g_ in range(3):
+                    ua = 0.0
+                    rb = 0.0
+                    for m in range(3):
+                        ua += Dq[f, m] * S1[m, g_]
+                        rb += S3[f, m] * S2[m, g_] - S2[f, m] * S3[m, g_]
+                    K[9 + f, 9 + g_] -= ua
+                    K[3 + f, 3 + g_] += rb
+                for k in range(nq):
+                    col = 12 + 6 * (k // 3) + (k % 3)
+                    s_ = 0.0
+                    for m in range(3):
+                        s_ += S1[f, m] * Phi[e, i, m, k]
+                    K[9 + f, col] += s_
+                    K[col, 9 + f] -= (Phi[e, i, 0, k] * S1[0, f] + Phi[e, i, 1, k] * S1[1, f]
+                                      + Phi[e, i, 2, k] * S1[2, f])
+                # face rows: -b~ RB^T (J_r dpos - dxB)
+                for cc in range(ncol):
+                    col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
+                    s_ = 0.0
+                    for m in range(3):
+                        bm = 0.0
+                        for d in range(3):
+                            bm += S2[f, m] * RB[d, m] * (Jr[d, cc] - (1.0 if cc == d else 0.0))
+                        s_ += bm
+                    K[3 + f, col] -= s_
+        sc.scatter(C, L, e, nnode, full)
+        sc.energy(C, e, 0.0, Vt, 0.0, Pd)
+        sc.report(C, e, (Ftot, pmax, Ftot / area[e], pen, Mf, Fr / Ftot if Ftot > 0.0 else 0.0,
+                         Pd))
 
 
 @njit(cache=True)
@@ -297,12 +374,13 @@ def flexible_washer_kernel(
 ):
     nd = 6 * lnodes.shape[1]
     nqm = Phi.shape[3]
-    nfm = X.shape[1]
+    ncol = 12 + nqm
     z = np.zeros
     cz = np.complex128
-    W = (local_arrays(nd, 0), z(nd), z(nd), z(nfm), z(nd, cz),
-         (z(3, cz), z((3, 3), cz), z(3, cz), z(3, cz), z(3, cz), z((3, 3), cz), z(3, cz),
-          z(3, cz), z(nqm, cz), z(nqm, cz)), z(nqm), z(nqm))
+    W = (local_arrays(nd, 0), z(nd), z(nqm), z(nqm), z(3), z(3), z(3), z(3), z(3), z(3), z(3),
+         z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z(3, cz), z(3, cz), z(3, cz),
+         z((3, 3), cz), z(3, cz), z(3, cz), z(3, cz), z((3, 3)), z((3, 3)), z((3, 3)),
+         z((3, ncol)), z((3, ncol)), z((3, 3)))
     sc.run(_washers, (X, Phi, af, nfs, nqs, area, law, fric, pB, nB),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
