@@ -74,13 +74,20 @@ def von_mises(s: np.ndarray) -> np.ndarray:
 
 
 def principal_stresses(s: np.ndarray) -> np.ndarray:
-    """Principal stresses (..., 3), descending, of Voigt stresses ``s`` (..., 6) [Pa]."""
-    T = np.empty((*s.shape[:-1], 3, 3))
-    T[..., 0, 0], T[..., 1, 1], T[..., 2, 2] = s[..., 0], s[..., 1], s[..., 2]
-    T[..., 1, 2] = T[..., 2, 1] = s[..., 3]
-    T[..., 0, 2] = T[..., 2, 0] = s[..., 4]
-    T[..., 0, 1] = T[..., 1, 0] = s[..., 5]
-    return np.linalg.eigvalsh(T)[..., ::-1]
+    """Principal stresses (..., 3), descending, of Voigt stresses ``s`` (..., 6) [Pa]:
+    closed-form roots of the characteristic cubic (trigonometric form), vectorised."""
+    xx, yy, zz, yz, xz, xy = (s[..., i] for i in range(6))
+    m = (xx + yy + zz) / 3.0
+    a, b, c = xx - m, yy - m, zz - m
+    p2 = (a * a + b * b + c * c + 2.0 * (xy * xy + xz * xz + yz * yz)) / 6.0
+    p = np.sqrt(p2)
+    det = a * (b * c - yz * yz) - xy * (xy * c - yz * xz) + xz * (xy * yz - b * xz)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        r = np.where(p > 0, det / (2.0 * np.where(p > 0, p, 1.0) ** 3), 0.0)
+    phi = np.arccos(np.clip(r, -1.0, 1.0)) / 3.0
+    s1 = m + 2.0 * p * np.cos(phi)
+    s3 = m + 2.0 * p * np.cos(phi + 2.0 * np.pi / 3.0)
+    return np.stack([s1, 3.0 * m - s1 - s3, s3], axis=-1)
 
 
 class SolidModel:

@@ -277,12 +277,47 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     for name in WASHERS:
         (ba, za, axis), (bb, zb) = faces[name]
         wd = getattr(w, name)
+        if p.flexible.washers:
+            _flexible_washer(sp, p, name, ba, za - z_body[ba], axis, bb, zb - z_body[bb],
+                             _friction(wd.mu, p, friction_scale))
+            continue
         sp.add_marker(f"w_{name}", ba, position=(0, 0, za - z_body[ba]), axis=axis)
         sp.add_marker(f"f_{name}", bb, position=(0, 0, zb - z_body[bb]), axis=Z)
         sp.add(ThrustWasherContact(name, f"w_{name}", f"f_{name}", law=_law(p),
                                    r_int=wd.r_int, r_ext=wd.r_ext,
                                    friction=_friction(wd.mu, p, friction_scale)))
     return sp, geo
+
+
+def washer_part(p: TorsenCFile, name: str):
+    """(solid, reduced part) of washer ``name``: steel annulus ``r_int..r_ext`` of
+    ``flexible.washer_thickness``, mounted by its back face (z = 0), ``washer_modes``
+    fixed-interface modes (cached on disk)."""
+    from drivedyn.fe import Interface, SolidMaterial, SolidModel, annular_washer, craig_bampton
+
+    f = p.flexible
+    wd = getattr(p.washers, name)
+    nr, nt = f.washer_cells
+    solid = SolidModel(annular_washer(wd.r_int, wd.r_ext, f.washer_thickness, nr, nt, 1),
+                       SolidMaterial(f.youngs_modulus, f.poisson_ratio, f.density))
+    back = Interface("back", solid.select("z", 0.0), np.zeros(3))
+    return solid, craig_bampton(solid, [back], f.washer_modes, f"washer_{name}")
+
+
+def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float, axis,
+                     body_b: str, zb: float, friction) -> None:
+    """Washer ``name`` as a flexible part on ``body_a`` (its face where the rigid washer's
+    face is, its back face ``washer_thickness`` behind it) pressed by ``body_b``'s face."""
+    from drivedyn.elements.flexible import FlexibleWasherContact
+    from drivedyn.model.flexible import add_flexible_body
+
+    solid, part = washer_part(p, name)
+    t = p.flexible.washer_thickness
+    sp.add_marker(f"w_{name}", body_a, position=(0, 0, za - t * axis[2]), axis=axis)
+    sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=(0.0, 0.0, -axis[2]))
+    fb = add_flexible_body(sp, f"washer_{name}", part, f"w_{name}")
+    sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
+                                 face=solid.select("z", t), law=_law(p), friction=friction))
 
 
 # -- scenarios ---------------------------------------------------------------------------

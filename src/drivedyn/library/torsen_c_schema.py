@@ -97,6 +97,31 @@ class Contact(Strict):
     eps_v: PositiveVelocity = 1e-3
 
 
+class FlexibleParts(Strict):
+    """Meshed flexible parts (Craig-Bampton reduced, floating frame of reference).
+
+    ``washers = true`` replaces the five rigid washer contacts by flexible steel washers
+    (annular meshes of ``washer_thickness`` mounted by their back face on the body that
+    carries them), pressed by the rigid gear faces node by node
+    (:class:`~drivedyn.elements.flexible.FlexibleWasherContact`)."""
+
+    washers: bool = False
+    washer_thickness: PositiveLength = 2e-3
+    washer_modes: int = Field(default=6, ge=0, le=60)
+    washer_cells: tuple[int, int] = (2, 24)  # across the width, around
+    youngs_modulus: Annotated[float, scalar((-1, 1, -2, 0), positive=True)] = 210e9
+    poisson_ratio: float = Field(default=0.3, gt=-1.0, lt=0.5)
+    density: Annotated[float, scalar(U.DENSITY, positive=True)] = 7850.0
+
+    @model_validator(mode="after")
+    def _cells(self) -> FlexibleParts:
+        nr, nt = self.washer_cells
+        if nr < 1 or nt < 6:
+            raise ValueError(f"washer_cells = {list(self.washer_cells)}: expected [n_r >= 1, "
+                             "n_theta >= 6]")
+        return self
+
+
 class Body(Strict):
     mass: Mass
     inertia: Inertia
@@ -209,6 +234,7 @@ class TorsenCFile(Strict):
     washers: Washers
     pockets: Pockets
     contact: Contact = Field(default_factory=Contact)
+    flexible: FlexibleParts = Field(default_factory=FlexibleParts)
     bodies: Bodies
     bench: Bench = Field(default_factory=Bench)
     vehicle: Vehicle = Field(default_factory=Vehicle)

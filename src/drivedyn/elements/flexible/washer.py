@@ -52,11 +52,11 @@ from drivedyn.errors import ModelError, did_you_mean
 OUTPUTS = (
     ("normal_force", "N", "axial contact force, sum over the face nodes"),
     ("max_pressure", "Pa", "largest nodal contact pressure"),
-    ("mean_pressure", "Pa", "normal force / face area"),
+    ("pressure", "Pa", "mean contact pressure: normal force / face area"),
     ("penetration", "m", "largest nodal penetration (< 0: open gap)"),
     ("friction_torque", "N m", "friction moment on the washer about the face normal"),
     ("pressure_radius", "m", "pressure-weighted mean radius of the contact"),
-    ("contact_power", "W", "power dissipated by friction and contact damping"),
+    ("dissipated_power", "W", "power dissipated by friction and contact damping"),
 )
 NOUT = len(OUTPUTS)
 
@@ -124,7 +124,7 @@ def _skew_into(a, S):
 def _washers(P, C, W, full):
     X, Phi, af, nfs, nqs, area, law, fric, pB, nB = P
     (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, cr, crd, cxB, cRB, cvB, cwB, cp,
-     S1, S2, S3, Dp, Dv, Dq) = W
+     S1, S2, S3, Dp, Dv, Dq, Tr, Tb) = W
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     aux = C[sc.AUX]
@@ -219,7 +219,10 @@ def _washers(P, C, W, full):
             if not full:
                 continue
             # --- tangent: dp/d(r, rd, xB, thB, vB, wB) by complex steps of node_force ---
-            for c in range(18):
+            # only r, rd and the face rotation need steps: p depends on xB, vB, wB through
+            # e = r - xB and s = rd - vB + e~ RB wB, so dp/dxB = -dp/dr (at fixed s: the
+            # e~ term is in dp/dr), dp/dvB = -dp/drd and dp/dwB = dp/drd e~ RB
+            for c in (0, 1, 2, 3, 4, 5, 9, 10, 11):
                 for d in range(3):
                     cr[d] = r[d]
                     crd[d] = rd[d]
@@ -249,6 +252,21 @@ def _washers(P, C, W, full):
                            fric[e], 0j, cp)
                 for d in range(3):
                     dP[d, c] = cp[d].imag / h
+            for d in range(3):
+                e0, e1, e2 = r[0] - xB[0], r[1] - xB[1], r[2] - xB[2]
+                for j in range(3):
+                    dP[d, 6 + j] = -dP[d, j]
+                    dP[d, 12 + j] = -dP[d, 3 + j]
+                # (dp/drd e~ RB)[d, j]
+                g0 = dP[d, 3]
+                g1 = dP[d, 4]
+                g2 = dP[d, 5]
+                # row (g^T e~) = (e x g)^T... g^T e~ = -(e~ g)^T = (g x e)^T
+                h0 = g1 * e2 - g2 * e1
+                h1 = g2 * e0 - g0 * e2
+                h2 = g0 * e1 - g1 * e0
+                for j in range(3):
+                    dP[d, 15 + j] = h0 * RB[0, j] + h1 * RB[1, j] + h2 * RB[2, j]
             # J_r (3, ncol) over [xB thB xh thh q]: dr/dxh = I, dr/dthh = -Rh u~, dr/dq = Rh Phi
             # Jd: d rd / d positions: thh: -Rh (W~u + Phi qd)~, q: Rh W~ Phi
             for d in range(3):
@@ -293,6 +311,11 @@ def _washers(P, C, W, full):
             _skew_into(a, S1)     # a~
             _skew_into(b, S2)     # b~
             _skew_into(rho, S3)   # rho~
+            # rho~ RB^T (rows of J_B^T on theta_B) and b~ RB^T (geometric term), once
+            for f in range(3):
+                for d in range(3):
+                    Tr[f, d] = S3[f, 0] * RB[d, 0] + S3[f, 1] * RB[d, 1] + S3[f, 2] * RB[d, 2]
+                    Tb[f, d] = S2[f, 0] * RB[d, 0] + S2[f, 1] * RB[d, 1] + S2[f, 2] * RB[d, 2]
             for cc in range(ncol):
                 col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
                 for d in range(3):
@@ -311,13 +334,10 @@ def _washers(P, C, W, full):
                         kv += Jr[d, 9 + f] * Dv[d, cc]
                     K[9 + f, col] -= kp
                     Cd[9 + f, col] -= kv
-                    # theta_B rows: (RB rho~)^T... J_B^T rows: rho~ RB^T (.)
+                    # theta_B rows of J_B^T: rho~ RB^T (.)
                     for d in range(3):
-                        m_ = 0.0
-                        for m in range(3):
-                            m_ += S3[f, m] * RB[d, m]
-                        kb += m_ * Dp[d, cc]
-                        kbv += m_ * Dv[d, cc]
+                        kb += Tr[f, d] * Dp[d, cc]
+                        kbv += Tr[f, d] * Dv[d, cc]
                     K[3 + f, col] += kb
                     Cd[3 + f, col] += kbv
                 for k in range(nq):
@@ -354,11 +374,8 @@ def _washers(P, C, W, full):
                 for cc in range(ncol):
                     col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
                     s_ = 0.0
-                    for m in range(3):
-                        bm = 0.0
-                        for d in range(3):
-                            bm += S2[f, m] * RB[d, m] * (Jr[d, cc] - (1.0 if cc == d else 0.0))
-                        s_ += bm
+                    for d in range(3):
+                        s_ += Tb[f, d] * (Jr[d, cc] - (1.0 if cc == d else 0.0))
                     K[3 + f, col] -= s_
         sc.scatter(C, L, e, nnode, full)
         sc.energy(C, e, 0.0, Vt, 0.0, Pd)
@@ -380,7 +397,7 @@ def flexible_washer_kernel(
     W = (local_arrays(nd, 0), z(nd), z(nqm), z(nqm), z(3), z(3), z(3), z(3), z(3), z(3), z(3),
          z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z(3, cz), z(3, cz), z(3, cz),
          z((3, 3), cz), z(3, cz), z(3, cz), z(3, cz), z((3, 3)), z((3, 3)), z((3, 3)),
-         z((3, ncol)), z((3, ncol)), z((3, 3)))
+         z((3, ncol)), z((3, ncol)), z((3, 3)), z((3, 3)), z((3, 3)))
     sc.run(_washers, (X, Phi, af, nfs, nqs, area, law, fric, pB, nB),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
