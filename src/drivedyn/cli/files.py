@@ -156,16 +156,29 @@ def _groups(names: list[str]) -> dict[str, list[str]]:
 @click.option("--scale", type=FiniteFloat(), default=1.0, show_default=True,
               help="Deformation scale factor of --shape.")
 @click.option("--snapshots", type=click.IntRange(1, 50), default=4, show_default=True,
-              help="Number of instants drawn by --shape.")
+              help="Number of instants drawn by --shape and --part.")
+@click.option("--pressure", "pressure_contacts", multiple=True, metavar="CONTACT",
+              help="Flexible washer contact whose pressure map and history to draw "
+                   "(repeatable; 'list' lists them).")
+@click.option("--part", "parts", multiple=True, metavar="PART",
+              help="Meshed flexible part to draw deformed and stress-coloured (repeatable; "
+                   "'list' lists them).")
+@click.option("--vtu", "vtu_parts", multiple=True, metavar="PART",
+              help="Write the deformed, stress-coloured PART at every output time as VTU "
+                   "files with a PVD index for ParaView (into OUT/vtu).")
 def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
-         stress_elements: tuple[str, ...], shape: bool, scale: float, snapshots: int) -> None:
+         stress_elements: tuple[str, ...], shape: bool, scale: float, snapshots: int,
+         pressure_contacts: tuple[str, ...], parts: tuple[str, ...],
+         vtu_parts: tuple[str, ...]) -> None:
     """Write PNG time histories of a results file, one figure per body or element; for
-    beams, the stress history of chosen elements and snapshots of the deformed shape.
+    beams, the stress history of chosen elements and snapshots of the deformed shape; for
+    meshed flexible parts, pressure maps, stress snapshots and ParaView files.
 
     \b
     Examples:
         drivedyn plot pendulum.nc --vars 'rod.*' --vars 'energy.*' --out figs
         drivedyn plot shaft.nc --stress driveshaft.e6 --shape --scale 200
+        drivedyn plot bench.nc --pressure ring_case --part washer_ring_case --vtu washer_ring_case
     """
     import matplotlib
 
@@ -181,9 +194,14 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
         bad_input(f"{results_file}: not a drivedyn results file ({exc})")
     if stress_elements or shape:
         _beam_plots(res, out_dir, stress_elements, shape, scale, snapshots)
-        if not patterns:
-            return
-    names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")]
+    if pressure_contacts or parts or vtu_parts:
+        _flexible_plots(res, out_dir, pressure_contacts, parts, vtu_parts, scale, snapshots)
+    if (stress_elements or shape or pressure_contacts or parts or vtu_parts) and not patterns:
+        return
+    # time histories only: fields over mesh nodes are drawn by --part / --pressure
+    names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")
+             and res.dataset[n].dims[:1] == ("time",) and res.dataset[n].size <= 16 * len(
+                 res.time)]
     if patterns:
         names = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]
         if not names:
@@ -251,6 +269,47 @@ def _beam_plots(res, out_dir: Path, elements: tuple[str, ...], shape: bool, scal
         path = out_dir / f"{name}.png"
         fig.savefig(path, dpi=110)
         click.echo(str(path))
+
+
+def _flexible_plots(res, out_dir: Path, contacts: tuple[str, ...], parts: tuple[str, ...],
+                    vtu_parts: tuple[str, ...], scale: float, snapshots: int) -> None:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from drivedyn.errors import ModelError
+    from drivedyn.plots.flexible import (
+        flexible_parts,
+        part_stress_figure,
+        pressure_contacts,
+        pressure_map_figure,
+    )
+    from drivedyn.results.flexible_fields import write_vtu_series
+
+    for opt, asked, known, kind in (("--pressure", contacts, pressure_contacts(res),
+                                     "flexible washer contact"),
+                                    ("--part", parts, flexible_parts(res), "flexible part"),
+                                    ("--vtu", vtu_parts, flexible_parts(res), "flexible part")):
+        if "list" in asked:
+            click.echo("\n".join(known) or f"(no {kind})")
+            return
+        for a in asked:
+            if a not in known:
+                bad_input(f"{opt}: {a!r} is not a {kind} of this run{did_you_mean(a, known)}"
+                          f" ({kind}s: {', '.join(known) or 'none'})")
+    if not scale > 0:
+        bad_input(f"--scale: must be > 0, got {scale:g}")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    figs = [(f"{c}.pressure", pressure_map_figure(res, c)) for c in contacts]
+    figs += [(f"{p}.stress", part_stress_figure(res, p, snapshots, scale)) for p in parts]
+    for name, fig in figs:
+        FigureCanvasAgg(fig)
+        path = out_dir / f"{name}.png"
+        fig.savefig(path, dpi=110)
+        click.echo(str(path))
+    for p in vtu_parts:
+        try:
+            click.echo(str(write_vtu_series(res.dataset, p, out_dir / "vtu", scale)))
+        except ModelError as exc:
+            bad_input(str(exc))
 
 
 @click.command()

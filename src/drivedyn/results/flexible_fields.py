@@ -12,8 +12,8 @@ Variables written into a run's Dataset (by :meth:`Recorder.dataset`) for each
 ``P.displacement``              (time, P.node, 3)  elastic displacement, host frame [m]
 ``P.mesh_points``               (P.node, 3)        undeformed nodes, host frame [m]
 ``P.mesh_cells``                (P.cell, 8 or 4)   vertex indices of the linear cells
-``W.pressure``                  (time, W.point)    contact pressure at the face nodes [Pa]
-``W.face_points``               (W.point, 3)       face nodes, washer host frame [m]
+``W.nodal_pressure``            (time, W.point)    contact pressure at the face nodes [Pa]
+``W.face_points``               (W.point, 3)       face nodes, washer part frame [m]
 ==============================  =================  ==========================================
 
 The host node of a part is named by the attribute ``host`` of ``P.mesh_points``; its

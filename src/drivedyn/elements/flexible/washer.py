@@ -463,7 +463,7 @@ class FlexibleWasherContactFamily(Family):
             nb, pB, RmB = ctx.marker(s.marker_b, what)
             inv = invariants(part, p, Rm)
             rows.append((nb, nh, [ctx.node_index[c] for c in fb.coordinates], inv["X"][face],
-                         inv["Phi"][face], areas, pB, RmB[:, 2], part.nq))
+                         inv["Phi"][face], areas, pB, RmB[:, 2], part.nq, part.X[face]))
         nel = len(specs)
         nqm = max(r[8] for r in rows)
         nfm = max(len(r[5]) for r in rows)
@@ -477,7 +477,7 @@ class FlexibleWasherContactFamily(Family):
         area = np.zeros(nel)
         pBa = np.zeros((nel, 3))
         nBa = np.zeros((nel, 3))
-        for e, (nb, nh, cn, Xf, Pf, A, pB, nz, nq) in enumerate(rows):
+        for e, (nb, nh, cn, Xf, Pf, A, pB, nz, nq, _) in enumerate(rows):
             lnodes[e, 0], lnodes[e, 1] = nb, nh
             lnodes[e, 2:2 + len(cn)] = cn
             nf = len(A)
@@ -494,9 +494,9 @@ class FlexibleWasherContactFamily(Family):
                        (X, Phi, af, nfs, nqs, area, law_table([s.law for s in specs]), fric,
                         pBa, nBa), lnodes, dofs, OUTPUTS, dissipative=True)
         g.naux = NOUT + nfm
-        g.extra["fields"] = [{"name": "pressure", "column": NOUT, "count": int(nfs[e]),
+        g.extra["fields"] = [{"name": "nodal_pressure", "column": NOUT, "count": int(nfs[e]),
                               "units": "Pa", "description": "contact pressure at the face "
-                              "nodes", "points": X[e, :nfs[e]]} for e in range(nel)]
+                              "nodes", "points": rows[e][9]} for e in range(nel)]
         return g
 
 
