@@ -22,6 +22,7 @@ from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
 from drivedyn.config.beams_section import add_beams
+from drivedyn.config.parts_section import add_parts, add_washer_contacts
 from drivedyn.config.elements_section import generic_element
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
@@ -251,8 +252,9 @@ def _named_function(name: str, f: Any) -> Any:
         raise ModelError(f"functions.{name}: {exc}") from None
 
 
-def build_spec(mf: S.ModelFile) -> Spec:
-    """A :class:`Spec` from a validated file (elements in file order, by section)."""
+def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
+    """A :class:`Spec` from a validated file (elements in file order, by section);
+    ``base_dir``: folder of the model file (mesh files are relative to it)."""
     import drivedyn.elements as E  # noqa: N812
 
     spec = Spec(gravity=mf.model.gravity)
@@ -267,6 +269,7 @@ def build_spec(mf: S.ModelFile) -> Spec:
     for m in mf.markers:
         spec.add_marker(m.name, m.body, position=m.position, rotation=_rotation(m.rotation),
                         axis=m.axis)
+    parts = add_parts(spec, mf, Path(base_dir))
     joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
                    "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
                    "universal": E.Universal, "planar": E.Planar,
@@ -297,6 +300,7 @@ def build_spec(mf: S.ModelFile) -> Spec:
                                          _function(d.function, funcs,
                                                    f"speed_difference_drivers.{d.name}"),
                                          d.k, d.p))
+    add_washer_contacts(spec, mf, parts)
     for i, e in enumerate(mf.elements):
         spec.add(generic_element(e, f"elements[{i}] ({e.name})",
                                  lambda v, w: _function(v, funcs, w)))
@@ -400,7 +404,7 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
         return _load_library_model(path, overrides)
     mf, data, source = read_model_file(path, overrides)
     try:
-        model = compile_model(build_spec(mf))
+        model = compile_model(build_spec(mf, resolve_path(path).parent))
     except ModelError as exc:
         raise ModelError(f"{source}: {exc}") from None
     model.meta["scenario"] = scenario_of(mf)

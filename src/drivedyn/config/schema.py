@@ -22,6 +22,10 @@ File layout (every section optional except what the model needs)::
                            #                general (EA ... EIz, mass_per_length)
     [[beams]]              # geometrically exact beams: a straight shaft of N elements from
                            # start to end, or a chain through existing nodes
+    [[parts]]              # meshed flexible parts (Craig-Bampton, floating frame): mesh
+                           # (annular_washer | tube | box | file), material, interfaces
+                           # (the first is the mounting face, on marker 'mount'), modes
+    [[washer_contacts]]    # a rigid face (marker) on the face nodes of a flexible part
     [[elements]]           # any other element type by class name (gears, contacts...):
                            # type = "GearPair", name = ..., its constructor's parameters
     [functions]            # named time functions, referenced by name
@@ -288,6 +292,81 @@ class BeamFile(Strict):
         return self
 
 
+class MeshFile(Strict):
+    """A part's mesh: a built-in shape with its dimensions, or a file read by meshio (Gmsh
+    ``.msh``, Abaqus ``.inp``...; ``path`` relative to the model file, ``scale`` to metres).
+    ``cells``: (n_r, n_theta, n_z) for washers and tubes, (nx, ny, nz) for boxes."""
+
+    shape: Literal["annular_washer", "tube", "box", "file"]
+    r_int: NonNegLength | None = None
+    r_ext: PositiveLen | None = None
+    thickness: PositiveLen | None = None
+    length: PositiveLen | None = None
+    flanges: list[tuple[Length, Length, PositiveLen]] = Field(default_factory=list)
+    lx: PositiveLen | None = None
+    ly: PositiveLen | None = None
+    lz: PositiveLen | None = None
+    cells: tuple[int, int, int] | None = None
+    path: str | None = None
+    scale: float = Field(default=1.0, gt=0.0)
+
+    @model_validator(mode="after")
+    def _keys_of_shape(self) -> MeshFile:
+        need = {"annular_washer": ("r_int", "r_ext", "thickness"),
+                "tube": ("r_int", "r_ext", "length"), "box": ("lx", "ly", "lz"),
+                "file": ("path",)}[self.shape]
+        missing = [k for k in need if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a {self.shape} mesh needs {', '.join(missing)}")
+        if self.cells is not None and min(self.cells) < 1:
+            raise ValueError(f"cells = {list(self.cells)}: expected three integers >= 1")
+        return self
+
+
+class SelectionFile(Strict):
+    """Nodes of a part: on the plane ``axis = value`` (part frame) and/or within
+    ``r_min <= r <= r_max`` (r: distance from the part's z axis)."""
+
+    name: str = ""
+    axis: Literal["x", "y", "z"] | None = None
+    value: Length | None = None
+    r_min: NonNegLength | None = None
+    r_max: PositiveLen | None = None
+
+    @model_validator(mode="after")
+    def _something(self) -> SelectionFile:
+        if self.axis is None and self.r_min is None and self.r_max is None:
+            raise ValueError("a node selection needs 'axis' and 'value', or 'r_min'/'r_max'")
+        if (self.axis is None) != (self.value is None):
+            raise ValueError("give 'axis' and 'value' together")
+        return self
+
+
+class PartFile(Strict):
+    """A meshed flexible part: reduced by Craig-Bampton with ``modes`` fixed-interface modes
+    and mounted on ``mount`` by its first interface (rigid spider)."""
+
+    name: str
+    mount: str
+    material: str
+    mesh: MeshFile
+    interfaces: list[SelectionFile] = Field(min_length=1)
+    modes: int = Field(default=6, ge=0, le=200)
+    damping: DampingTime = 0.0
+
+
+class WasherContactFile(Strict):
+    """A rigid face (``marker``: origin on the face, z towards the part) pressed on the
+    ``face`` nodes of the flexible ``part``; ``law`` and ``friction`` as for contacts."""
+
+    name: str
+    part: str
+    marker: str
+    face: SelectionFile
+    law: dict[str, Any]
+    friction: dict[str, Any] | None = None
+
+
 class GenericElementFile(BaseModel):
     """Any registered element type by its class name; the other keys are its parameters
     (numbers in SI or strings with units, converted to SI; dimensions are checked by the
@@ -315,6 +394,8 @@ class ModelFile(Strict):
     materials: list[MaterialFile] = Field(default_factory=list)
     sections: list[SectionFile] = Field(default_factory=list)
     beams: list[BeamFile] = Field(default_factory=list)
+    parts: list[PartFile] = Field(default_factory=list)
+    washer_contacts: list[WasherContactFile] = Field(default_factory=list)
     elements: list[GenericElementFile] = Field(default_factory=list)
     functions: dict[str, FunctionField] = Field(default_factory=dict)
     solver: SolverFile = Field(default_factory=SolverFile)
