@@ -22,8 +22,8 @@ from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
 from drivedyn.config.beams_section import add_beams
-from drivedyn.config.parts_section import add_parts, add_washer_contacts
 from drivedyn.config.elements_section import generic_element
+from drivedyn.config.parts_section import add_parts, add_washer_contacts
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
 from drivedyn.model.spec import ModelError, Spec

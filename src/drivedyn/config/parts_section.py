@@ -57,7 +57,7 @@ def select(solid: Any, s: Any, where: str) -> np.ndarray:
 
 def add_parts(spec: Spec, mf: Any, base_dir: Path) -> dict[str, Any]:
     """Reduce and mount the file's parts (after markers); returns name -> (solid, part)."""
-    from drivedyn.fe import Interface, SolidModel, craig_bampton
+    from drivedyn.fe import Interface, SolidModel, craig_bampton, face_load_patterns
     from drivedyn.model.flexible import add_flexible_body
 
     out: dict[str, Any] = {}
@@ -77,8 +77,12 @@ def add_parts(spec: Spec, mf: Any, base_dir: Path) -> dict[str, Any]:
             nodes = select(solid, s, f"{where}.interfaces[{k}]")
             itfs.append(Interface(s.name or f"interface{k}", nodes,
                                   solid.nodes[nodes].mean(axis=0)))
+        loads = [face_load_patterns(solid, select(solid, s, f"{where}.load_faces[{k}]"),
+                                    "xyz".index(s.axis or "z"))
+                 for k, s in enumerate(pf.load_faces)]
         try:
-            part = craig_bampton(solid, itfs, pf.modes, pf.name)
+            part = craig_bampton(solid, itfs, pf.modes, pf.name,
+                                 loads=np.hstack(loads) if loads else None)
             add_flexible_body(spec, pf.name, part, pf.mount, damping=pf.damping)
         except ModelError as exc:
             raise ModelError(f"{where}: {exc}") from None
@@ -95,7 +99,7 @@ def add_washer_contacts(spec: Spec, mf: Any, parts: dict[str, Any]) -> None:
         if w.part not in parts:
             raise ModelError(f"{where}.part: unknown part {w.part!r}"
                              f"{did_you_mean(w.part, parts)}")
-        solid, part = parts[w.part]
+        solid, _ = parts[w.part]
         mount = next(p.mount for p in mf.parts if p.name == w.part)
         # the face is given in the part's mesh frame; interface 0 is the part frame origin
         face = select(solid, w.face, f"{where}.face")

@@ -344,7 +344,9 @@ class SelectionFile(Strict):
 
 class PartFile(Strict):
     """A meshed flexible part: reduced by Craig-Bampton with ``modes`` fixed-interface modes
-    and mounted on ``mount`` by its first interface (rigid spider)."""
+    (plus 4 static modes of the normal pressure patterns of each of ``load_faces``, the faces
+    contacts press on) and mounted on ``mount`` by its first interface (rigid spider), whose
+    node centroid is the part frame's origin."""
 
     name: str
     mount: str
@@ -352,6 +354,7 @@ class PartFile(Strict):
     mesh: MeshFile
     interfaces: list[SelectionFile] = Field(min_length=1)
     modes: int = Field(default=6, ge=0, le=200)
+    load_faces: list[SelectionFile] = Field(default_factory=list)
     damping: DampingTime = 0.0
 
 

@@ -5,9 +5,15 @@ No multibody knowledge here: :mod:`drivedyn.elements.flexible` turns a
 """
 
 from drivedyn.fe.mesh import SolidMesh, annular_washer, box, read_mesh, tube, write_mesh
-from drivedyn.fe.reduction import Interface, ReducedPart, craig_bampton, frequency_check
+from drivedyn.fe.reduction import (
+    Interface,
+    ReducedPart,
+    craig_bampton,
+    face_load_patterns,
+    frequency_check,
+)
 from drivedyn.fe.solid import SolidMaterial, SolidModel, principal_stresses, von_mises
 
 __all__ = ["Interface", "ReducedPart", "SolidMaterial", "SolidMesh", "SolidModel",
-           "annular_washer", "box", "craig_bampton", "frequency_check", "principal_stresses",
-           "read_mesh", "tube", "von_mises", "write_mesh"]
+           "annular_washer", "box", "craig_bampton", "face_load_patterns", "frequency_check",
+           "principal_stresses", "read_mesh", "tube", "von_mises", "write_mesh"]

@@ -9,7 +9,13 @@ is mounted on), so the elastic basis holds the spider at rest. The basis (Craig 
 * the *constraint modes* of the other interfaces: static shapes for a unit motion of each of
   their 6 dofs with all other spiders held (``-K_ii^-1 K_ib``); their amplitudes are the
   interface motions relative to the frame [m, rad];
-* the first ``n_modes`` *fixed-interface modes* (all spiders held), mass-normalised.
+* the first ``n_modes`` *fixed-interface modes* (all spiders held), mass-normalised;
+* optional *static correction modes* of given load patterns (nodal forces, e.g. the
+  pressure patterns of a contact face): the static response with all spiders held, made
+  mass-orthogonal to the modes above. Fixed-interface modes alone cannot carry a load applied
+  inside the part (a washer's contact pressure excites modes far above the retained ones), so
+  its static deformation and stresses would be missed; with these modes the reduced part
+  reproduces the full static solution of every load in their span exactly.
 
 ``Kr = B^T K B`` and ``Mr = B^T M B`` are the reduced matrices; ``Phi`` (n, 3, nq) the nodal
 displacement of each basis vector and ``stress`` (n, 6, nq) its nodal stresses. The check of
@@ -35,7 +41,7 @@ import scipy.sparse.linalg as spla
 from drivedyn.errors import ModelError
 from drivedyn.fe.solid import SolidModel
 
-CACHE_VERSION = "cb1"
+CACHE_VERSION = "cb2"
 
 
 @dataclass(frozen=True)
@@ -102,6 +108,23 @@ class ReducedPart:
         return self.Phi.reshape(3 * self.n, self.nq)
 
 
+def face_load_patterns(solid: SolidModel, nodes: np.ndarray, axis: int = 2) -> np.ndarray:
+    """Nodal forces (3n, 4) [N] of unit normal tractions on the boundary face held by
+    ``nodes`` along ``axis``: uniform, linear in x and in y (tilt) and linear in the radius
+    (conicity), each scaled to a resultant or moment of order 1 N; the load patterns of a
+    washer face for :func:`craig_bampton`."""
+    a = solid.face_areas(nodes)
+    X = solid.nodes[nodes]
+    r = np.hypot(X[:, 0], X[:, 1])
+    size = max(float(np.abs(X[:, :2]).max()), 1e-12)
+    rm = float(np.sum(a * r) / a.sum())
+    out = np.zeros((3 * solid.n, 4))
+    for j, w in enumerate((np.ones(len(nodes)), X[:, 0] / size, X[:, 1] / size,
+                           (r - rm) / size)):
+        out[3 * nodes + axis, j] = w * a / a.sum()
+    return out
+
+
 def _spider_map(solid: SolidModel, interfaces: Sequence[Interface]):
     """T (3n, nf + 6k) with u = T [u_internal; s_1..s_k] and the internal dof indices."""
     n = solid.n
@@ -138,9 +161,11 @@ def _cache_dir() -> Path:
 
 
 def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: int,
-                  name: str = "part", cache: bool = True) -> ReducedPart:
+                  name: str = "part", cache: bool = True,
+                  loads: np.ndarray | None = None) -> ReducedPart:
     """Reduce ``solid`` with rigid-spider ``interfaces`` (the first defines the floating
-    frame) and ``n_modes`` fixed-interface modes (see the module docstring)."""
+    frame), ``n_modes`` fixed-interface modes and the static correction modes of the nodal
+    load patterns ``loads`` (3n, m) [N] (see the module docstring)."""
     if not interfaces:
         raise ModelError(f"part {name!r}: at least one interface (the mounting face) is needed")
     if int(n_modes) != n_modes or n_modes < 0:
@@ -150,6 +175,9 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     for itf in interfaces:
         h.update(np.asarray(itf.nodes, np.int64).tobytes())
         h.update(np.asarray(itf.point, float).tobytes())
+    loads = np.zeros((3 * solid.n, 0)) if loads is None else \
+        np.asarray(loads, float).reshape(3 * solid.n, -1)
+    h.update(np.ascontiguousarray(loads).tobytes())
     key = h.hexdigest()
     path = _cache_dir() / "reduction" / f"{key}.npz"
     if cache and path.is_file():
@@ -185,6 +213,28 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
         F[inn] = V
         cols.append(F)
         freq = np.sqrt(np.maximum(w2, 0.0)) / (2 * np.pi)
+    if loads.shape[1]:
+        Mii = Ms[inn][:, inn].tocsc()
+        fs = np.asarray(T.T @ loads)[inn]
+        S = lu.solve(fs)
+        # mass-orthogonal to the fixed-interface modes and to each other (two passes of
+        # Gram-Schmidt), normalised to unit modal mass; dependent patterns are dropped
+        V = cols[-1][inn] if n_modes else np.zeros((nf, 0))
+        keep = []
+        for j in range(S.shape[1]):
+            x = S[:, j].copy()
+            scale0 = np.sqrt(max(float(x @ (Mii @ x)), 0.0))
+            for _ in range(2):
+                for Q in (V, *keep):
+                    Q2 = Q.reshape(nf, -1)
+                    x -= Q2 @ (Q2.T @ (Mii @ x))
+            m = np.sqrt(max(float(x @ (Mii @ x)), 0.0))
+            if m > 1e-8 * scale0:
+                keep.append((x / m)[:, None])
+        if keep:
+            F = np.zeros((nf + 6 * k, len(keep)))
+            F[inn] = np.hstack(keep)
+            cols.append(F)
     Bs = np.hstack(cols) if cols else np.zeros((nf + 6 * k, 0))
     B = np.asarray(T @ Bs)
     Kr = B.T @ (solid.K @ B)

@@ -292,8 +292,16 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
 def washer_part(p: TorsenCFile, name: str):
     """(solid, reduced part) of washer ``name``: steel annulus ``r_int..r_ext`` of
     ``flexible.washer_thickness``, mounted by its back face (z = 0), ``washer_modes``
-    fixed-interface modes (cached on disk)."""
-    from drivedyn.fe import Interface, SolidMaterial, SolidModel, annular_washer, craig_bampton
+    fixed-interface modes and the 4 static modes of the face pressure patterns (cached on
+    disk)."""
+    from drivedyn.fe import (
+        Interface,
+        SolidMaterial,
+        SolidModel,
+        annular_washer,
+        craig_bampton,
+        face_load_patterns,
+    )
 
     f = p.flexible
     wd = getattr(p.washers, name)
@@ -301,7 +309,8 @@ def washer_part(p: TorsenCFile, name: str):
     solid = SolidModel(annular_washer(wd.r_int, wd.r_ext, f.washer_thickness, nr, nt, 1),
                        SolidMaterial(f.youngs_modulus, f.poisson_ratio, f.density))
     back = Interface("back", solid.select("z", 0.0), np.zeros(3))
-    return solid, craig_bampton(solid, [back], f.washer_modes, f"washer_{name}")
+    loads = face_load_patterns(solid, solid.select("z", f.washer_thickness))
+    return solid, craig_bampton(solid, [back], f.washer_modes, f"washer_{name}", loads=loads)
 
 
 def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float, axis,
