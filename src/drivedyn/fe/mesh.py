@@ -221,11 +221,17 @@ def read_mesh(path: str | os.PathLike, scale: float = 1.0) -> SolidMesh:
     s = float(scale)
     if not (math.isfinite(s) and s > 0):
         raise ModelError(f"mesh file {p!r}: scale must be > 0, got {scale!r}")
+    import contextlib
+    import io
+
+    msg = io.StringIO()
     try:
-        m = meshio.read(p)
-    except Exception as exc:  # meshio raises many types for bad files
-        raise ModelError(f"mesh file {p!r}: cannot be read ({type(exc).__name__}: {exc})"
-                         ) from None
+        # meshio prints its diagnostics and, for some formats, calls sys.exit
+        with contextlib.redirect_stdout(msg), contextlib.redirect_stderr(msg):
+            m = meshio.read(p)
+    except (Exception, SystemExit) as exc:  # meshio raises many types for bad files
+        why = " ".join(msg.getvalue().split()) or f"{type(exc).__name__}: {exc}"
+        raise ModelError(f"mesh file {p!r}: cannot be read ({why})") from None
     blocks = [(c.type, np.asarray(c.data)) for c in m.cells if c.type in _MESHIO_KINDS]
     kinds = {_MESHIO_KINDS[t] for t, _ in blocks}
     if not blocks:

@@ -205,7 +205,10 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     freq = np.zeros(0)
     if n_modes:
         Mii = Ms[inn][:, inn].tocsc()
-        w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM")
+        # a fixed start vector: eigsh starts from a random one, and in degenerate pairs
+        # (axisymmetric parts) it would return another basis of the pair on every run
+        w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM",
+                           v0=np.linspace(1.0, 2.0, nf))
         order = np.argsort(w2)
         w2, V = w2[order], V[:, order]
         V /= np.sqrt(np.einsum("ij,ij->j", V, Mii @ V))

@@ -112,10 +112,15 @@ class SolidModel:
         self._sbasis = Basis(self._skmesh, el, intorder=4)
         self._vbasis = Basis(self._skmesh, ElementVector(el), intorder=4)
         self.nodes = np.ascontiguousarray(self._sbasis.doflocs.T)
-        jac = self._sbasis.dx
-        if np.any(jac <= 0):
-            raise ModelError(f"mesh {mesh.name!r}: inverted or degenerate cells (negative "
-                             "Jacobian); check the vertex order")
+        # scikit-fem integrates with |det J|: a cell inverted relative to the others, or a
+        # collapsed one, would pass silently, so the signs are checked here
+        det = self._sbasis.mapping.detDF(self._sbasis.quadrature[0])
+        ref = np.sign(np.sum(np.sign(det[:, 0]))) or 1.0  # the majority orientation
+        bad = np.flatnonzero(np.any(det * ref <= 1e-12 * np.abs(det).max(), axis=1))
+        if bad.size:
+            raise ModelError(f"mesh {mesh.name!r}: {bad.size} inverted or degenerate cell(s) "
+                             f"(Jacobian of the wrong sign or zero), first cell {int(bad[0])}; "
+                             "check the vertex order")
 
     @property
     def n(self) -> int:

@@ -107,7 +107,7 @@ class FlexibleParts(Strict):
 
     washers: bool = False
     washer_thickness: PositiveLength = 2e-3
-    washer_modes: int = Field(default=6, ge=0, le=60)
+    washer_modes: int = Field(default=2, ge=0, le=60)
     washer_cells: tuple[int, int] = (2, 24)  # across the width, around
     youngs_modulus: Annotated[float, scalar((-1, 1, -2, 0), positive=True)] = 210e9
     poisson_ratio: float = Field(default=0.3, gt=-1.0, lt=0.5)
