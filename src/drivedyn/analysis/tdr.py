@@ -44,6 +44,33 @@ class BenchRun:
     wall_s: float = 0.0
     success: bool = True
     message: str = ""
+    size: dict = field(default_factory=dict)
+
+
+def model_size(model) -> dict:
+    """Sizes of a compiled model: ``unknowns`` (coordinates + multipliers), ``coordinates``
+    (6 per node, elastic coordinates of flexible parts included), ``multipliers``, and per
+    flexible part its finite-element dofs and elastic coordinates (``parts``: name ->
+    (fe_dofs, nq))."""
+    parts = {}
+    for g in model.groups:
+        for name, part in zip(g.names, g.extra.get("parts", ()), strict=False):
+            parts[name] = (3 * part.n, part.nq)
+    return {"unknowns": model.neq, "coordinates": model.nd, "multipliers": model.nm,
+            "parts": parts, "fe_dofs": sum(v[0] for v in parts.values()),
+            "elastic_coordinates": sum(v[1] for v in parts.values())}
+
+
+def size_text(size: dict) -> str:
+    """One line describing :func:`model_size` (printed by ``drivedyn tdr``)."""
+    txt = (f"model: {size['unknowns']} unknowns ({size['coordinates']} coordinates, "
+           f"{size['multipliers']} multipliers)")
+    if size["parts"]:
+        txt += (f"; {len(size['parts'])} flexible parts ({', '.join(size['parts'])}): "
+                f"{size['fe_dofs']} finite-element dofs reduced to "
+                f"{size['elastic_coordinates']} elastic coordinates (the seeds' bench with "
+                "four flexible washers: 8161 coordinates)")
+    return txt
 
 
 def window_tdr(results, window: tuple[float, float]) -> tuple[float, float, float, float]:
@@ -83,7 +110,8 @@ def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
     res = simulate(model, p.bench.t_end, **p.solver.settings(),
                    output_dt=output_dt or p.solver.output_dt, progress=progress)
     run = BenchRun(side, results=res, wall_s=time.perf_counter() - t0,
-                   success=bool(res.success), message="" if res.success else str(res.message))
+                   success=bool(res.success), message="" if res.success else str(res.message),
+                   size=model_size(model))
     windows = (p.bench.window_drive, p.bench.window_coast)
     for mode, win in zip(SIDE_MODES[side], windows, strict=True):
         if not res.success and res["time"].values[-1] < win[1]:

@@ -87,7 +87,7 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
         drivedyn tdr torsen-c --friction-scale 0.8 --set pockets.mu=0.12 --json
     """
     from drivedyn.analysis import analytic_tdr as at
-    from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench
+    from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench, size_text
 
     p, source = _params(model_file, sets)
     if torque is not None and not torque > 0:
@@ -114,7 +114,9 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
                 click.echo(f"simulating the bench, torque on the {side} output "
                            f"(modes {pair[0]} and {pair[1]}) ...", err=True)
             run = run_bench(p, side, T0, dw, friction_scale)
-            runs.append({"side": side, "wall_s": round(run.wall_s, 3),
+            if not as_json and not runs:
+                click.echo(size_text(run.size), err=True)
+            runs.append({"side": side, "wall_s": round(run.wall_s, 3), "size": run.size,
                          "steps": int(run.results.stats.steps),
                          "newton_iterations": int(run.results.stats.newton_iterations),
                          "success": run.success})

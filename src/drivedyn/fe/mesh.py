@@ -127,12 +127,16 @@ def annular_washer(r_int: float, r_ext: float, thickness: float, n_r: int = 2,
 
 
 def tube(r_int: float, r_ext: float, length: float, flanges: Sequence[Sequence[float]] = (),
-         n_r: int = 1, n_theta: int = 24, n_z: int = 8) -> SolidMesh:
+         n_r: int = 1, n_theta: int = 24, n_z: int = 8,
+         r_stations: Sequence[float] = ()) -> SolidMesh:
     """Hexahedral tube ``r_int <= r <= r_ext``, ``0 <= z <= length`` [m] with flanges.
 
-    Each flange ``(z0, z1, r_flange)`` adds a ring ``r_ext <= r <= r_flange`` over
-    ``z0 <= z <= z1`` (bolting flange of a differential case, a bearing seat...). The axial
-    grid holds every flange end, so flanges share vertices with the tube wall.
+    Each flange ``(z0, z1, r_flange)`` adds a ring ``r_ext <= r <= r_flange`` (outer flange,
+    ``r_flange > r_ext``: a bolting flange) or ``r_flange <= r <= r_int`` (inner flange,
+    ``r_flange < r_int``: an end plate, a shoulder or a washer seat) over ``z0 <= z <= z1``.
+    The axial grid holds every flange end, so flanges share vertices with the tube wall;
+    the radial grid of every ring holds the ``r_stations`` inside it (the edges of a washer
+    seat, so that the seat is a union of whole cell faces).
     """
     ri = _length(r_int, "tube.r_int", strict=False)
     re = _length(r_ext, "tube.r_ext")
@@ -151,8 +155,9 @@ def tube(r_int: float, r_ext: float, length: float, flanges: Sequence[Sequence[f
         z0, z1, rf = (float(v) for v in f)
         if not (0.0 <= z0 < z1 <= L):
             raise ModelError(f"tube.flanges[{i}]: need 0 <= z0 < z1 <= length, got {f!r}")
-        if not rf > re:
-            raise ModelError(f"tube.flanges[{i}]: r_flange = {rf!r} must be > r_ext = {re!r}")
+        if not (rf > re or 0.0 < rf < ri):
+            raise ModelError(f"tube.flanges[{i}]: r_flange = {rf!r} must be > r_ext = {re!r} "
+                             f"(outer flange) or in (0, r_int = {ri!r}) (inner flange)")
         fl.append((z0, z1, rf))
     zs = set(np.linspace(0.0, L, nz + 1).tolist())
     for z0, z1, _ in fl:
@@ -171,14 +176,23 @@ def tube(r_int: float, r_ext: float, length: float, flanges: Sequence[Sequence[f
         pts.append(g.points)
         cells.append(g.cells + off)
 
-    ring(np.linspace(ri, re, nr + 1), z)
+    ring(_radii(ri, re, nr, r_stations), z)
     for z0, z1, rf in fl:
-        zz = z[(z >= z0 - 1e-12) & (z <= z1 + 1e-12)]
-        nfr = max(1, round(nr * (rf - re) / (re - ri)))
-        ring(np.linspace(re, rf, nfr + 1), zz)
+        zz = z[(z >= z0 - 1e-12 * L) & (z <= z1 + 1e-12 * L)]
+        lo, hi = (re, rf) if rf > re else (rf, ri)
+        nfr = max(1, round(nr * (hi - lo) / (re - ri)))
+        ring(_radii(lo, hi, nfr, r_stations), zz)
     m = _merge(np.concatenate(pts), np.concatenate(cells), 1e-9 * L)
     return SolidMesh(m[0], m[1], HEX, f"tube(r_int={ri}, r_ext={re}, length={L}, "
                      f"flanges={fl}, n_r={nr}, n_theta={nt}, n_z={nz})")
+
+
+def _radii(lo: float, hi: float, n: int, stations: Sequence[float]) -> np.ndarray:
+    """``n`` equal radial cells from ``lo`` to ``hi``, split further at the stations inside."""
+    r = set(np.linspace(lo, hi, n + 1).tolist())
+    r.update(float(x) for x in stations if lo < x < hi)
+    out = np.array(sorted(r))
+    return out[np.concatenate([[True], np.diff(out) > 1e-9 * hi])]
 
 
 def box(lx: float, ly: float, lz: float, nx: int = 10, ny: int = 2, nz: int = 2) -> SolidMesh:

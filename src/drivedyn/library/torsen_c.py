@@ -215,8 +215,9 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     zc = half + w.sun_coupling.gap + COUPLING_LENGTH / 2
     sp.add_rigid_body("housing", B.housing.mass, B.housing.inertia,
                       angular_velocity=(0, 0, wh))
-    sp.add_rigid_body("case", B.case.mass, B.case.inertia, position=(0, 0, zc),
-                      angular_velocity=(0, 0, wh))
+    if not p.flexible.case:
+        sp.add_rigid_body("case", B.case.mass, B.case.inertia, position=(0, 0, zc),
+                          angular_velocity=(0, 0, wh))
     sp.add_rigid_body("sun", B.sun.mass, B.sun.inertia, angular_velocity=(0, 0, ws))
     sp.add_rigid_body("ring", B.ring.mass, B.ring.inertia, angular_velocity=(0, 0, wc))
     sp.add_rigid_body("coupling", B.coupling.mass, B.coupling.inertia, position=(0, 0, zc),
@@ -229,9 +230,10 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     sp.add(Hinge("housing_bearing", "g_housing", "b_housing"))
     sp.add(Cylindrical("sun_bearing", "g_sun", "b_sun"))
     sp.add(Cylindrical("coupling_bearing", "g_coupling", "b_coupling"))
-    sp.add_marker("h_case", "housing", position=(0, 0, zc), axis=Z)
-    sp.add_marker("c_case", "case", axis=Z)
-    sp.add(Fixed("case_bolts", "h_case", "c_case"))
+    if not p.flexible.case:
+        sp.add_marker("h_case", "housing", position=(0, 0, zc), axis=Z)
+        sp.add_marker("c_case", "case", axis=Z)
+        sp.add(Fixed("case_bolts", "h_case", "c_case"))
     sp.add_marker("cp_spline", "coupling", position=(0, 0, -zc), axis=Z)
     sp.add_marker("r_spline", "ring", axis=Z)
     if math.isinf(geo.lead):
@@ -274,9 +276,14 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
         "ring_case": (("case", half + w.ring_case.gap, MZ), ("ring", half)),
     }
     z_body = {"housing": 0.0, "case": zc, "sun": 0.0, "ring": 0.0, "coupling": zc}
+    case = _flexible_case(sp, p, faces) if p.flexible.case else None
     for name in WASHERS:
         (ba, za, axis), (bb, zb) = faces[name]
         wd = getattr(w, name)
+        if case is not None and ba == "case":
+            _seat_contact(sp, p, name, case, za, bb, zb - z_body[bb],
+                          _friction(wd.mu, p, friction_scale))
+            continue
         if p.flexible.washers:
             _flexible_washer(sp, p, name, ba, za - z_body[ba], axis, bb, zb - z_body[bb],
                              _friction(wd.mu, p, friction_scale))
@@ -311,6 +318,65 @@ def washer_part(p: TorsenCFile, name: str):
     back = Interface("back", solid.select("z", 0.0), np.zeros(3))
     loads = face_load_patterns(solid, solid.select("z", f.washer_thickness))
     return solid, craig_bampton(solid, [back], f.washer_modes, f"washer_{name}", loads=loads)
+
+
+def case_part(p: TorsenCFile, faces: dict):
+    """(solid, reduced part, z of the bolting face [m]) of the flexible case (see
+    :class:`~drivedyn.library.torsen_c_schema.FlexibleParts`): part frame z = 0 on the bolting
+    face, which is also the ring-gear seat; static modes of the pressures on both seats."""
+    from drivedyn.fe import (
+        Interface,
+        SolidMaterial,
+        SolidModel,
+        craig_bampton,
+        face_load_patterns,
+        tube,
+    )
+
+    f = p.flexible
+    w = p.washers
+    z0 = faces["ring_case"][0][1]
+    z_seat = faces["coupling_case"][0][1] - z0
+    t = f.case_plate
+    ri, ro = f.case_wall
+    nr, nt = f.case_cells
+    length = z_seat + t
+    flanges = [(0.0, t, f.case_flange_radius), (0.0, t, w.ring_case.r_int),
+               (z_seat, length, w.coupling_case.r_int)]
+    stations = (w.ring_case.r_int, w.ring_case.r_ext, w.coupling_case.r_int,
+                w.coupling_case.r_ext)
+    solid = SolidModel(tube(ri, ro, length, flanges, nr, nt, max(3, round(length / t)),
+                            r_stations=stations),
+                       SolidMaterial(f.youngs_modulus, f.poisson_ratio, f.density))
+    bolts = Interface("bolts", solid.select("z", 0.0, r_min=ro), np.zeros(3))
+    seats = [solid.select("z", 0.0, w.ring_case.r_int, w.ring_case.r_ext),
+             solid.select("z", z_seat, w.coupling_case.r_int, w.coupling_case.r_ext)]
+    loads = np.hstack([face_load_patterns(solid, s) for s in seats])
+    return solid, craig_bampton(solid, [bolts], f.case_modes, "case", loads=loads), z0
+
+
+def _flexible_case(sp: Spec, p: TorsenCFile, faces: dict) -> tuple:
+    """Mount the flexible case on the housing (bolting face at the ring-gear seat)."""
+    from drivedyn.model.flexible import add_flexible_body
+
+    solid, part, z0 = case_part(p, faces)
+    sp.add_marker("m_case", "housing", position=(0, 0, z0), axis=Z)
+    add_flexible_body(sp, "case", part, "m_case")
+    return solid, part, z0
+
+
+def _seat_contact(sp: Spec, p: TorsenCFile, name: str, case: tuple, za: float, body_b: str,
+                  zb: float, friction) -> None:
+    """Washer ``name`` on the flexible case: ``body_b``'s face pressed on the case's seat
+    nodes (the washer is part of the case, as in the rigid model)."""
+    from drivedyn.elements.flexible import FlexibleWasherContact
+
+    solid, _, z0 = case
+    wd = getattr(p.washers, name)
+    face = solid.select("z", za - z0, wd.r_int, wd.r_ext)
+    sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=Z)
+    sp.add(FlexibleWasherContact(name, "m_case", f"f_{name}", body="case", face=face,
+                                 law=_law(p), friction=friction))
 
 
 def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float, axis,
