@@ -98,3 +98,85 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
 
             figures += save_figure(figure_dir, "torsen_c_bench_rear", history)
     return finish_case(out, t0, figures)
+
+
+def flexible_params(base_params, washers: bool = True, case: bool = True):
+    """A copy of the Type C parameters with flexible washers and/or case."""
+    return base_params.model_copy(update={"flexible": base_params.flexible.model_copy(
+        update={"washers": washers, "case": case})})
+
+
+@register_case("torsen_c_flexible")
+def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
+    """TORSEN Type C with flexible washers and case (meshed, Craig-Bampton): bench TDR of the
+    four modes against the rigid model (2 %); a vehicle-configuration run at 125 N m drive:
+    torque balance, the washer pressure maps and the case stress history."""
+    from drivedyn.analysis.tdr import SIDE_MODES, mode_name, run_bench, size_text
+    from drivedyn.analysis.vehicle import level_windows, run_vehicle
+    from drivedyn.config import read_library_file
+    from drivedyn.validation.common import failed_check, finish_case
+
+    t0 = time.perf_counter()
+    case = "torsen_c_flexible"
+    p, _, _ = read_library_file("torsen-c")
+    pf = flexible_params(p)
+    out: list[CaseResult] = []
+    figures: list[str] = []
+    size = ""
+    for side, modes in SIDE_MODES.items():
+        rigid = run_bench(p, side)
+        flex = run_bench(pf, side)
+        size = size_text(flex.size)
+        for m in modes:
+            if not (rigid.success and flex.success):
+                out.append(failed_check(case, f"mode {m} TDR, flexible", "1", 0.02,
+                                        "rigid model", flex.results))
+                continue
+            out.append(compare(case, f"mode {m} TDR ({mode_name(m)}), flexible washers and "
+                               "case vs rigid", rigid.tdr[m], flex.tdr[m], "1", 0.02,
+                               f"the rigid model; {size}"))
+    # vehicle configuration: one drive level, then the figures
+    pv = pf.model_copy(update={"vehicle": pf.vehicle.model_copy(update={
+        "torque_levels": [125.0], "speed_diff": [-2.0], "hold": 0.3 if quick else 0.5})})
+    run = run_vehicle(pv)
+    if not run.success or not run.levels:
+        out.append(failed_check(case, "vehicle configuration, flexible", "1", 1e-3,
+                                "torque balance", run.results))
+        return finish_case(out, t0, figures)
+    lv = run.levels[0]
+    out.append(compare(case, "vehicle configuration, 125 N m drive: |T_h - (T_f + T_r)| / |T_h|",
+                       0.0, lv["balance_error"], "1", 1e-3,
+                       "torque balance of the differential (steady window)"))
+    if figure_dir:
+        figures += _flexible_figures(run.results, figure_dir, level_windows(pv)[0])
+    return finish_case(out, t0, figures)
+
+
+def _flexible_figures(res, figure_dir: str, window) -> list[str]:
+    """Pressure maps of the washers at the middle of the held window, and the stress
+    history of the case and washers."""
+    import os
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from drivedyn.plots.flexible import (
+        flexible_parts,
+        part_stress_figure,
+        pressure_contacts,
+        pressure_map_figure,
+    )
+
+    os.makedirs(figure_dir, exist_ok=True)
+    paths = []
+    tm = 0.5 * (window[1] + window[2]) if len(window) > 2 else window[-1]
+    figs = [(f"torsen_c_flexible_pressure_{c}", pressure_map_figure(res, c, time=tm))
+            for c in pressure_contacts(res)]
+    if "case" in flexible_parts(res):
+        figs.append(("torsen_c_flexible_case_stress", part_stress_figure(res, "case", 3,
+                                                                         scale=2000.0)))
+    for name, fig in figs:
+        FigureCanvasAgg(fig)
+        path = os.path.join(figure_dir, f"{name}.png")
+        fig.savefig(path, dpi=100)
+        paths.append(path)
+    return paths
