@@ -100,7 +100,7 @@ def test_read_mesh_scale_and_refusals(tmp_path):
     with pytest.raises(ModelError, match="cannot be read"):
         read_mesh(tmp_path / "bad.msh")
     meshio.write(tmp_path / "tri.vtu", meshio.Mesh(np.eye(3), [("triangle", [[0, 1, 2]])]))
-    with pytest.raises(ModelError, match="no volume cells.*triangle"):
+    with pytest.raises(ModelError, match=r"no volume cells.*triangle"):
         read_mesh(tmp_path / "tri.vtu")
     tets = np.array([[0, 1, 2, 4]])
     meshio.write(tmp_path / "mixed.vtu", meshio.Mesh(m.points, [("hexahedron", m.cells),
@@ -113,7 +113,7 @@ def test_inverted_cells_are_refused():
     m = box(1.0, 0.1, 0.1, 3, 1, 1)
     cells = m.cells.copy()
     cells[1] = cells[1][[4, 5, 6, 7, 0, 1, 2, 3]]          # one cell turned inside out
-    with pytest.raises(ModelError, match="1 inverted or degenerate cell.*first cell 1"):
+    with pytest.raises(ModelError, match=r"1 inverted or degenerate cell.*first cell 1"):
         SolidModel(SolidMesh(m.points, cells, "hex"), STEEL)
 
 
@@ -192,8 +192,8 @@ def test_static_modes_reproduce_the_full_static_solution():
 
 
 def test_reduction_is_cached_on_disk(tmp_path):
-    solid, part = _washer_part()
-    solid2, again = _washer_part()
+    _, part = _washer_part()
+    _, again = _washer_part()
     assert again.key == part.key
     np.testing.assert_array_equal(again.Kr, part.Kr)
     np.testing.assert_array_equal(again.stress, part.stress)
@@ -361,3 +361,48 @@ def test_bad_part_definitions_exit_2_naming_the_key(override, message):
     import re
 
     assert re.search(message, r.output, re.S), r.output
+
+
+# --- the TORSEN Type C with flexible parts -----------------------------------------------------
+
+
+def test_torsen_c_flexible_switches_build_the_parts():
+    from drivedyn.config import read_library_file
+    from drivedyn.library.torsen_c import WASHERS, bench_spec
+
+    p, _, _ = read_library_file("torsen-c", ["flexible.washers=true", "flexible.case=true",
+                                             "flexible.washer_cells=[1, 12]",
+                                             "flexible.case_cells=[1, 12]"])
+    sp, _ = bench_spec(p, "rear")
+    model = compile_model(sp)
+    flex = {n for g in model.groups if g.family == "flexible_body" for n in g.names}
+    # W3 and W5 sit on the case: the coupling and the ring press on the case's own seats
+    assert flex == {"case", "washer_sun_housing", "washer_sun_coupling",
+                    "washer_ring_housing"}
+    contacts = {n for g in model.groups if g.family == "flexible_washer_contact"
+                for n in g.names}
+    assert contacts == set(WASHERS)
+    assert "case" not in sp.bodies
+
+
+@pytest.mark.parametrize(("override", "message"), [
+    ("flexible.case_wall=[\"90 mm\", \"85 mm\"]", "inner < outer < flange radius"),
+    ("flexible.washer_cells=[1, 4]", "n_theta >= 6"),
+    ("flexible.washer_modes=-1", "washer_modes"),
+])
+def test_torsen_c_flexible_refusals(override, message):
+    from click.testing import CliRunner
+
+    from drivedyn.cli import main
+
+    r = CliRunner().invoke(main, ["tdr", "torsen-c", "--set", override, "--analytic-only"])
+    assert r.exit_code == 2, r.output
+    assert message in r.output and "Traceback" not in r.output
+
+
+@pytest.mark.slow
+def test_torsen_c_flexible_validation_case_passes():
+    results = base.CASES["torsen_c_flexible"](quick=True, figure_dir=None)
+    assert len(results) == 5
+    for r in results:
+        assert r.passed, f"{r.quantity}: ref {r.reference}, sim {r.simulated}, error {r.error}"
