@@ -78,3 +78,20 @@ def washer_case() -> Spec:
         law=NormalLaw(30.0, 1.5, law="hunt-crossley", restitution=0.7, damping=0.5),
         friction=FrictionLaw(0.3, eps_v=0.5)))
     return spec
+
+
+def tie_case() -> Spec:
+    """A part on a rigid body whose tip interface node is held by a spring to the ground
+    (the tie's rows move with both the host and the elastic coordinates)."""
+    from drivedyn.elements.springs import SpringDamper
+
+    spec = Spec(gravity=(0.0, 0.0, -9.81))
+    spec.add_rigid_body("hub", 1.5, (0.2, 0.3, 0.35), angular_velocity=(1.0, 0.5, -2.0))
+    c, s = np.cos(0.4), np.sin(0.4)
+    spec.add_marker("mount", "hub", position=(0.1, -0.2, 0.05),
+                    rotation=[[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+    add_flexible_body(spec, "blk", small_part(), "mount", damping=0.02)
+    spec.add_marker("tip", "blk.tip", position=(0.05, 0.0, 0.0))
+    spec.add_marker("anchor", "ground", position=(1.5, 0.3, 0.0))
+    spec.add(SpringDamper("tether", "anchor", "tip", 3.0, 0.2, 0.3))
+    return spec

@@ -2,6 +2,7 @@
 contact of a rigid face on a flexible washer's surface nodes."""
 
 from drivedyn.elements.flexible.family import FlexibleBody
+from drivedyn.elements.flexible.interface import FlexibleInterface
 from drivedyn.elements.flexible.washer import FlexibleWasherContact
 
-__all__ = ["FlexibleBody", "FlexibleWasherContact"]
+__all__ = ["FlexibleBody", "FlexibleInterface", "FlexibleWasherContact"]
