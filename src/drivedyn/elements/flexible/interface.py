@@ -106,7 +106,6 @@ def _ties(P, C, W, full):
     rq, rl, M, Cd, K, G = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     mode = sc.mode_of(C)
-    aux = C[sc.AUX]
     nnode = C[sc.LNODES].shape[1]
     nd = 6 * nnode
     h = 1e-30
