@@ -266,10 +266,19 @@ def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
         spec.add_node(n.name, n.position, _rotation(n.rotation), n.velocity, n.angular_velocity)
     # beams create their nodes, which markers may sit on
     add_beams(spec, mf)
+    # markers on the nodes of parts' interfaces ("washer.tip") come after the parts, which
+    # need their own mounting markers first
+    later = [m for m in mf.markers if m.body not in spec.bodies and m.body not in spec.nodes
+             and m.body != "ground" and any(m.body.startswith(p.name + ".")
+                                            for p in mf.parts)]
     for m in mf.markers:
+        if m not in later:
+            spec.add_marker(m.name, m.body, position=m.position,
+                            rotation=_rotation(m.rotation), axis=m.axis)
+    parts = add_parts(spec, mf, Path(base_dir))
+    for m in later:
         spec.add_marker(m.name, m.body, position=m.position, rotation=_rotation(m.rotation),
                         axis=m.axis)
-    parts = add_parts(spec, mf, Path(base_dir))
     joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
                    "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
                    "universal": E.Universal, "planar": E.Planar,
