@@ -252,6 +252,7 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
         freq_fixed=freq, cells=solid.mesh.cells, kind=solid.mesh.kind, solid=solid, key=key)
     if cache:
         _save(path, part)
+    solid.release()  # the reduced part keeps what it needs (Ms, basis, stresses)
     return part
 
 

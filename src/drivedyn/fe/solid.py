@@ -110,7 +110,7 @@ class SolidModel:
         self._skmesh = from_meshio(meshio.Mesh(mesh.points, [(cell_type, mesh.cells)]))
         el = ElementHex2() if mesh.kind == HEX else ElementTetP2()
         self._sbasis = Basis(self._skmesh, el, intorder=4)
-        self._vbasis = Basis(self._skmesh, ElementVector(el), intorder=4)
+        self._element = ElementVector(el)
         self.nodes = np.ascontiguousarray(self._sbasis.doflocs.T)
         # scikit-fem integrates with |det J|: a cell inverted relative to the others, or a
         # collapsed one, would pass silently, so the signs are checked here
@@ -121,6 +121,19 @@ class SolidModel:
             raise ModelError(f"mesh {mesh.name!r}: {bad.size} inverted or degenerate cell(s) "
                              f"(Jacobian of the wrong sign or zero), first cell {int(bad[0])}; "
                              "check the vertex order")
+
+    @cached_property
+    def _vbasis(self):
+        """Vector basis (built on first use; it holds the shape-function values and
+        gradients of every cell at every quadrature point, the bulk of the memory)."""
+        from skfem import Basis
+
+        return Basis(self._skmesh, self._element, intorder=4)
+
+    def release(self) -> None:
+        """Drop the large cached data (vector basis, K, M, projector); rebuilt on demand."""
+        for key in ("_vbasis", "K", "M", "_projector"):
+            self.__dict__.pop(key, None)
 
     @property
     def n(self) -> int:

@@ -81,7 +81,9 @@ def part_stress_figure(res: Any, part: str, snapshots: int = 3, scale: float = 1
     _pick(flexible_parts(ds), part, "flexible part")
     t = ds["time"].values
     X = ds[f"{part}.mesh_points"].values
-    U = ds[f"{part}.displacement"].values
+    from drivedyn.results.flexible_fields import displacement
+
+    U = displacement(ds, part)
     vm = ds[f"{part}.von_mises"].values * 1e-6
     idx = np.unique(np.linspace(0, len(t) - 1, snapshots).round().astype(int))
     fig = Figure(figsize=(4.2 * len(idx) + 1, 8))

@@ -9,7 +9,7 @@ Variables written into a run's Dataset (by :meth:`Recorder.dataset`) for each
 ``P.von_mises``                 (time, P.node)     nodal von Mises stress [Pa]
 ``P.principal_max/min``         (time, P.node)     largest / smallest principal stress [Pa]
 ``P.max_von_mises``             (time,)            largest nodal von Mises stress [Pa]
-``P.displacement``              (time, P.node, 3)  elastic displacement, host frame [m]
+``P.basis``                     (P.node, 3, mode)  displacement per coordinate, host frame [m]
 ``P.mesh_points``               (P.node, 3)        undeformed nodes, host frame [m]
 ``P.mesh_cells``                (P.cell, 8 or 4)   vertex indices of the linear cells
 ``W.nodal_pressure``            (time, W.point)    contact pressure at the face nodes [Pa]
@@ -31,6 +31,14 @@ import numpy as np
 from drivedyn.fe.solid import principal_stresses, von_mises
 
 
+CHUNK = 64  # outputs per block of the stress post-processing (bounds its memory)
+
+
+def displacement(ds: Any, part: str) -> np.ndarray:
+    """Elastic displacements (time, node, 3) [m], host frame, of ``part`` in results ``ds``."""
+    return np.einsum("ndk,tk->tnd", ds[f"{part}.basis"].values, ds[f"{part}.q"].values)
+
+
 def stress_of(part: Any, q: np.ndarray) -> np.ndarray:
     """Nodal stresses (n, 6) [Pa] (part frame, Voigt ``xx yy zz yz xz xy``) of the elastic
     coordinates ``q`` (nq,): they depend on ``q`` only, not on the rigid motion."""
@@ -43,21 +51,29 @@ def part_variables(name: str, part: Any, mount: dict, host: str, A: np.ndarray,
     from its recorded aux rows ``A`` (nt, naux)."""
     nq = part.nq
     q = A[:, q_col:q_col + nq]
-    S = np.einsum("nck,tk->tnc", part.stress, q)
-    vm = von_mises(S)
-    pr = principal_stresses(S)
-    u = np.einsum("ndk,tk->tnd", mount["Phi"], q)
+    nt, n = q.shape[0], part.n
+    vm = np.empty((nt, n))
+    pmax = np.empty((nt, n))
+    pmin = np.empty((nt, n))
+    # by chunks of outputs: the stress tensors of every node at every output would not fit
+    for k0 in range(0, nt, CHUNK):
+        S = np.einsum("nck,tk->tnc", part.stress, q[k0:k0 + CHUNK])
+        vm[k0:k0 + CHUNK] = von_mises(S)
+        pr = principal_stresses(S)
+        pmax[k0:k0 + CHUNK] = pr[..., 0]
+        pmin[k0:k0 + CHUNK] = pr[..., 2]
     nd, cd = f"{name}.node", f"{name}.cell"
     return {
         f"{name}.q": (("time", f"{name}.mode"), q, "1",
                       "elastic coordinates (constraint modes [m, rad], then modal)"),
         f"{name}.von_mises": (("time", nd), vm, "Pa", "nodal von Mises stress"),
-        f"{name}.principal_max": (("time", nd), pr[..., 0], "Pa", "largest principal stress"),
-        f"{name}.principal_min": (("time", nd), pr[..., 2], "Pa", "smallest principal stress"),
+        f"{name}.principal_max": (("time", nd), pmax, "Pa", "largest principal stress"),
+        f"{name}.principal_min": (("time", nd), pmin, "Pa", "smallest principal stress"),
         f"{name}.max_von_mises": (("time",), vm.max(axis=1), "Pa",
                                   "largest nodal von Mises stress of the part"),
-        f"{name}.displacement": (("time", nd, "xyz"), u, "m",
-                                 "elastic displacement of the nodes, host frame"),
+        f"{name}.basis": ((nd, "xyz", f"{name}.mode"), mount["Phi"], "m",
+                          "nodal displacement of each elastic coordinate, host frame "
+                          "(displacement = basis . q)"),
         f"{name}.mesh_points": ((nd, "xyz"), mount["X"], "m",
                                 f"undeformed nodes in the frame of node {host}", {"host": host}),
         f"{name}.mesh_cells": ((cd, f"{name}.vertex"), np.asarray(part.cells), "1",
@@ -90,7 +106,7 @@ def write_vtu_series(ds: Any, part: str, out_dir: str | os.PathLike,
     nv = int(cells.max()) + 1
     xs = ds[f"{host}.position"].values
     Rs = ds[f"{host}.rotation"].values
-    U = ds[f"{part}.displacement"].values
+    U = displacement(ds, part)
     vm = ds[f"{part}.von_mises"].values
     entries = []
     for k, t in enumerate(ds["time"].values):
