@@ -42,8 +42,10 @@ from drivedyn.elements.beams import (
     Rectangular,
     SolidCircular,
 )
+from drivedyn.elements.flexible import FlexibleBody, FlexibleInterface, FlexibleWasherContact
 from drivedyn.model import GROUND, Model, ModelError, Spec, State, compile_model
 from drivedyn.model.beams import add_straight_beam
+from drivedyn.model.flexible import add_flexible_body
 from drivedyn.results import Results, load_results
 from drivedyn.solver import (
     AdaptiveStep,
@@ -67,6 +69,9 @@ __all__ = [
     "Cylindrical",
     "Fixed",
     "FixedStep",
+    "FlexibleBody",
+    "FlexibleInterface",
+    "FlexibleWasherContact",
     "Force",
     "FrictionLaw",
     "GearPair",
@@ -104,6 +109,7 @@ __all__ = [
     "TorsionalSpringDamper",
     "UnilateralContact",
     "Universal",
+    "add_flexible_body",
     "add_straight_beam",
     "compile_model",
     "element_outputs",
