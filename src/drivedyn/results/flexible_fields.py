@@ -30,7 +30,6 @@ import numpy as np
 
 from drivedyn.fe.solid import principal_stresses, von_mises
 
-
 CHUNK = 64  # outputs per block of the stress post-processing (bounds its memory)
 
 

@@ -25,10 +25,10 @@ the pressure distribution: a uniform pressure gives ``M = mu F r_m`` with the fr
 The forces act on the washer's generalised coordinates through the virtual work of the node
 displacements (host node, elastic coordinates) and on the face's node at the same points.
 The tangent matrices are assembled node by node: the derivatives of the nodal force with
-respect to the node's position and velocity and to the face's pose and velocity come from
-complex steps of :func:`node_force` (18 evaluations of a few dozen operations, exact to
-round-off), chained with the node's kinematic Jacobian, plus the geometric terms of the
-Jacobians themselves (the force held).
+respect to the node's position and velocity and to the face's rotation in closed form
+(:func:`node_force_jacobian`; those with respect to the face's position and velocities
+follow from them), chained with the node's kinematic Jacobian, plus the geometric terms of
+the Jacobians themselves (the force held).
 """
 
 from __future__ import annotations
@@ -61,11 +61,11 @@ OUTPUTS = (
 NOUT = len(OUTPUTS)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def node_force(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, zero, p):
     """Force ``p`` (3, global) of the face on one washer node at ``r`` moving with ``rd``
     (face node B at ``xB``, rotation ``RB``, velocity ``vB``, body angular velocity ``wB``).
-    Real or complex arithmetic. Returns (F normal, delta, V, P_dis, in contact)."""
+    Returns (F normal, delta, V, P_dis, in contact)."""
     K, n, chi, c, vs = law[0], law[1], law[2], law[3], law[4]
     mu, epsv = fric[0], fric[1]
     p[0] = zero
@@ -107,6 +107,89 @@ def node_force(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, zero, p):
     return F, delta, V, (F - kdn) * rate + g * st2n, True
 
 
+@njit(cache=True)
+def node_force_jacobian(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, dP):
+    """Derivatives of :func:`node_force` (in contact, force not clipped) with respect to the
+    node position ``r`` (columns 0-2), velocity ``rd`` (3-5) and the face rotation (right
+    perturbation, 9-11) into ``dP`` (3, 18); the other columns follow from these (see the
+    kernel)."""
+    K, n, chi, c, vs = law[0], law[1], law[2], law[3], law[4]
+    mu, epsv = fric[0], fric[1]
+    ng = np.empty(3)
+    wg = np.empty(3)
+    xo = np.empty(3)
+    for a in range(3):
+        ng[a] = RB[a, 0] * nB[0] + RB[a, 1] * nB[1] + RB[a, 2] * nB[2]
+        wg[a] = RB[a, 0] * wB[0] + RB[a, 1] * wB[1] + RB[a, 2] * wB[2]
+        xo[a] = xB[a] + RB[a, 0] * pB[0] + RB[a, 1] * pB[1] + RB[a, 2] * pB[2]
+    e = (r[0] - xB[0], r[1] - xB[1], r[2] - xB[2])
+    d = (r[0] - xo[0], r[1] - xo[1], r[2] - xo[2])
+    delta = -(d[0] * ng[0] + d[1] * ng[1] + d[2] * ng[2])
+    s = (rd[0] - vB[0] - (wg[1] * e[2] - wg[2] * e[1]),
+         rd[1] - vB[1] - (wg[2] * e[0] - wg[0] * e[2]),
+         rd[2] - vB[2] - (wg[0] * e[1] - wg[1] * e[0]))
+    sn = s[0] * ng[0] + s[1] * ng[1] + s[2] * ng[2]
+    rate = -sn
+    kdn = af * K * delta**n
+    F = kdn * (1.0 + chi * rate / vs) + af * c * rate
+    Fd = af * K * n * delta ** (n - 1.0) * (1.0 + chi * rate / vs)
+    Fr = kdn * chi / vs + af * c
+    st = (s[0] - sn * ng[0], s[1] - sn * ng[1], s[2] - sn * ng[2])
+    den = np.sqrt(st[0] ** 2 + st[1] ** 2 + st[2] ** 2 + epsv * epsv)
+    g = mu * F / den
+    for col in range(9):
+        j = col % 3
+        blk = col // 3
+        if blk == 0:    # position of the node: d delta = -n_j, ds = e_j x wg, dn = 0
+            dd = -ng[j]
+            ds0 = (0.0 if j == 0 else (wg[2] if j == 1 else -wg[1]))
+            ds1 = (-wg[2] if j == 0 else (0.0 if j == 1 else wg[0]))
+            ds2 = (wg[1] if j == 0 else (-wg[0] if j == 1 else 0.0))
+            dn0 = dn1 = dn2 = 0.0
+        elif blk == 1:  # velocity of the node
+            dd = 0.0
+            ds0 = 1.0 if j == 0 else 0.0
+            ds1 = 1.0 if j == 1 else 0.0
+            ds2 = 1.0 if j == 2 else 0.0
+            dn0 = dn1 = dn2 = 0.0
+        else:           # face rotation: RB <- RB exp(theta_j e_j~)
+            b1 = (j + 1) % 3
+            b2 = (j + 2) % 3
+            # e_j x v for a body vector v: component b1 = -v[b2], b2 = v[b1]
+            tn = np.zeros(3)
+            tp = np.zeros(3)
+            tw = np.zeros(3)
+            tn[b1], tn[b2] = -nB[b2], nB[b1]
+            tp[b1], tp[b2] = -pB[b2], pB[b1]
+            tw[b1], tw[b2] = -wB[b2], wB[b1]
+            dn0 = RB[0, 0] * tn[0] + RB[0, 1] * tn[1] + RB[0, 2] * tn[2]
+            dn1 = RB[1, 0] * tn[0] + RB[1, 1] * tn[1] + RB[1, 2] * tn[2]
+            dn2 = RB[2, 0] * tn[0] + RB[2, 1] * tn[1] + RB[2, 2] * tn[2]
+            dxo0 = RB[0, 0] * tp[0] + RB[0, 1] * tp[1] + RB[0, 2] * tp[2]
+            dxo1 = RB[1, 0] * tp[0] + RB[1, 1] * tp[1] + RB[1, 2] * tp[2]
+            dxo2 = RB[2, 0] * tp[0] + RB[2, 1] * tp[1] + RB[2, 2] * tp[2]
+            dw0 = RB[0, 0] * tw[0] + RB[0, 1] * tw[1] + RB[0, 2] * tw[2]
+            dw1 = RB[1, 0] * tw[0] + RB[1, 1] * tw[1] + RB[1, 2] * tw[2]
+            dw2 = RB[2, 0] * tw[0] + RB[2, 1] * tw[1] + RB[2, 2] * tw[2]
+            dd = (dxo0 * ng[0] + dxo1 * ng[1] + dxo2 * ng[2]) - (d[0] * dn0 + d[1] * dn1
+                                                                 + d[2] * dn2)
+            # ds = -(dw x e)
+            ds0 = -(dw1 * e[2] - dw2 * e[1])
+            ds1 = -(dw2 * e[0] - dw0 * e[2])
+            ds2 = -(dw0 * e[1] - dw1 * e[0])
+        dsn = ds0 * ng[0] + ds1 * ng[1] + ds2 * ng[2] + s[0] * dn0 + s[1] * dn1 + s[2] * dn2
+        dF = Fd * dd - Fr * dsn
+        dst0 = ds0 - dsn * ng[0] - sn * dn0
+        dst1 = ds1 - dsn * ng[1] - sn * dn1
+        dst2 = ds2 - dsn * ng[2] - sn * dn2
+        dden = (st[0] * dst0 + st[1] * dst1 + st[2] * dst2) / den
+        dg = mu * dF / den - g * dden / den
+        c0 = 3 * blk + j if blk < 2 else 9 + j
+        dP[0, c0] = dF * ng[0] + F * dn0 - dg * st[0] - g * dst0
+        dP[1, c0] = dF * ng[1] + F * dn1 - dg * st[1] - g * dst1
+        dP[2, c0] = dF * ng[2] + F * dn2 - dg * st[2] - g * dst2
+
+
 @njit(cache=True, inline="always")
 def _skew_into(a, S):
     S[0, 0] = 0.0
@@ -123,14 +206,13 @@ def _skew_into(a, S):
 @njit(cache=True, inline="always")
 def _washers(P, C, W, full):
     X, Phi, af, nfs, nqs, area, law, fric, pB, nB = P
-    (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, cr, crd, cxB, cRB, cvB, cwB, cp,
-     S1, S2, S3, Dp, Dv, Dq, Tr, Tb) = W
+    (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, S1, S2, S3, Dp, Dv, Dq, Tr,
+     Tb, ng, xo) = W
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     aux = C[sc.AUX]
     nnode = C[sc.LNODES].shape[1]
     nd = 6 * nnode
-    h = 1e-30
     for e in range(sc.count(C)):
         nb = sc.node(C, e, 0)
         nh = sc.node(C, e, 1)
@@ -153,29 +235,41 @@ def _washers(P, C, W, full):
         pen = -1e300
         Fr = 0.0
         pmax = 0.0
+        # face normal and origin (global)
+        for d in range(3):
+            ng[d] = RB[d, 0] * nB[e, 0] + RB[d, 1] * nB[e, 1] + RB[d, 2] * nB[e, 2]
+            xo[d] = xB[d] + RB[d, 0] * pB[e, 0] + RB[d, 1] * pB[e, 1] + RB[d, 2] * pB[e, 2]
         for i in range(nf):
-            # node kinematics: u (body), r, rd (global)
+            # node position: u (body), r (global); the velocity only for nodes in contact
             for d in range(3):
                 ua = X[e, i, d]
-                va = 0.0
                 for k in range(nq):
                     ua += Phi[e, i, d, k] * qv[k]
-                    va += Phi[e, i, d, k] * qdv[k]
                 u[d] = ua
+            for d in range(3):
+                r[d] = xh[d] + Rh[d, 0] * u[0] + Rh[d, 1] * u[1] + Rh[d, 2] * u[2]
+            gap = (ng[0] * (r[0] - xo[0]) + ng[1] * (r[1] - xo[1]) + ng[2] * (r[2] - xo[2]))
+            aux[e, NOUT + i] = 0.0
+            if gap >= 0.0:
+                if -gap > pen:
+                    pen = -gap
+                continue
+            for d in range(3):
+                va = 0.0
+                for k in range(nq):
+                    va += Phi[e, i, d, k] * qdv[k]
                 ud[d] = va
             w0, w1, w2 = vl[9], vl[10], vl[11]
             t0 = w1 * u[2] - w2 * u[1] + ud[0]
             t1 = w2 * u[0] - w0 * u[2] + ud[1]
             t2 = w0 * u[1] - w1 * u[0] + ud[2]
             for d in range(3):
-                r[d] = xh[d] + Rh[d, 0] * u[0] + Rh[d, 1] * u[1] + Rh[d, 2] * u[2]
                 rd[d] = vl[6 + d] + Rh[d, 0] * t0 + Rh[d, 1] * t1 + Rh[d, 2] * t2
             F, delta, V, Pdi, on = node_force(r, rd, xB, RB, vl[0:3], vl[3:6], pB[e], nB[e],
                                               af[e, i], law[e], fric[e], 0.0, p)
             if delta > pen:
                 pen = delta
             Vt += V
-            aux[e, NOUT + i] = 0.0
             if not on:
                 continue
             Pd += Pdi
@@ -185,12 +279,10 @@ def _washers(P, C, W, full):
             if pi > pmax:
                 pmax = pi
             # radius about the face normal and friction moment on the washer
-            ng0 = RB[0, 0] * nB[e, 0] + RB[0, 1] * nB[e, 1] + RB[0, 2] * nB[e, 2]
-            ng1 = RB[1, 0] * nB[e, 0] + RB[1, 1] * nB[e, 1] + RB[1, 2] * nB[e, 2]
-            ng2 = RB[2, 0] * nB[e, 0] + RB[2, 1] * nB[e, 1] + RB[2, 2] * nB[e, 2]
-            d0 = r[0] - xB[0] - (RB[0, 0] * pB[e, 0] + RB[0, 1] * pB[e, 1] + RB[0, 2] * pB[e, 2])
-            d1 = r[1] - xB[1] - (RB[1, 0] * pB[e, 0] + RB[1, 1] * pB[e, 1] + RB[1, 2] * pB[e, 2])
-            d2 = r[2] - xB[2] - (RB[2, 0] * pB[e, 0] + RB[2, 1] * pB[e, 1] + RB[2, 2] * pB[e, 2])
+            ng0, ng1, ng2 = ng[0], ng[1], ng[2]
+            d0 = r[0] - xo[0]
+            d1 = r[1] - xo[1]
+            d2 = r[2] - xo[2]
             dn = d0 * ng0 + d1 * ng1 + d2 * ng2
             Fr += F * np.sqrt(max(d0 * d0 + d1 * d1 + d2 * d2 - dn * dn, 0.0))
             Mf += ng0 * (d1 * p[2] - d2 * p[1]) + ng1 * (d2 * p[0] - d0 * p[2]) \
@@ -218,40 +310,11 @@ def _washers(P, C, W, full):
             rq[5] += rho[0] * b[1] - rho[1] * b[0]
             if not full:
                 continue
-            # --- tangent: dp/d(r, rd, xB, thB, vB, wB) by complex steps of node_force ---
-            # only r, rd and the face rotation need steps: p depends on xB, vB, wB through
+            # --- tangent: dp/d(r, rd, thB) in closed form; p depends on xB, vB, wB through
             # e = r - xB and s = rd - vB + e~ RB wB, so dp/dxB = -dp/dr (at fixed s: the
             # e~ term is in dp/dr), dp/dvB = -dp/drd and dp/dwB = dp/drd e~ RB
-            for c in (0, 1, 2, 3, 4, 5, 9, 10, 11):
-                for d in range(3):
-                    cr[d] = r[d]
-                    crd[d] = rd[d]
-                    cxB[d] = xB[d]
-                    cvB[d] = vl[d]
-                    cwB[d] = vl[3 + d]
-                    for f in range(3):
-                        cRB[d, f] = RB[d, f]
-                blk, j = c // 3, c % 3
-                if blk == 0:
-                    cr[j] += 1j * h
-                elif blk == 1:
-                    crd[j] += 1j * h
-                elif blk == 2:
-                    cxB[j] += 1j * h
-                elif blk == 3:
-                    b1 = (j + 1) % 3
-                    b2 = (j + 2) % 3
-                    for d in range(3):
-                        cRB[d, b1] = RB[d, b1] + 1j * h * RB[d, b2]
-                        cRB[d, b2] = RB[d, b2] - 1j * h * RB[d, b1]
-                elif blk == 4:
-                    cvB[j] += 1j * h
-                else:
-                    cwB[j] += 1j * h
-                node_force(cr, crd, cxB, cRB, cvB, cwB, pB[e], nB[e], af[e, i], law[e],
-                           fric[e], 0j, cp)
-                for d in range(3):
-                    dP[d, c] = cp[d].imag / h
+            node_force_jacobian(r, rd, xB, RB, vl[0:3], vl[3:6], pB[e], nB[e], af[e, i],
+                                law[e], fric[e], dP)
             for d in range(3):
                 e0, e1, e2 = r[0] - xB[0], r[1] - xB[1], r[2] - xB[2]
                 for j in range(3):
@@ -393,11 +456,9 @@ def flexible_washer_kernel(
     nqm = Phi.shape[3]
     ncol = 12 + nqm
     z = np.zeros
-    cz = np.complex128
     W = (local_arrays(nd, 0), z(nd), z(nqm), z(nqm), z(3), z(3), z(3), z(3), z(3), z(3), z(3),
-         z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z(3, cz), z(3, cz), z(3, cz),
-         z((3, 3), cz), z(3, cz), z(3, cz), z(3, cz), z((3, 3)), z((3, 3)), z((3, 3)),
-         z((3, ncol)), z((3, ncol)), z((3, 3)), z((3, 3)), z((3, 3)))
+         z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z((3, 3)), z((3, 3)), z((3, 3)),
+         z((3, ncol)), z((3, ncol)), z((3, 3)), z((3, 3)), z((3, 3)), z(3), z(3))
     sc.run(_washers, (X, Phi, af, nfs, nqs, area, law, fric, pB, nB),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
