@@ -524,3 +524,19 @@ def test_model_file_part_with_a_tied_interface(tmp_path):
     w = -st.x[model.node_index["bar.tip"], 2]
     # measured -2.1 %: coarse 6 x 1 x 1 mesh of a short bar, clamped root face
     assert w == pytest.approx(ref, rel=0.03)
+
+
+def test_reduction_carries_its_frequency_check():
+    """Rayleigh-Ritz: each reduced frequency is at or above the full one; with enough modes
+    they agree (the check `drivedyn run` and `drivedyn tdr` print)."""
+    solid = SolidModel(box(0.5, 0.05, 0.05, 6, 1, 1), STEEL)
+    itf = [Interface("root", solid.select("x", 0.0), np.zeros(3))]
+    part = craig_bampton(solid, itf, 8, "bar")
+    full, red = part.check
+    assert len(full) == 5
+    assert np.all(red >= full * (1 - 1e-9))
+    np.testing.assert_allclose(red, full, rtol=1e-8)  # the fixed-interface modes themselves
+    assert "40 FE dofs" not in part.check_text() and "frequencies full/reduced" in \
+        part.check_text()
+    _, again = _washer_part()
+    assert again.check.shape == (2, 5)

@@ -53,12 +53,14 @@ def model_size(model) -> dict:
     flexible part its finite-element dofs and elastic coordinates (``parts``: name ->
     (fe_dofs, nq))."""
     parts = {}
+    checks = []
     for g in model.groups:
         for name, part in zip(g.names, g.extra.get("parts", ()), strict=False):
             parts[name] = (3 * part.n, part.nq)
+            checks.append(part.check_text())
     return {"unknowns": model.neq, "coordinates": model.nd, "multipliers": model.nm,
             "parts": parts, "fe_dofs": sum(v[0] for v in parts.values()),
-            "elastic_coordinates": sum(v[1] for v in parts.values())}
+            "elastic_coordinates": sum(v[1] for v in parts.values()), "checks": checks}
 
 
 def size_text(size: dict) -> str:
@@ -70,6 +72,7 @@ def size_text(size: dict) -> str:
                 f"{size['fe_dofs']} finite-element dofs reduced to "
                 f"{size['elastic_coordinates']} elastic coordinates (the seeds' bench with "
                 "four flexible washers: 8161 coordinates)")
+        txt += "".join("\n  " + c for c in size["checks"])
     return txt
 
 

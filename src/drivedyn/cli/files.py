@@ -102,6 +102,9 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     check_output_path(target, "--out")
     if not kernels_cached():
         err("note: first run: compiling the numba kernels (a few minutes, cached afterwards)")
+    for g in model.groups:
+        for part in g.extra.get("parts", ()):
+            err(part.check_text())
     err(f"simulating {name} to t = {t_final:g} s")
     try:
         with progress_bar(t_final) as cb:

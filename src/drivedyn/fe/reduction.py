@@ -41,7 +41,8 @@ import scipy.sparse.linalg as spla
 from drivedyn.errors import ModelError
 from drivedyn.fe.solid import SolidModel
 
-CACHE_VERSION = "cb2"
+CACHE_VERSION = "cb3"
+CHECK_MODES = 5  # eigenfrequencies compared between the full and the reduced model
 
 
 @dataclass(frozen=True)
@@ -90,6 +91,20 @@ class ReducedPart:
     kind: str
     solid: SolidModel | None = None
     key: str = ""
+    check: np.ndarray | None = None  # (2, n): full and reduced frequencies [Hz], frame held
+
+    def check_text(self) -> str:
+        """The printed check of the reduction: first eigenfrequencies of the full and the
+        reduced model, both with the spiders and the mounting interface held."""
+        if self.check is None or self.check.shape[1] == 0:
+            return f"part {self.name}: {self.nq} coordinates (no frequency check)"
+        full, red = self.check
+        rows = ", ".join(f"{f:.4g}/{r:.4g} ({100 * (r / f - 1):+.2f} %)"
+                         for f, r in zip(full, red, strict=True))
+        return (f"part {self.name}: {3 * self.n} FE dofs -> {self.nq} coordinates "
+                f"({self.n_constraint} constraint, {len(self.freq_fixed)} fixed-interface, "
+                f"{self.nq - self.n_constraint - len(self.freq_fixed)} static); frequencies "
+                f"full/reduced [Hz], mounting face held: {rows}")
 
     @property
     def nq(self) -> int:
@@ -250,6 +265,9 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
         interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0)
                     for i in interfaces],
         freq_fixed=freq, cells=solid.mesh.cells, kind=solid.mesh.kind, solid=solid, key=key)
+    nc = min(CHECK_MODES, part.nq)
+    if nc:
+        part.check = np.array(frequency_check(part, solid, interfaces, nc, free=False))
     if cache:
         _save(path, part)
     solid.release()  # the reduced part keeps what it needs (Ms, basis, stresses)
@@ -263,7 +281,7 @@ def _save(path: Path, part: ReducedPart) -> None:
     np.savez(tmp, X=part.X, Ms_data=Ms.data, Ms_indices=Ms.indices, Ms_indptr=Ms.indptr,
              Phi=part.Phi, Kr=part.Kr, Mr=part.Mr, stress=part.stress,
              n_constraint=part.n_constraint, freq=part.freq_fixed, cells=part.cells,
-             kind=part.kind)
+             kind=part.kind, check=part.check if part.check is not None else np.zeros((2, 0)))
     os.replace(tmp, path)
 
 
@@ -277,7 +295,8 @@ def _load(path: Path, name: str, interfaces, solid, key) -> ReducedPart:
             stress=z["stress"], n_constraint=int(z["n_constraint"]),
             interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0)
                         for i in interfaces],
-            freq_fixed=z["freq"], cells=z["cells"], kind=str(z["kind"]), solid=solid, key=key)
+            freq_fixed=z["freq"], cells=z["cells"], kind=str(z["kind"]), solid=solid, key=key,
+            check=z["check"])
 
 
 def frequency_check(part: ReducedPart, solid: SolidModel, interfaces: Sequence[Interface],
@@ -294,8 +313,11 @@ def frequency_check(part: ReducedPart, solid: SolidModel, interfaces: Sequence[I
     Mk = Ms[keep][:, keep].tocsc()
     nr = n + (6 if free else 0)
     shift = -(2 * np.pi * 1.0) ** 2 if free else 0.0
-    w2 = spla.eigsh(Kk, k=nr, M=Mk, sigma=shift, which="LM", return_eigenvectors=False)
-    full = np.sqrt(np.maximum(np.sort(w2), 0.0))[-n:] / (2 * np.pi)
+    # a few more than needed: with clusters of close or repeated modes (axisymmetric parts)
+    # ARPACK may miss one of the last of a set of exactly nr
+    extra = min(nr + 6, Kk.shape[0] - 1)
+    w2 = spla.eigsh(Kk, k=extra, M=Mk, sigma=shift, which="LM", return_eigenvectors=False)
+    full = np.sqrt(np.maximum(np.sort(w2), 0.0))[nr - n:nr] / (2 * np.pi)
     B = part.basis_matrix()
     if free:
         X = part.X
