@@ -49,10 +49,9 @@ def pressure_map_figure(res: Any, contact: str, time: float | None = None) -> Fi
     import matplotlib.tri as mtri
 
     tri = mtri.Triangulation(xy[:, 0], xy[:, 1])
-    r = np.hypot(xy[:, 0], xy[:, 1])
-    # drop the triangles spanning the hole of the annulus
+    # drop the triangles spanning the hole of the annulus (centroid inside the inner radius)
     c = xy[tri.triangles].mean(axis=1)
-    tri.set_mask(np.hypot(c[:, 0], c[:, 1]) < r.min() * 1.0 + 1e-12 * r.max())
+    tri.set_mask(np.hypot(c[:, 0], c[:, 1]) < np.hypot(xy[:, 0], xy[:, 1]).min())
     cs = a1.tricontourf(tri, P[k] * 1e-6, levels=20, cmap="viridis")
     fig.colorbar(cs, ax=a1, label="pressure [MPa]")
     a1.set_aspect("equal")

@@ -102,7 +102,7 @@ def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, c0, val, g, zero):
 @njit(cache=True, inline="always")
 def _ties(P, C, W, full):
     Ph, Rm, c0s, nqs, kk, pp = P
-    L, vl, al, qv, val, g, cR1, cR2, cq, cval, cg, dg = W
+    L, vl, al, qv, val, g, cR1, cR2, cq, cval, cg, dg, sig = W
     rq, rl, M, Cd, K, G = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     mode = sc.mode_of(C)
@@ -121,7 +121,6 @@ def _ties(P, C, W, full):
         for k in range(nq):
             qv[k] = x[sc.node(C, e, 2 + k // 3), k % 3]
         tie_rows(x[nN], R[nN], x[nh], R[nh], qv, Ph[e], Rm[e], c0, val, g, 0.0)
-        sig = np.empty(6)
         for i in range(6):
             sig[i] = kk[e, i] * sc.multiplier(C, e, nd, i) + pp[e, i] * val[i]
             for a in range(nd):
@@ -213,7 +212,7 @@ def tie_kernel(
     cz = np.complex128
     z = np.zeros
     W = (local_arrays(nd, 6), z(nd), z(nd), z(nqm), z(6), z((6, nd)), z((3, 3), cz),
-         z((3, 3), cz), z(nqm, cz), z(6, cz), z((6, nd), cz), z((6, nd), cz))
+         z((3, 3), cz), z(nqm, cz), z(6, cz), z((6, nd), cz), z((6, nd), cz), z(6))
     sc.run(_ties, (Ph, Rm, c0s, nqs, kk, pp),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)

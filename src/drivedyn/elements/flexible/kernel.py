@@ -149,20 +149,27 @@ def ffrf_mass(mass, S0, Phib, A, Qq, Mqq, nq, R, q, G, Mx):
     """The mass matrix ``d r / d (xdd, Omegad, qdd)`` (6 + nq, 6 + nq) into ``Mx``; needs
     ``Qq`` and ``G`` of the last :func:`ffrf_forces` call (same q)."""
     Mx[:, :] = 0.0
-    s = np.zeros(3)
-    for i in range(3):
-        s[i] = S0[i]
-        for k in range(nq):
-            s[i] += Phib[i, k] * q[k]
-    # -R S~ and S~ R^T
-    St = np.array([[0.0, -s[2], s[1]], [s[2], 0.0, -s[0]], [-s[1], s[0], 0.0]])
-    RS = R @ St
+    s0 = S0[0]
+    s1 = S0[1]
+    s2 = S0[2]
+    for k in range(nq):
+        s0 += Phib[0, k] * q[k]
+        s1 += Phib[1, k] * q[k]
+        s2 += Phib[2, k] * q[k]
     tr = G[0, 0] + G[1, 1] + G[2, 2]
     for i in range(3):
         Mx[i, i] = mass
+        # -(R S~)[i, :] with S~ = [[0, -s2, s1], [s2, 0, -s0], [-s1, s0, 0]]
+        rs0 = R[i, 1] * s2 - R[i, 2] * s1
+        rs1 = R[i, 2] * s0 - R[i, 0] * s2
+        rs2 = R[i, 0] * s1 - R[i, 1] * s0
+        Mx[i, 3] = -rs0
+        Mx[i, 4] = -rs1
+        Mx[i, 5] = -rs2
+        Mx[3, i] = -rs0
+        Mx[4, i] = -rs1
+        Mx[5, i] = -rs2
         for j in range(3):
-            Mx[i, 3 + j] = -RS[i, j]
-            Mx[3 + j, i] = -RS[i, j]
             Mx[3 + i, 3 + j] = -G[i, j] + (tr if i == j else 0.0)
     for k in range(nq):
         for i in range(3):
@@ -322,14 +329,16 @@ def _flexible_bodies(P, C, W, full):
             for l in range(nq):
                 el += 0.5 * qv[k] * Kr[e, k, l] * qv[l]
                 dis += qdv[k] * Dr[e, k, l] * qdv[l]
-        s = np.zeros(3)
-        for i in range(3):
-            s[i] = S0[e, i]
-            for k in range(nq):
-                s[i] += Phib[e, i, k] * qv[k]
+        s0 = S0[e, 0]
+        s1 = S0[e, 1]
+        s2 = S0[e, 2]
+        for k in range(nq):
+            s0 += Phib[e, 0, k] * qv[k]
+            s1 += Phib[e, 1, k] * qv[k]
+            s2 += Phib[e, 2, k] * qv[k]
         grav = 0.0
         for i in range(3):
-            rs = Re[i, 0] * s[0] + Re[i, 1] * s[1] + Re[i, 2] * s[2]
+            rs = Re[i, 0] * s0 + Re[i, 1] * s1 + Re[i, 2] * s2
             grav -= gvec[i] * (mass[e] * x[n0, i] + rs)
         sc.energy(C, e, kin, el + grav, 0.0, dis)
         aux[e, 0] = el

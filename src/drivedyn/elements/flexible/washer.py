@@ -115,13 +115,15 @@ def node_force_jacobian(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, dP):
     kernel)."""
     K, n, chi, c, vs = law[0], law[1], law[2], law[3], law[4]
     mu, epsv = fric[0], fric[1]
-    ng = np.empty(3)
-    wg = np.empty(3)
-    xo = np.empty(3)
-    for a in range(3):
-        ng[a] = RB[a, 0] * nB[0] + RB[a, 1] * nB[1] + RB[a, 2] * nB[2]
-        wg[a] = RB[a, 0] * wB[0] + RB[a, 1] * wB[1] + RB[a, 2] * wB[2]
-        xo[a] = xB[a] + RB[a, 0] * pB[0] + RB[a, 1] * pB[1] + RB[a, 2] * pB[2]
+    ng = (RB[0, 0] * nB[0] + RB[0, 1] * nB[1] + RB[0, 2] * nB[2],
+          RB[1, 0] * nB[0] + RB[1, 1] * nB[1] + RB[1, 2] * nB[2],
+          RB[2, 0] * nB[0] + RB[2, 1] * nB[1] + RB[2, 2] * nB[2])
+    wg = (RB[0, 0] * wB[0] + RB[0, 1] * wB[1] + RB[0, 2] * wB[2],
+          RB[1, 0] * wB[0] + RB[1, 1] * wB[1] + RB[1, 2] * wB[2],
+          RB[2, 0] * wB[0] + RB[2, 1] * wB[1] + RB[2, 2] * wB[2])
+    xo = (xB[0] + RB[0, 0] * pB[0] + RB[0, 1] * pB[1] + RB[0, 2] * pB[2],
+          xB[1] + RB[1, 0] * pB[0] + RB[1, 1] * pB[1] + RB[1, 2] * pB[2],
+          xB[2] + RB[2, 0] * pB[0] + RB[2, 1] * pB[1] + RB[2, 2] * pB[2])
     e = (r[0] - xB[0], r[1] - xB[1], r[2] - xB[2])
     d = (r[0] - xo[0], r[1] - xo[1], r[2] - xo[2])
     delta = -(d[0] * ng[0] + d[1] * ng[1] + d[2] * ng[2])
@@ -155,22 +157,16 @@ def node_force_jacobian(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, dP):
         else:           # face rotation: RB <- RB exp(theta_j e_j~)
             b1 = (j + 1) % 3
             b2 = (j + 2) % 3
-            # e_j x v for a body vector v: component b1 = -v[b2], b2 = v[b1]
-            tn = np.zeros(3)
-            tp = np.zeros(3)
-            tw = np.zeros(3)
-            tn[b1], tn[b2] = -nB[b2], nB[b1]
-            tp[b1], tp[b2] = -pB[b2], pB[b1]
-            tw[b1], tw[b2] = -wB[b2], wB[b1]
-            dn0 = RB[0, 0] * tn[0] + RB[0, 1] * tn[1] + RB[0, 2] * tn[2]
-            dn1 = RB[1, 0] * tn[0] + RB[1, 1] * tn[1] + RB[1, 2] * tn[2]
-            dn2 = RB[2, 0] * tn[0] + RB[2, 1] * tn[1] + RB[2, 2] * tn[2]
-            dxo0 = RB[0, 0] * tp[0] + RB[0, 1] * tp[1] + RB[0, 2] * tp[2]
-            dxo1 = RB[1, 0] * tp[0] + RB[1, 1] * tp[1] + RB[1, 2] * tp[2]
-            dxo2 = RB[2, 0] * tp[0] + RB[2, 1] * tp[1] + RB[2, 2] * tp[2]
-            dw0 = RB[0, 0] * tw[0] + RB[0, 1] * tw[1] + RB[0, 2] * tw[2]
-            dw1 = RB[1, 0] * tw[0] + RB[1, 1] * tw[1] + RB[1, 2] * tw[2]
-            dw2 = RB[2, 0] * tw[0] + RB[2, 1] * tw[1] + RB[2, 2] * tw[2]
+            # RB (e_j x v) for a body vector v: e_j x v = -v[b2] e_b1 + v[b1] e_b2
+            dn0 = -RB[0, b1] * nB[b2] + RB[0, b2] * nB[b1]
+            dn1 = -RB[1, b1] * nB[b2] + RB[1, b2] * nB[b1]
+            dn2 = -RB[2, b1] * nB[b2] + RB[2, b2] * nB[b1]
+            dxo0 = -RB[0, b1] * pB[b2] + RB[0, b2] * pB[b1]
+            dxo1 = -RB[1, b1] * pB[b2] + RB[1, b2] * pB[b1]
+            dxo2 = -RB[2, b1] * pB[b2] + RB[2, b2] * pB[b1]
+            dw0 = -RB[0, b1] * wB[b2] + RB[0, b2] * wB[b1]
+            dw1 = -RB[1, b1] * wB[b2] + RB[1, b2] * wB[b1]
+            dw2 = -RB[2, b1] * wB[b2] + RB[2, b2] * wB[b1]
             dd = (dxo0 * ng[0] + dxo1 * ng[1] + dxo2 * ng[2]) - (d[0] * dn0 + d[1] * dn1
                                                                  + d[2] * dn2)
             # ds = -(dw x e)
