@@ -42,8 +42,7 @@ def _fields(m: Model, g, ei: int, en: str, A: np.ndarray) -> dict[str, tuple]:
         pd = f"{en}.point"
         return {f"{en}.{f['name']}": (("time", pd), A[:, f["column"]:f["column"] + f["count"]],
                                       f["units"], f["description"]),
-                f"{en}.face_points": ((pd, "xyz"), f["points"], "m",
-                                      "face nodes in the washer's part frame (z: axis)")}
+                f"{en}.face_points": ((pd, "xyz"), f["points"], "m", f["points_description"])}
     return {}
 
 

@@ -553,7 +553,9 @@ class FlexibleWasherContactFamily(Family):
         g.naux = NOUT + nfm
         g.extra["fields"] = [{"name": "nodal_pressure", "column": NOUT, "count": int(nfs[e]),
                               "units": "Pa", "description": "contact pressure at the face "
-                              "nodes", "points": rows[e][9]} for e in range(nel)]
+                              "nodes", "points": rows[e][9],
+                              "points_description": "face nodes in the washer's part frame "
+                              "(z: its axis)"} for e in range(nel)]
         return g
 
 
