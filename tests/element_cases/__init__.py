@@ -43,5 +43,5 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "beam": list(beams.CASES),
     "flexible_body": list(flexible.CASES),
     "flexible_washer_contact": [flexible.washer_case],
-    "flexible_interface": [flexible.free_case, flexible.tie_case],
+    "flexible_interface": [flexible.free_case, flexible.tie_case, flexible.average_tie_case],
 }

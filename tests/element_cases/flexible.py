@@ -95,3 +95,30 @@ def tie_case() -> Spec:
     spec.add_marker("anchor", "ground", position=(1.5, 0.3, 0.0))
     spec.add(SpringDamper("tether", "anchor", "tip", 3.0, 0.2, 0.3))
     return spec
+
+
+@cache
+def averaged_part():
+    """The small block with an averaging (RBE3) interface at its tip: the tie's rows move
+    with the averaged basis, not with constraint coordinates."""
+    solid = SolidModel(box(1.0, 0.3, 0.2, 2, 1, 1), SolidMaterial(50.0, 0.3, 1.0))
+    tip = solid.select("x", 1.0)
+    itf = [Interface("root", solid.select("x", 0.0), np.zeros(3)),
+           Interface("tip", tip, solid.nodes[tip].mean(axis=0), "average")]
+    return craig_bampton(solid, itf, 3, "block", cache=False)
+
+
+def average_tie_case() -> Spec:
+    """A free spinning part whose averaged tip node is held by a spring."""
+    from drivedyn.elements.springs import SpringDamper
+
+    spec = Spec(gravity=(0.0, 0.0, -9.81))
+    spec.add_node("hub", (0.1, 0.2, 0.3), angular_velocity=(0.3, 1.0, 2.0))
+    spec.add_marker("mount", "hub")
+    part = averaged_part()
+    add_flexible_body(spec, "blk", part, "mount", damping=0.01,
+                      q0=0.02 * np.cos(np.arange(part.nq)))
+    spec.add_marker("tip", "blk.tip", position=(0.05, 0.0, 0.0))
+    spec.add_marker("anchor", "ground", position=(1.5, 0.3, 0.0))
+    spec.add(SpringDamper("tether", "anchor", "tip", 3.0, 0.2, 0.3))
+    return spec

@@ -76,7 +76,7 @@ def add_parts(spec: Spec, mf: Any, base_dir: Path) -> dict[str, Any]:
         for k, s in enumerate(pf.interfaces):
             nodes = select(solid, s, f"{where}.interfaces[{k}]")
             itfs.append(Interface(s.name or f"interface{k}", nodes,
-                                  solid.nodes[nodes].mean(axis=0)))
+                                  solid.nodes[nodes].mean(axis=0), s.connection))
         loads = [face_load_patterns(solid, select(solid, s, f"{where}.load_faces[{k}]"),
                                     "xyz".index(s.axis or "z"))
                  for k, s in enumerate(pf.load_faces)]

@@ -332,6 +332,7 @@ class SelectionFile(Strict):
     value: Length | None = None
     r_min: NonNegLength | None = None
     r_max: PositiveLen | None = None
+    connection: Literal["rigid", "average"] = "rigid"  # interfaces: RBE2 spider or RBE3
 
     @model_validator(mode="after")
     def _something(self) -> SelectionFile:

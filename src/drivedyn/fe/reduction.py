@@ -41,18 +41,48 @@ import scipy.sparse.linalg as spla
 from drivedyn.errors import ModelError
 from drivedyn.fe.solid import SolidModel
 
-CACHE_VERSION = "cb3"
+CACHE_VERSION = "cb4"
 CHECK_MODES = 5  # eigenfrequencies compared between the full and the reduced model
 
 
 @dataclass(frozen=True)
 class Interface:
-    """A rigid spider: the ``nodes`` of the part move rigidly with the point ``point`` [m]
-    (part frame). ``name`` names it in messages and results."""
+    """A connection of the part at ``point`` [m] (part frame) over its ``nodes``.
+
+    ``connection="rigid"``: a rigid spider (RBE2), the nodes move rigidly with the point.
+    ``connection="average"``: an averaging connection (RBE3), the point's translation is the
+    mean of the nodes' and its rotation their least-squares mean rotation about it; the
+    nodes stay free (no stiffening), and the forces on the point spread over them as the
+    transpose of that average (static modes of these six loads join the basis). The first
+    interface of a part (the mounting face) must be rigid. ``name`` names it in messages and
+    results."""
 
     name: str
     nodes: np.ndarray
     point: np.ndarray
+    connection: str = "rigid"
+
+
+def average_map(solid: SolidModel, itf: Interface) -> np.ndarray:
+    """RBE3 map (6, 3n): [translation; rotation] of the point from the nodal displacements
+    (equal weights): ``t = mean(u_i)``, ``theta = J^-1 mean(rho_i x u_i)`` with
+    ``J = mean(|rho_i|^2 I - rho_i rho_i^T)``, ``rho_i`` the node positions from the point."""
+    nodes = np.asarray(itf.nodes)
+    rho = solid.nodes[nodes] - np.asarray(itf.point, float)
+    w = 1.0 / len(nodes)
+    J = w * (np.sum(rho * rho) * np.eye(3) - rho.T @ rho)
+    if np.linalg.cond(J) > 1e12:
+        raise ModelError(f"interface {itf.name!r}: its nodes are collinear; an averaging "
+                         "connection needs nodes spread in two directions")
+    Ji = np.linalg.inv(J)
+    A = np.zeros((6, 3 * solid.n))
+    for a in range(3):
+        A[a, 3 * nodes + a] = w
+    for i, n in enumerate(nodes):
+        r = rho[i]
+        skew = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        A[3:, 3 * n:3 * n + 3] = w * Ji @ skew
+    return A
 
 
 @dataclass
@@ -69,8 +99,11 @@ class ReducedPart:
         Phi: (n, 3, nq) nodal displacements of the basis [m per unit coordinate].
         Kr, Mr: (nq, nq) reduced stiffness [N/m...] and mass [kg...].
         stress: (n, 6, nq) nodal stresses of the basis [Pa per unit coordinate].
-        n_constraint: number of constraint-mode coordinates (6 per interface after the
-            first); they come first in the basis.
+        n_constraint: number of constraint-mode coordinates (6 per rigid interface after
+            the first); they come first in the basis.
+        maps: (k - 1, 6, nq) translation [m] and small rotation [rad] of each interface after
+            the first, relative to the frame, per coordinate (a selection of the constraint
+            coordinates for a rigid one, the averaged basis for an averaging one).
         interfaces: the spiders (points relative to interface 0).
         freq_fixed: (n_modes,) fixed-interface eigenfrequencies [Hz].
         solid: the :class:`SolidModel` (None when loaded from the cache).
@@ -89,6 +122,7 @@ class ReducedPart:
     freq_fixed: np.ndarray
     cells: np.ndarray
     kind: str
+    maps: np.ndarray | None = None
     solid: SolidModel | None = None
     key: str = ""
     check: np.ndarray | None = None  # (2, n): full and reduced frequencies [Hz], frame held
@@ -183,6 +217,16 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     load patterns ``loads`` (3n, m) [N] (see the module docstring)."""
     if not interfaces:
         raise ModelError(f"part {name!r}: at least one interface (the mounting face) is needed")
+    for itf in interfaces:
+        if itf.connection not in ("rigid", "average"):
+            raise ModelError(f"part {name!r}, interface {itf.name!r}: connection must be "
+                             f"'rigid' or 'average', got {itf.connection!r}")
+    if interfaces[0].connection != "rigid":
+        raise ModelError(f"part {name!r}: the first interface (the mounting face) must be "
+                         "rigid")
+    averages = [(k, average_map(solid, itf)) for k, itf in enumerate(interfaces)
+                if itf.connection == "average"]
+    rigid = [itf for itf in interfaces if itf.connection == "rigid"]
     if int(n_modes) != n_modes or n_modes < 0:
         raise ModelError(f"part {name!r}: n_modes must be an integer >= 0, got {n_modes!r}")
     n_modes = int(n_modes)
@@ -190,8 +234,11 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     for itf in interfaces:
         h.update(np.asarray(itf.nodes, np.int64).tobytes())
         h.update(np.asarray(itf.point, float).tobytes())
+        h.update(itf.connection.encode())
     loads = np.zeros((3 * solid.n, 0)) if loads is None else \
         np.asarray(loads, float).reshape(3 * solid.n, -1)
+    # the forces on an averaging interface spread as the transpose of its average
+    loads = np.hstack([loads, *[A.T for _, A in averages]])
     h.update(np.ascontiguousarray(loads).tobytes())
     key = h.hexdigest()
     path = _cache_dir() / "reduction" / f"{key}.npz"
@@ -200,10 +247,10 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
             return _load(path, name, interfaces, solid, key)
         except (OSError, ValueError, KeyError):
             pass  # a damaged cache entry is recomputed
-    T, nf = _spider_map(solid, interfaces)
+    T, nf = _spider_map(solid, rigid)
     Ks = (T.T @ solid.K @ T).tocsc()
     Ms = (T.T @ solid.M @ T).tocsc()
-    k = len(interfaces)
+    k = len(rigid)
     bnd = np.arange(nf + 6, nf + 6 * k)        # other interfaces
     inn = np.arange(nf)
     Kii = Ks[inn][:, inn].tocsc()
@@ -258,16 +305,27 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     Kr = B.T @ (solid.K @ B)
     Mr = B.T @ (solid.M @ B)
     stress = solid.stress_modes(B) if B.shape[1] else np.zeros((solid.n, 6, 0))
+    # interface maps (rigid: the constraint coordinates; average: the averaged basis)
+    maps = np.zeros((len(interfaces) - 1, 6, B.shape[1]))
+    avg = dict(averages)
+    r = 0
+    for j, itf in enumerate(interfaces[1:], start=1):
+        if itf.connection == "rigid":
+            maps[j - 1, :, 6 * r:6 * r + 6] = np.eye(6)
+            r += 1
+        else:
+            maps[j - 1] = avg[j] @ B
     P0 = np.asarray(interfaces[0].point, float)
     part = ReducedPart(
         name=name, X=solid.nodes - P0, Ms=solid.Ms, Phi=B.reshape(solid.n, 3, -1),
         Kr=0.5 * (Kr + Kr.T), Mr=0.5 * (Mr + Mr.T), stress=stress, n_constraint=bnd.size,
-        interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0)
-                    for i in interfaces],
-        freq_fixed=freq, cells=solid.mesh.cells, kind=solid.mesh.kind, solid=solid, key=key)
+        interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0,
+                              i.connection) for i in interfaces],
+        freq_fixed=freq, cells=solid.mesh.cells, kind=solid.mesh.kind, maps=maps, solid=solid,
+        key=key)
     nc = min(CHECK_MODES, part.nq)
     if nc:
-        part.check = np.array(frequency_check(part, solid, interfaces, nc, free=False))
+        part.check = np.array(frequency_check(part, solid, rigid, nc, free=False))
     if cache:
         _save(path, part)
     solid.release()  # the reduced part keeps what it needs (Ms, basis, stresses)
@@ -281,7 +339,8 @@ def _save(path: Path, part: ReducedPart) -> None:
     np.savez(tmp, X=part.X, Ms_data=Ms.data, Ms_indices=Ms.indices, Ms_indptr=Ms.indptr,
              Phi=part.Phi, Kr=part.Kr, Mr=part.Mr, stress=part.stress,
              n_constraint=part.n_constraint, freq=part.freq_fixed, cells=part.cells,
-             kind=part.kind, check=part.check if part.check is not None else np.zeros((2, 0)))
+             kind=part.kind, check=part.check if part.check is not None else np.zeros((2, 0)),
+             maps=part.maps)
     os.replace(tmp, path)
 
 
@@ -293,18 +352,19 @@ def _load(path: Path, name: str, interfaces, solid, key) -> ReducedPart:
         return ReducedPart(
             name=name, X=z["X"], Ms=Ms, Phi=z["Phi"], Kr=z["Kr"], Mr=z["Mr"],
             stress=z["stress"], n_constraint=int(z["n_constraint"]),
-            interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0)
-                        for i in interfaces],
+            interfaces=[Interface(i.name, np.asarray(i.nodes), np.asarray(i.point, float) - P0,
+                                  i.connection) for i in interfaces],
             freq_fixed=z["freq"], cells=z["cells"], kind=str(z["kind"]), solid=solid, key=key,
-            check=z["check"])
+            check=z["check"], maps=z["maps"])
 
 
 def frequency_check(part: ReducedPart, solid: SolidModel, interfaces: Sequence[Interface],
                     n: int = 5, free: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """First ``n`` eigenfrequencies [Hz] of the full model with the spiders and of the reduced
     model: with the frame interface held (``free=False``, the part on a heavy mount) or
-    free-free (``free=True``, rigid-body modes skipped). Returns (full, reduced)."""
-    T, nf = _spider_map(solid, interfaces)
+    free-free (``free=True``, rigid-body modes skipped). Returns (full, reduced). Averaging
+    interfaces add no constraint to either model."""
+    T, nf = _spider_map(solid, [i for i in interfaces if i.connection == "rigid"])
     Ks = (T.T @ solid.K @ T).tocsc()
     Ms = (T.T @ solid.M @ T).tocsc()
     keep = np.arange(Ks.shape[0]) if free else np.setdiff1d(np.arange(Ks.shape[0]),

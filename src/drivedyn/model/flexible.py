@@ -55,7 +55,8 @@ def add_flexible_body(spec: Spec, name: str, part: Any, marker: str, damping: fl
         for k, itf in enumerate(part.interfaces[1:], start=1):
             # at the interface displaced by its constraint-mode coordinates (exact for the
             # translation, to second order in theta for the rotation rows)
-            t0, th0 = q[6 * (k - 1): 6 * k - 3], q[6 * k - 3: 6 * k]
+            tth = part.maps[k - 1] @ q[:nq]
+            t0, th0 = tth[:3], tth[3:]
             arm = R0 @ (itf.point + t0)
             node = spec.add_node(f"{name}.{itf.name}", x0 + arm, R0 @ exp_so3(th0),
                                  v0 + np.cross(w0, arm), w0)

@@ -1,9 +1,11 @@
 """A node tied to an interface of a reduced flexible body (family ``flexible_interface``).
 
-Interface ``k >= 1`` of a part (a rigid spider) moves, relative to the floating frame, by its
-constraint-mode coordinates: a translation ``t`` and a small rotation ``theta`` (part frame,
-``q[6 (k-1) : 6 k]``). The tie makes an ordinary 6-dof node follow it, so markers on that
-node carry joints, contacts and gears to the part::
+Interface ``k >= 1`` of a part moves, relative to the floating frame, by a translation ``t``
+and a small rotation ``theta`` (part frame) linear in the elastic coordinates,
+``(t, theta) = A_k q`` (``ReducedPart.maps``): for a rigid spider ``A_k`` selects its six
+constraint-mode coordinates, for an averaging connection it is the averaged basis. The tie
+makes an ordinary 6-dof node follow it, so markers on that node carry joints, contacts and
+gears to the part::
 
     x_N - x_h - R_h (P + Rm t) = 0                      (3 rows, global)
     (R_c e_z).(R_N e_y) - theta_x = 0, (R_c e_x).(R_N e_z) - theta_y = 0,
@@ -50,16 +52,24 @@ def _slot(k):
 
 
 @njit(cache=True)
-def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, c0, val, g, zero):
+def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, A, nq, val, g, zero):
     """Row values ``val`` (6,) and gradients ``g`` (6, nd) over the local dofs
-    ``[N (6), host (6), coordinate slots]``; real or complex arithmetic."""
+    ``[N (6), host (6), coordinate slots]`` with ``(t, theta) = A q`` (``A`` (6, nq));
+    real or complex arithmetic."""
     for r in range(6):
         for j in range(g.shape[1]):
             g[r, j] = zero
+    tq0 = zero
+    tq1 = zero
+    tq2 = zero
+    for k in range(nq):
+        tq0 += A[0, k] * q[k]
+        tq1 += A[1, k] * q[k]
+        tq2 += A[2, k] * q[k]
     # w = Ph + Rm t (host frame), translation rows
-    w0 = Ph[0] + Rm[0, 0] * q[c0] + Rm[0, 1] * q[c0 + 1] + Rm[0, 2] * q[c0 + 2]
-    w1 = Ph[1] + Rm[1, 0] * q[c0] + Rm[1, 1] * q[c0 + 1] + Rm[1, 2] * q[c0 + 2]
-    w2 = Ph[2] + Rm[2, 0] * q[c0] + Rm[2, 1] * q[c0 + 1] + Rm[2, 2] * q[c0 + 2]
+    w0 = Ph[0] + Rm[0, 0] * tq0 + Rm[0, 1] * tq1 + Rm[0, 2] * tq2
+    w1 = Ph[1] + Rm[1, 0] * tq0 + Rm[1, 1] * tq1 + Rm[1, 2] * tq2
+    w2 = Ph[2] + Rm[2, 0] * tq0 + Rm[2, 1] * tq1 + Rm[2, 2] * tq2
     for a in range(3):
         val[a] = xN[a] - xh[a] - (Rh[a, 0] * w0 + Rh[a, 1] * w1 + Rh[a, 2] * w2)
         g[a, a] = 1.0 + zero
@@ -68,9 +78,12 @@ def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, c0, val, g, zero):
         g[a, 9] = Rh[a, 1] * w2 - Rh[a, 2] * w1
         g[a, 10] = Rh[a, 2] * w0 - Rh[a, 0] * w2
         g[a, 11] = Rh[a, 0] * w1 - Rh[a, 1] * w0
-        for j in range(3):
-            g[a, _slot(c0 + j)] = -(Rh[a, 0] * Rm[0, j] + Rh[a, 1] * Rm[1, j]
-                                    + Rh[a, 2] * Rm[2, j])
+        # d/dq of -R_h Rm A_t q
+        c0 = Rh[a, 0] * Rm[0, 0] + Rh[a, 1] * Rm[1, 0] + Rh[a, 2] * Rm[2, 0]
+        c1 = Rh[a, 0] * Rm[0, 1] + Rh[a, 1] * Rm[1, 1] + Rh[a, 2] * Rm[2, 1]
+        c2 = Rh[a, 0] * Rm[0, 2] + Rh[a, 1] * Rm[1, 2] + Rh[a, 2] * Rm[2, 2]
+        for k in range(nq):
+            g[a, _slot(k)] = -(c0 * A[0, k] + c1 * A[1, k] + c2 * A[2, k])
     # rotation rows: u = R_h c (c = Rm e_i), v = R_N e_j
     for r in range(3):
         ci, dj, comp = _ROT[r]
@@ -79,7 +92,10 @@ def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, c0, val, g, zero):
              Rh[1, 0] * c[0] + Rh[1, 1] * c[1] + Rh[1, 2] * c[2],
              Rh[2, 0] * c[0] + Rh[2, 1] * c[1] + Rh[2, 2] * c[2])
         v = (RN[0, dj], RN[1, dj], RN[2, dj])
-        val[3 + r] = u[0] * v[0] + u[1] * v[1] + u[2] * v[2] - q[c0 + 3 + comp]
+        th = zero
+        for k in range(nq):
+            th += A[3 + comp, k] * q[k]
+        val[3 + r] = u[0] * v[0] + u[1] * v[1] + u[2] * v[2] - th
         # d/dtheta_h = c x (R_h^T v); d/dtheta_N = d x (R_N^T u), d = e_j
         hv = (Rh[0, 0] * v[0] + Rh[1, 0] * v[1] + Rh[2, 0] * v[2],
               Rh[0, 1] * v[0] + Rh[1, 1] * v[1] + Rh[2, 1] * v[2],
@@ -96,12 +112,13 @@ def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, c0, val, g, zero):
         g[3 + r, 3 + dj] = zero
         g[3 + r, 3 + j1] = -nu[j2]
         g[3 + r, 3 + j2] = nu[j1]
-        g[3 + r, _slot(c0 + 3 + comp)] = -1.0 + zero
+        for k in range(nq):
+            g[3 + r, _slot(k)] = -A[3 + comp, k] + zero
 
 
 @njit(cache=True, inline="always")
 def _ties(P, C, W, full):
-    Ph, Rm, c0s, nqs, kk, pp = P
+    Ph, Rm, Amap, nqs, kk, pp = P
     L, vl, al, qv, val, g, cR1, cR2, cq, cval, cg, dg, sig = W
     rq, rl, M, Cd, K, G = L
     x, R, _, _, _, _, _, _ = sc.state(C)
@@ -113,14 +130,13 @@ def _ties(P, C, W, full):
         nN = sc.node(C, e, 0)
         nh = sc.node(C, e, 1)
         nq = nqs[e]
-        c0 = c0s[e]
         sc.velocities(C, e, nd, vl)
         if mode == MODE_ACC:
             sc.accelerations(C, e, nd, al)
         sc.clear(L, full)
         for k in range(nq):
             qv[k] = x[sc.node(C, e, 2 + k // 3), k % 3]
-        tie_rows(x[nN], R[nN], x[nh], R[nh], qv, Ph[e], Rm[e], c0, val, g, 0.0)
+        tie_rows(x[nN], R[nN], x[nh], R[nh], qv, Ph[e], Rm[e], Amap[e], nq, val, g, 0.0)
         for i in range(6):
             sig[i] = kk[e, i] * sc.multiplier(C, e, nd, i) + pp[e, i] * val[i]
             for a in range(nd):
@@ -138,7 +154,7 @@ def _ties(P, C, W, full):
                         - R[nh, a, (b + 2) % 3] * vl[9 + (b + 1) % 3])
             for k in range(nq):
                 cq[k] = qv[k] + 1j * h * vl[_slot(k)]
-            tie_rows(x[nN], cR1, x[nh], cR2, cq, Ph[e], Rm[e], c0, cval, cg, 0j)
+            tie_rows(x[nN], cR1, x[nh], cR2, cq, Ph[e], Rm[e], Amap[e], nq, cval, cg, 0j)
         if mode == MODE_DYN:
             for i in range(6):
                 rl[i] = kk[e, i] * val[i]
@@ -190,7 +206,7 @@ def _ties(P, C, W, full):
                     for kk2 in range(nq):
                         cq[kk2] = qv[kk2]
                     cq[k] = qv[k] + 1j * h
-                tie_rows(x[nN], cR1, x[nh], cR2, cq, Ph[e], Rm[e], c0, cval, dg, 0j)
+                tie_rows(x[nN], cR1, x[nh], cR2, cq, Ph[e], Rm[e], Amap[e], nq, cval, dg, 0j)
                 for a in range(nd):
                     s = 0.0
                     for i in range(6):
@@ -203,7 +219,7 @@ def _ties(P, C, W, full):
 
 @njit(cache=True)
 def tie_kernel(
-    Ph, Rm, c0s, nqs, kk, pp,
+    Ph, Rm, Amap, nqs, kk, pp,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
@@ -213,7 +229,7 @@ def tie_kernel(
     z = np.zeros
     W = (local_arrays(nd, 6), z(nd), z(nd), z(nqm), z(6), z((6, nd)), z((3, 3), cz),
          z((3, 3), cz), z(nqm, cz), z(6, cz), z((6, nd), cz), z((6, nd), cz), z(6))
-    sc.run(_ties, (Ph, Rm, c0s, nqs, kk, pp),
+    sc.run(_ties, (Ph, Rm, Amap, nqs, kk, pp),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
 
@@ -281,26 +297,28 @@ class FlexibleInterfaceFamily(Family):
                                  f"{did_you_mean(s.node, ctx.spec.nodes)}")
             nh, p, Rm = ctx.marker(fb.marker, what)
             rows.append((ctx.node_index[s.node], nh, [ctx.node_index[c] for c in fb.coordinates],
-                         p + Rm @ fb.part.interfaces[k].point, Rm, 6 * (k - 1), fb.part.nq))
+                         p + Rm @ fb.part.interfaces[k].point, Rm, fb.part.maps[k - 1],
+                         fb.part.nq))
         ncm = max(len(r[2]) for r in rows)
         lnodes = np.full((nel, 2 + ncm), ctx.nn, np.int64)
         Ph = np.zeros((nel, 3))
         Rms = np.zeros((nel, 3, 3))
-        c0 = np.zeros(nel, np.int64)
+        Amap = np.zeros((nel, 6, 3 * ncm))
         nqs = np.zeros(nel, np.int64)
         kk = np.zeros((nel, 6))
         pp = np.zeros((nel, 6))
         dofs = []
-        for e, (nN, nh, cn, P, Rm, c, nq) in enumerate(rows):
+        for e, (nN, nh, cn, P, Rm, A, nq) in enumerate(rows):
             lnodes[e, 0], lnodes[e, 1] = nN, nh
             lnodes[e, 2:2 + len(cn)] = cn
-            Ph[e], Rms[e], c0[e], nqs[e] = P, Rm, c, nq
+            Ph[e], Rms[e], nqs[e] = P, Rm, nq
+            Amap[e, :, :nq] = A
             kp = [ctx.scaling(specs[e].k, specs[e].p, i >= 3) for i in range(6)]
             kk[e] = [a for a, _ in kp]
             pp[e] = [b for _, b in kp]
             m0 = ctx.alloc_mult(6, specs[e].name, kk[e])
             dofs.append(ctx.local_dofs(list(lnodes[e]), m0, 6))
-        return make_group(self.name, specs, tie_kernel, (Ph, Rms, c0, nqs, kk, pp), lnodes,
+        return make_group(self.name, specs, tie_kernel, (Ph, Rms, Amap, nqs, kk, pp), lnodes,
                           np.array(dofs, np.int64), (
                               ("force_x", "N", "force of the part on the node, global"),
                               ("force_y", "N", "force of the part on the node, global"),
