@@ -70,6 +70,15 @@ class FlexibleBody(ElementSpec):
             raise ModelError(f"{what}.damping: must be >= 0 s, got {self.damping!r}")
 
 
+def flexible_body_named(spec: Any, name: str, what: str) -> FlexibleBody:
+    """The :class:`FlexibleBody` element ``name`` of ``spec`` (elements that act on a part
+    name it in their ``body``); :class:`ModelError` naming ``what`` otherwise."""
+    bodies = {e.name: e for e in spec.elements if isinstance(e, FlexibleBody)}
+    if name not in bodies:
+        raise ModelError(f"{what}.body: no flexible body {name!r}{did_you_mean(name, bodies)}")
+    return bodies[name]
+
+
 def invariants(part: Any, p: np.ndarray, Rm: np.ndarray) -> dict[str, np.ndarray]:
     """Inertia invariants of ``part`` mounted at offset ``p`` (3,) and rotation ``Rm`` (3, 3)
     in the host node frame (see :mod:`~drivedyn.elements.flexible.kernel`)."""

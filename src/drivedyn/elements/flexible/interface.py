@@ -39,7 +39,7 @@ from drivedyn.elements.base import (
 )
 from drivedyn.elements.building import make_group, what_of
 from drivedyn.elements.checks import check_optional
-from drivedyn.elements.flexible.family import FlexibleBody
+from drivedyn.elements.flexible.family import flexible_body_named
 from drivedyn.errors import ModelError, did_you_mean
 
 #: (column of Rm, axis of the node frame, theta component) of the three rotation rows
@@ -282,15 +282,11 @@ class FlexibleInterfaceFamily(Family):
     name = "flexible_interface"
 
     def build(self, specs, ctx) -> Group:
-        bodies = {e.name: e for e in ctx.spec.elements if isinstance(e, FlexibleBody)}
         nel = len(specs)
         rows = []
         for s in specs:
             what = what_of(s)
-            fb = bodies.get(s.body)
-            if fb is None:
-                raise ModelError(f"{what}.body: no flexible body {s.body!r}"
-                                 f"{did_you_mean(s.body, bodies)}")
+            fb = flexible_body_named(ctx.spec, s.body, what)
             k = interface_index(fb.part, s.interface, what)
             if s.node not in ctx.spec.nodes:
                 raise ModelError(f"{what}.node: {s.node!r} is not a plain node"

@@ -44,10 +44,10 @@ import drivedyn.elements.scaffold as sc
 from drivedyn.elements._contact_common import check_laws, coerce_laws
 from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
 from drivedyn.elements.building import make_group, what_of
-from drivedyn.elements.flexible.family import FlexibleBody, invariants
+from drivedyn.elements.flexible.family import flexible_body_named, invariants
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, law_table
-from drivedyn.errors import ModelError, did_you_mean
+from drivedyn.errors import ModelError
 
 OUTPUTS = (
     ("normal_force", "N", "axial contact force, sum over the face nodes"),
@@ -497,14 +497,10 @@ class FlexibleWasherContactFamily(Family):
     name = "flexible_washer_contact"
 
     def build(self, specs, ctx) -> Group:
-        bodies = {e.name: e for e in ctx.spec.elements if isinstance(e, FlexibleBody)}
         rows = []
         for s in specs:
             what = what_of(s)
-            fb = bodies.get(s.body)
-            if fb is None:
-                raise ModelError(f"{what}.body: no flexible body {s.body!r}"
-                                 f"{did_you_mean(s.body, bodies)}")
+            fb = flexible_body_named(ctx.spec, s.body, what)
             if s.marker_a != fb.marker:
                 raise ModelError(f"{what}.marker_a: must be the washer's mounting marker "
                                  f"{fb.marker!r}, got {s.marker_a!r}")
