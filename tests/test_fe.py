@@ -586,3 +586,27 @@ def test_first_interface_must_be_rigid():
     with pytest.raises(ModelError, match="connection must be"):
         craig_bampton(solid, [Interface("a", solid.select("x", 0.0), np.zeros(3), "glued")],
                       2, cache=False)
+
+
+def test_unreduced_option_gives_the_full_model():
+    """n_modes = 'all': the floating-frame body of a small part is the full FE model; its
+    linearised frequencies are the full model's (clamped at the mounting face)."""
+    from drivedyn.fe import frequency_check
+    from drivedyn.solver import linear_modes
+
+    solid = SolidModel(box(0.3, 0.05, 0.05, 3, 1, 1), STEEL)
+    itf = [Interface("root", solid.select("x", 0.0), np.zeros(3))]
+    part = craig_bampton(solid, itf, "all", "bar", cache=False,
+                         loads=face_load_patterns(solid, solid.select("x", 0.3), axis=0))
+    assert part.nq == 3 * solid.n - 3 * len(itf[0].nodes)  # every internal dof, no more
+    model = _clamped_part_model(part)
+    modes = linear_modes(model, model.initial_state(), 8)
+    full, _ = frequency_check(part, solid, itf, 8)
+    np.testing.assert_allclose(modes.frequencies, full, rtol=1e-8)
+    big = SolidModel(box(1.0, 0.1, 0.1, 20, 2, 2), STEEL)
+    with pytest.raises(ModelError, match="give a number of modes"):
+        craig_bampton(big, [Interface("r", big.select("x", 0.0), np.zeros(3))], "all",
+                      cache=False)
+    with pytest.raises(ModelError, match="or 'all'"):
+        craig_bampton(big, [Interface("r", big.select("x", 0.0), np.zeros(3))], "most",
+                      cache=False)

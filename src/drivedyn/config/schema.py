@@ -354,7 +354,7 @@ class PartFile(Strict):
     material: str
     mesh: MeshFile
     interfaces: list[SelectionFile] = Field(min_length=1)
-    modes: int = Field(default=6, ge=0, le=200)
+    modes: Annotated[int, Field(ge=0, le=200)] | Literal["all"] = 6
     load_faces: list[SelectionFile] = Field(default_factory=list)
     damping: DampingTime = 0.0
 

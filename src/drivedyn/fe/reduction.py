@@ -43,6 +43,7 @@ from drivedyn.fe.solid import SolidModel
 
 CACHE_VERSION = "cb4"
 CHECK_MODES = 5  # eigenfrequencies compared between the full and the reduced model
+FULL_LIMIT = 600  # internal dofs of the largest part the unreduced option takes
 
 
 @dataclass(frozen=True)
@@ -212,9 +213,11 @@ def _cache_dir() -> Path:
 def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: int,
                   name: str = "part", cache: bool = True,
                   loads: np.ndarray | None = None) -> ReducedPart:
-    """Reduce ``solid`` with rigid-spider ``interfaces`` (the first defines the floating
-    frame), ``n_modes`` fixed-interface modes and the static correction modes of the nodal
-    load patterns ``loads`` (3n, m) [N] (see the module docstring)."""
+    """Reduce ``solid`` with ``interfaces`` (the first, rigid, defines the floating frame),
+    ``n_modes`` fixed-interface modes and the static correction modes of the nodal load
+    patterns ``loads`` (3n, m) [N] (see the module docstring). ``n_modes="all"`` keeps every
+    internal dof: the unreduced part in the floating frame (small parts only, up to
+    :data:`FULL_LIMIT` internal dofs; static modes are then in the span and dropped)."""
     if not interfaces:
         raise ModelError(f"part {name!r}: at least one interface (the mounting face) is needed")
     for itf in interfaces:
@@ -227,9 +230,11 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     averages = [(k, average_map(solid, itf)) for k, itf in enumerate(interfaces)
                 if itf.connection == "average"]
     rigid = [itf for itf in interfaces if itf.connection == "rigid"]
-    if int(n_modes) != n_modes or n_modes < 0:
-        raise ModelError(f"part {name!r}: n_modes must be an integer >= 0, got {n_modes!r}")
-    n_modes = int(n_modes)
+    full = n_modes == "all"
+    if not full and (isinstance(n_modes, str) or int(n_modes) != n_modes or n_modes < 0):
+        raise ModelError(f"part {name!r}: n_modes must be an integer >= 0 or 'all', got "
+                         f"{n_modes!r}")
+    n_modes = -1 if full else int(n_modes)
     h = hashlib.sha1(f"{CACHE_VERSION}/{solid.digest()}/{n_modes}".encode())
     for itf in interfaces:
         h.update(np.asarray(itf.nodes, np.int64).tobytes())
@@ -254,6 +259,12 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
     bnd = np.arange(nf + 6, nf + 6 * k)        # other interfaces
     inn = np.arange(nf)
     Kii = Ks[inn][:, inn].tocsc()
+    if full:
+        if nf > FULL_LIMIT:
+            raise ModelError(f"part {name!r}: n_modes = 'all' keeps every one of its {nf} "
+                             f"internal dofs, more than the {FULL_LIMIT} the unreduced option "
+                             "takes (its cost grows as the square); give a number of modes")
+        n_modes = nf
     if n_modes > nf:
         raise ModelError(f"part {name!r}: n_modes = {n_modes} exceeds the {nf} internal dofs")
     lu = spla.splu(Kii)
@@ -269,8 +280,14 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
         Mii = Ms[inn][:, inn].tocsc()
         # a fixed start vector: eigsh starts from a random one, and in degenerate pairs
         # (axisymmetric parts) it would return another basis of the pair on every run
-        w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM",
-                           v0=np.linspace(1.0, 2.0, nf))
+        if n_modes >= nf - 1:  # every mode: the unreduced part (dense, small parts only)
+            import scipy.linalg as sla
+
+            w2, V = sla.eigh(Kii.toarray(), Mii.toarray())
+            w2, V = w2[:n_modes], V[:, :n_modes]
+        else:
+            w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM",
+                               v0=np.linspace(1.0, 2.0, nf))
         order = np.argsort(w2)
         w2, V = w2[order], V[:, order]
         V /= np.sqrt(np.einsum("ij,ij->j", V, Mii @ V))
