@@ -1,7 +1,7 @@
 """Benchmark: the TORSEN Type C central differential on the test bench, all four modes.
 
-The shipped ``torsen-c`` model file (``drivedyn.library.torsen_c``: housing with one pocket
-per planet, sun, planets on planar guides with pocket contact and tip friction, internal
+The shipped ``torsen-c`` model file (``drivedyn.library.differentials.torsen_c``: housing
+with one pocket per planet, sun, planets on planar guides with pocket contact and tip friction, internal
 gear on a helical spline to the coupling, 2 n helical meshes, five thrust washers) is run on
 the seed 003 bench protocol of its ``[bench]`` table: housing held, 125 N m on one output,
 the other output's speed prescribed for a 20 rpm speed difference; drive, then a smooth
@@ -11,7 +11,8 @@ and 2.2-2.8 s). Two runs cover the four locking modes: torque on the rear output
 the file's ``[solver]`` table (generalized-alpha, adaptive steps).
 
 Prints a table (mode, simulated TDR, analytic quasi-static TDR of
-``drivedyn.analysis.analytic_tdr``, the measured TDR of the file's ``[experiment]`` table,
+``drivedyn.library.differentials.torsen_c.analytic``, the measured TDR of the file's
+``[experiment]`` table,
 the relative differences, window ripple), then per run the wall time of ``simulate``, the
 model build time, steps, rejected steps, Newton iterations, LU factorizations, and the total
 wall time and peak RSS; finally one JSON line with all of it. The warm-up (a 2 ms run of
@@ -34,10 +35,11 @@ import time
 
 from _common import warmup
 
-from drivedyn.analysis.analytic_tdr import bench_tdr
-from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench
+from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes
 from drivedyn.config import read_library_file
-from drivedyn.library.torsen_c import bench_spec
+from drivedyn.library.differentials import get
+from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.library.differentials.torsen_c.analytic import bench_tdr
 from drivedyn.model.compile import compile_model
 from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
 from drivedyn.solver.simulate import simulate
@@ -47,7 +49,7 @@ def tiny_run(p) -> None:
     """2 ms of the rear bench: every element family of the model, compiled or loaded."""
     s = p.solver
     st, nw = s.step, s.newton
-    model = compile_model(bench_spec(p, "rear")[0])
+    model = compile_model(bench_spec(get("torsen_c"), p, "rear")[0])
     simulate(model, 2e-3, integrator=GeneralizedAlpha(s.rho_inf),
              step=AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol),
              newton=Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter), output_dt=1e-3)
@@ -59,7 +61,7 @@ def run_side(p, side: str) -> tuple[object, dict]:
     st = run.results.stats
     return run, {
         "side": side,
-        "modes": list(SIDE_MODES[side]),
+        "modes": list(side_modes(p)[side]),
         "wall_s": round(st.wall_s, 3),
         "build_s": round(run.wall_s - st.wall_s, 3),
         "steps": st.steps,
@@ -102,18 +104,18 @@ def main() -> None:
           f"{'sim/ana-1':>10} {'sim/exp-1':>10} {'ripple':>8}")
     for side in ("rear", "front"):
         run = runs[side]
-        for mode in SIDE_MODES[side]:
+        for mode in side_modes(p)[side]:
             sim = run.tdr.get(mode, float("nan"))
             ana = bench_tdr(p, mode)
             ex = exp.get(mode, float("nan"))
             e_ana = 100 * (sim / ana - 1)
             e_exp = 100 * (sim / ex - 1)
-            modes[str(mode)] = {"name": mode_name(mode), "tdr_sim": round(sim, 6),
+            modes[str(mode)] = {"name": mode_name(p, mode), "tdr_sim": round(sim, 6),
                                 "tdr_analytic": round(ana, 6), "tdr_experiment": ex,
                                 "err_analytic_pct": round(e_ana, 4),
                                 "err_experiment_pct": round(e_exp, 3),
                                 "ripple": run.ripple.get(mode, float("nan"))}
-            print(f"{mode:<4} {mode_name(mode):<18} {sim:9.4f} {ana:9.4f} {ex:10.3f} "
+            print(f"{mode:<4} {mode_name(p, mode):<18} {sim:9.4f} {ana:9.4f} {ex:10.3f} "
                   f"{e_ana:9.3f}% {e_exp:9.2f}% {modes[str(mode)]['ripple']:8.1e}")
     print()
     print(f"{'run':<6} {'modes':<6} {'wall [s]':>8} {'build [s]':>9} {'steps':>6} "

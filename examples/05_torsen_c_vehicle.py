@@ -12,7 +12,8 @@ prescribed (front = sun, rear = coupling; the rear turns 2 rad/s slower in the f
 For each held level the script prints the window means of the housing torque and the two
 output torques delivered to the axles (front + rear = housing), the mode, and the torque
 distribution ratio (favoured axle over the other) next to the quasi-static analytic value
-of :mod:`drivedyn.analysis.analytic_tdr` at the same speeds; at each torque reversal, the
+of :mod:`drivedyn.library.differentials.torsen_c.analytic` at the same speeds; at each
+torque reversal, the
 axial travel of sun, coupling and internal gear (sun and coupling move together, the gear
 the other way). Figures (PNG) go to ``out_dir`` (default ``torsen_c_vehicle``).
 

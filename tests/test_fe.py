@@ -372,12 +372,14 @@ def test_bad_part_definitions_exit_2_naming_the_key(override, message):
 
 def test_torsen_c_flexible_switches_build_the_parts():
     from drivedyn.config import read_library_file
-    from drivedyn.library.torsen_c import WASHERS, bench_spec
+    from drivedyn.library.differentials import get
+    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.torsen_c.model import WASHERS
 
     p, _, _ = read_library_file("torsen-c", ["flexible.washers=true", "flexible.case=true",
                                              "flexible.washer_cells=[1, 12]",
                                              "flexible.case_cells=[1, 12]"])
-    sp, _ = bench_spec(p, "rear")
+    sp, _ = bench_spec(get("torsen_c"), p, "rear")
     model = compile_model(sp)
     flex = {n for g in model.groups if g.family == "flexible_body" for n in g.names}
     # W3 and W5 sit on the case: the coupling and the ring press on the case's own seats

@@ -8,9 +8,10 @@ References are exact or derived here:
 * the housing's reaction torque, rebuilt from the pocket and washer forces of the solution,
   closes the torque balance ``T_s + T_c + T_h = 0``; the external power in the housing frame
   equals the friction power of the five washers and the ``n`` pockets;
-* washer loads follow the thrust paths of ``drivedyn.library.torsen_c``'s docstring;
+* washer loads follow the thrust paths of the docstring of
+  ``drivedyn.library.differentials.torsen_c.model``;
 * pocket friction alone has a closed form (derived below), which also bounds the error of the
-  textbook limit :func:`~drivedyn.analysis.analytic_tdr.pocket_only_ratio`;
+  textbook limit :func:`~drivedyn.library.differentials.torsen_c.analytic.pocket_only_ratio`;
 * the simulation without pocket friction must reproduce the analytic TDR to solver precision
   (every remaining force law is the same in both models); with pocket friction the difference
   is a documented compliance effect, bounded below.
@@ -30,18 +31,24 @@ import math
 import numpy as np
 import pytest
 
-from drivedyn.analysis.analytic_tdr import (
+from drivedyn.analysis.tdr import run_bench
+from drivedyn.config import ModelFileError, read_library_file
+from drivedyn.library.differentials import get as get_differential
+from drivedyn.library.differentials.protocol import bench_spec as _bench_spec
+from drivedyn.library.differentials.torsen_c.analytic import (
     all_modes,
     bench_speeds,
     bench_tdr,
     pocket_only_ratio,
     solve,
 )
-from drivedyn.analysis.tdr import run_bench
-from drivedyn.config import ModelFileError, read_library_file
-from drivedyn.library.torsen_c import MODES, WASHERS, bench_spec, check_parameters, geometry
+from drivedyn.library.differentials.torsen_c.model import MODES, WASHERS, check_parameters, geometry
 from drivedyn.model.compile import compile_model
 from drivedyn.model.spec import ModelError
+
+
+def bench_spec(p, side, *args, **kw):
+    return _bench_spec(get_differential("torsen_c"), p, side, *args, **kw)
 
 RPM = 2 * math.pi / 60
 

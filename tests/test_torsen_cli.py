@@ -12,10 +12,10 @@ import pytest
 from click.testing import CliRunner
 
 import drivedyn as dd
-from drivedyn.analysis import analytic_tdr as at
 from drivedyn.cli import main
 from drivedyn.config import read_library_file
 from drivedyn.config.loader import ModelFileError, shipped_models
+from drivedyn.library.differentials.torsen_c import analytic as at
 
 # a shorter bench protocol: same torque and speed levels, shorter holds (steady state is
 # reached within ~0.1 s: the windows below stay on the plateaus)

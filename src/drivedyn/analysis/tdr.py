@@ -1,9 +1,11 @@
-"""Torque distribution ratio on the simulated test bench (seed 003 protocol).
+"""Torque distribution ratio on the simulated test bench (seed 003 protocol), for any
+differential of :mod:`drivedyn.library.differentials`.
 
-One bench run per loaded side covers two modes (drive, then coast, smooth transition):
-``side = "rear"`` gives modes 1 and 2, ``"front"`` modes 3 and 4. The TDR of a mode is the
-applied torque over the resistant torque (the speed-control driver's torque), each averaged
-over the mode's steady window (``bench.window_drive``, ``bench.window_coast``).
+One bench run per loaded side covers two modes (drive, then coast, smooth transition): for
+the Type C ``side = "rear"`` gives modes 1 and 2, ``"front"`` modes 3 and 4 (the
+differential's ``side_modes``). The TDR of a mode is the applied torque over the resistant
+torque (the speed-control driver's torque), each averaged over the mode's steady window
+(``bench.window_drive``, ``bench.window_coast``).
 """
 
 from __future__ import annotations
@@ -13,11 +15,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from drivedyn.library.torsen_c import MODES, bench_spec
-from drivedyn.library.torsen_c_schema import TorsenCFile
+from drivedyn.library import differentials
+from drivedyn.library.differentials.protocol import bench_spec
 
-#: modes of each bench side, in the order they run (drive first)
-SIDE_MODES = {"rear": (1, 2), "front": (3, 4)}
+
+def side_modes(p) -> dict[str, tuple[int, int]]:
+    """side -> (drive mode, coast mode) of the differential of ``p``, in bench order."""
+    return differentials.of(p).side_modes
 
 
 @dataclass
@@ -90,14 +94,14 @@ def window_tdr(results, window: tuple[float, float]) -> tuple[float, float, floa
     return float(tdr), float(ta.mean()), float(tr.mean()), float(np.ptp(ratio) / tdr)
 
 
-def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
+def run_bench(p, side: str, torque: float | None = None,
               speed_diff: float | None = None, friction_scale: float = 1.0,
               progress=None, output_dt: float | None = None) -> BenchRun:
     """Simulate one bench side and extract the TDR of its two modes.
 
     Args:
-        p: parameters.
-        side: ``"rear"`` (modes 1, 2) or ``"front"`` (modes 3, 4).
+        p: parameters of a differential (its model file).
+        side: the loaded output (Type C: ``"rear"`` for modes 1, 2, ``"front"`` for 3, 4).
         torque: applied torque [N m] (default ``bench.torque``).
         speed_diff: output speed difference [rad/s] (default ``bench.speed_diff``).
         friction_scale: factor on every friction coefficient.
@@ -108,7 +112,8 @@ def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
     from drivedyn.solver.simulate import simulate
 
     t0 = time.perf_counter()
-    sp, _ = bench_spec(p, side, torque, speed_diff, friction_scale)
+    diff = differentials.of(p)
+    sp, _ = bench_spec(diff, p, side, torque, speed_diff, friction_scale)
     model = compile_model(sp)
     res = simulate(model, p.bench.t_end, **p.solver.settings(),
                    output_dt=output_dt or p.solver.output_dt, progress=progress)
@@ -116,7 +121,7 @@ def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
                    success=bool(res.success), message="" if res.success else str(res.message),
                    size=model_size(model))
     windows = (p.bench.window_drive, p.bench.window_coast)
-    for mode, win in zip(SIDE_MODES[side], windows, strict=True):
+    for mode, win in zip(diff.side_modes[side], windows, strict=True):
         if not res.success and res["time"].values[-1] < win[1]:
             continue
         run.tdr[mode], run.applied[mode], run.resistant[mode], run.ripple[mode] = \
@@ -124,12 +129,13 @@ def run_bench(p: TorsenCFile, side: str, torque: float | None = None,
     return run
 
 
-def mode_name(mode: int) -> str:
-    """``"drive, bias rear"`` etc."""
-    return MODES[mode - 1][1]
+def mode_name(p, mode: int) -> str:
+    """``"drive, bias rear"`` etc. (``p``: parameters or a Differential)."""
+    diff = p if isinstance(p, differentials.Differential) else differentials.of(p)
+    return diff.mode(mode).name
 
 
-def experimental(p: TorsenCFile) -> dict[int, float]:
+def experimental(p) -> dict[int, float]:
     """Measured TDR of each mode from the model file's ``[experiment]`` table."""
     out = {}
     for key, val in p.experiment.tdr.items():
@@ -137,6 +143,6 @@ def experimental(p: TorsenCFile) -> dict[int, float]:
     return out
 
 
-def seeds_simulation(p: TorsenCFile) -> dict[int, float]:
+def seeds_simulation(p) -> dict[int, float]:
     """The seeds' simulated TDR of each mode (``[experiment] seeds``)."""
     return {int(k.removeprefix("mode")): float(v) for k, v in p.experiment.seeds.items()}

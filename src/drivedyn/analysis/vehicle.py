@@ -1,20 +1,22 @@
-"""Vehicle configuration of the TORSEN Type C (seed 003, Fig. 10-11): torque split per level.
+"""Vehicle configuration of a differential (seed 003, Fig. 10-13): torque split per level.
 
 The engine torque acts on the housing and steps through ``vehicle.torque_levels`` (each held
 for ``vehicle.hold`` after a smooth ramp of ``vehicle.ramp``); both output speeds are
-prescribed (front = sun, rear = coupling, rear - front = ``vehicle.speed_diff`` of the level).
+prescribed (Type C: front = sun, rear = coupling; Type B: left and right side gears; second
+minus first = ``vehicle.speed_diff`` of the level), optionally again in backwards motion
+(:func:`drivedyn.library.differentials.protocol.vehicle_profile`).
 
-Signs: the speed drivers' torques (``front_speed.torque``, ``rear_speed.torque``) are the
-torques they apply on the sun and the coupling; the *output torques* reported here are the
-torques the outputs deliver to the axles, their negatives, so that in equilibrium
-``front + rear = housing`` (engine torque about +z, positive = drive).
+Signs: the speed drivers' torques (``front_speed.torque``, ``rear_speed.torque``, ...) are
+the torques they apply on the outputs; the *output torques* reported here are the torques the
+outputs deliver to the axles, their negatives, so that in equilibrium
+``first + second = housing`` (engine torque about +z, positive = drive in forward motion).
 
 Each level is analysed over the last 60 % of its hold (the transient of the ramp has died
 out): window means of the three torques, the relative balance error
-``|T_h - (T_f + T_r)| / |T_h|``, the locking mode and the torque distribution ratio (TDR,
-the favoured axle's torque over the other's: in drive the slower axle is favoured, in coast
-the faster one), and the quasi-static TDR of :func:`drivedyn.analysis.analytic_tdr.solve` at
-the same speeds and housing torque.
+``|T_h - (T_1 + T_2)| / |T_h|``, the locking mode and the torque distribution ratio (TDR,
+the favoured axle's torque over the other's: in drive -- power from the housing to the axles
+-- the slower axle is favoured, in coast the faster one), and the quasi-static TDR of the
+differential's analytic model at the same speeds and housing torque.
 
 Cost: the shipped profile (12 loaded levels) is timed in the README. Avoid long holds at
 exactly zero torque: the meshes then hover within nanometres of contact, where the gear
@@ -33,8 +35,8 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.library.torsen_c import MODES, vehicle_spec
-from drivedyn.library.torsen_c_schema import TorsenCFile
+from drivedyn.library import differentials
+from drivedyn.library.differentials.protocol import level_times, vehicle_spec
 
 #: fraction of each hold (its end) over which a level is averaged
 WINDOW_FRACTION = 0.6
@@ -63,34 +65,34 @@ class VehicleRun:
     success: bool = True
     message: str = ""
     levels: list[dict] = field(default_factory=list)
-    params: TorsenCFile | None = None
+    params: Any = None
 
 
-def level_windows(p: TorsenCFile) -> list[tuple[float, float, float]]:
-    """(hold start, window start, window end) [s] of each level of the profile
-    (as :func:`drivedyn.library.torsen_c.vehicle_profile`: level i is held from
-    ``(i + 1) ramp + i hold`` for ``hold``)."""
-    v = p.vehicle
+def level_windows(p: Any) -> list[tuple[float, float, float, int, bool]]:
+    """(hold start, window start, window end, level index, backward?) [s] of each held level
+    of the profile, in time order (:func:`~drivedyn.library.differentials.protocol.level_times`);
+    the window is the last :data:`WINDOW_FRACTION` of the hold."""
     out = []
-    for i in range(len(v.torque_levels)):
-        t0 = (i + 1) * v.ramp + i * v.hold
-        t1 = t0 + v.hold
-        out.append((t0, t1 - WINDOW_FRACTION * v.hold, t1))
+    for t0, t1, i, back in level_times(p):
+        out.append((t0, t1 - WINDOW_FRACTION * (t1 - t0), t1, i, back))
     return out
 
 
-def mode_of(torque: float, speed_diff: float) -> tuple[int | None, str | None]:
-    """(mode number 1-4 as in :data:`~drivedyn.library.torsen_c.MODES`, favoured output
-    ``"rear"``/``"front"``) for a housing torque and a rear-minus-front speed difference;
-    (None, None) without torque or without speed difference."""
-    if abs(torque) <= ZERO_TORQUE or speed_diff == 0:
+def mode_of(diff, torque: float, w_first: float, w_second: float, w_housing: float
+            ) -> tuple[int | None, str | None]:
+    """(mode number, favoured output name) of a housing torque and output speeds [rad/s];
+    (None, None) without torque or without speed difference. Drive: the housing torque
+    delivers power (``torque * w_housing > 0``); the favoured output is the slower one in
+    drive and the faster one in coast (in either direction of motion)."""
+    if abs(torque) <= ZERO_TORQUE or w_first == w_second:
         return None, None
-    drive = torque > 0
-    rear_slower = speed_diff < 0
-    favoured = "rear" if drive == rear_slower else "front"
-    for num, _, side, is_drive in MODES:
-        if side == favoured and is_drive == drive:
-            return num, favoured
+    drive = torque * w_housing > 0
+    first, second = diff.outputs
+    slower, faster = (first, second) if abs(w_first) < abs(w_second) else (second, first)
+    favoured = (slower if drive else faster).name
+    for m in diff.modes:
+        if m.side == favoured and m.drive == drive:
+            return m.number, favoured
     raise AssertionError("unreachable")  # pragma: no cover
 
 
@@ -99,27 +101,32 @@ def _window_mean(res, name: str, k: np.ndarray, comp: int | None = None) -> floa
     return float((v[:, comp] if comp is not None else v).mean())
 
 
-def _power_loss(res, k: np.ndarray) -> float:
+def _power_loss(diff, res, k: np.ndarray) -> float:
     """Window mean of input minus output power [W] (engine on the housing, drivers)."""
-    p = (res["engine_torque.torque_z"].values[k] * res["housing.angular_velocity"].values[k, 2]
-         + res["front_speed.torque"].values[k] * res["sun.angular_velocity"].values[k, 2]
-         + res["rear_speed.torque"].values[k] * res["coupling.angular_velocity"].values[k, 2])
+    p = res["engine_torque.torque_z"].values[k] * res["housing.angular_velocity"].values[k, 2]
+    for o in diff.outputs:
+        p = p + res[f"{o.name}_speed.torque"].values[k] * \
+            res[f"{o.body}.angular_velocity"].values[k, 2]
     return float(p.mean())
 
 
-def level_stats(p: TorsenCFile, res, index: int, window: tuple[float, float],
-                friction_scale: float = 1.0) -> dict | None:
-    """Statistics of level ``index`` over ``window`` [s], or None if the results do not
-    cover it (``friction_scale`` as in the run, for the analytic model).
+def level_stats(p: Any, res, index: int, window: tuple[float, float],
+                friction_scale: float = 1.0, backward: bool = False) -> dict | None:
+    """Statistics of level ``index`` (of ``vehicle.torque_levels``; ``backward``: its repeat
+    in backwards motion) over ``window`` [s], or None if the results do not cover it
+    (``friction_scale`` as in the run, for the analytic model).
 
-    Keys: ``level``, ``t0``, ``t1`` (window), ``nominal`` (N m), ``housing``, ``front``,
-    ``rear`` (output torques to the axles, N m), ``w_housing``, ``w_front``, ``w_rear``
-    (rad/s), ``balance_error`` (relative, None without torque), ``mode``, ``mode_name``,
-    ``favoured``, ``tdr`` and ``tdr_analytic`` (None without a mode), ``analytic_front``,
-    ``analytic_rear`` (N m), ``tdr_error`` (relative, simulated vs analytic), ``power_loss``
-    (input minus output power, W) and ``dissipated`` (mean dissipated power of all elements,
-    W; equal to the loss when the window is steady).
+    Keys (output names of the differential, e.g. ``front``/``rear``): ``level``,
+    ``direction`` (``"forward"``/``"backward"``), ``t0``, ``t1`` (window), ``nominal``
+    (N m), ``housing`` and one per output (torques delivered to the axles, N m),
+    ``w_housing`` and ``w_{output}`` (rad/s), ``balance_error`` (relative, None without
+    torque), ``mode``, ``mode_name``, ``favoured``, ``tdr`` and ``tdr_analytic`` (None without
+    a mode), ``analytic_{output}`` (N m), ``tdr_error`` (relative, simulated vs analytic),
+    ``power_loss`` (input minus output power, W) and ``dissipated`` (mean dissipated power of
+    all elements, W; equal to the loss when the window is steady).
     """
+    diff = differentials.of(p)
+    first, second = diff.outputs
     t = res["time"].values
     if t.size == 0 or t[-1] < window[1] - 1e-9:
         return None
@@ -127,59 +134,59 @@ def level_stats(p: TorsenCFile, res, index: int, window: tuple[float, float],
     if k.sum() < 2:
         return None
     th = _window_mean(res, "engine_torque.torque_z", k)
-    tf = -_window_mean(res, "front_speed.torque", k)
-    tr = -_window_mean(res, "rear_speed.torque", k)
+    t1 = -_window_mean(res, f"{first.name}_speed.torque", k)
+    t2 = -_window_mean(res, f"{second.name}_speed.torque", k)
     wh = _window_mean(res, "housing.angular_velocity", k, 2)
-    wf = _window_mean(res, "sun.angular_velocity", k, 2)
-    wr = _window_mean(res, "coupling.angular_velocity", k, 2)
-    mode, fav = mode_of(th, wr - wf)
+    w1 = _window_mean(res, f"{first.body}.angular_velocity", k, 2)
+    w2 = _window_mean(res, f"{second.body}.angular_velocity", k, 2)
+    mode, fav = mode_of(diff, th, w1, w2, wh)
     names = [str(n) for n in res.dataset.data_vars if str(n).endswith(".dissipated_power")]
+    sign = -1.0 if backward else 1.0
     out: dict[str, Any] = {
-        "level": index, "t0": float(window[0]), "t1": float(window[1]),
-        "nominal": float(p.vehicle.torque_levels[index]),
-        "housing": th, "front": tf, "rear": tr, "w_housing": wh, "w_front": wf, "w_rear": wr,
-        "balance_error": abs(th - (tf + tr)) / abs(th) if abs(th) > ZERO_TORQUE else None,
-        "mode": mode, "mode_name": MODES[mode - 1][1] if mode else None, "favoured": fav,
-        "tdr": None, "tdr_analytic": None, "analytic_front": None, "analytic_rear": None,
-        "tdr_error": None, "power_loss": _power_loss(res, k),
+        "level": index, "direction": "backward" if backward else "forward",
+        "t0": float(window[0]), "t1": float(window[1]),
+        "nominal": sign * float(p.vehicle.torque_levels[index]),
+        "housing": th, first.name: t1, second.name: t2, "w_housing": wh,
+        f"w_{first.name}": w1, f"w_{second.name}": w2,
+        "balance_error": abs(th - (t1 + t2)) / abs(th) if abs(th) > ZERO_TORQUE else None,
+        "mode": mode, "mode_name": diff.mode(mode).name if mode else None, "favoured": fav,
+        "tdr": None, "tdr_analytic": None, f"analytic_{first.name}": None,
+        f"analytic_{second.name}": None, "tdr_error": None,
+        "power_loss": _power_loss(diff, res, k),
         "dissipated": float(sum(res[n].values[k].mean() for n in names)),
     }
     if mode is None:
         return out
-    from drivedyn.analysis.analytic_tdr import solve
-
+    tdr = t2 / t1 if fav == second.name else t1 / t2
+    out["tdr"] = tdr
     try:
-        q = solve(p, (wh, wf, wr), known="housing", torque=th, friction_scale=friction_scale)
+        a1, a2 = diff.analytic_vehicle(p, (wh, w1, w2), th, friction_scale)
     except RuntimeError as exc:  # no quasi-static equilibrium: report the simulation only
         out["analytic_message"] = str(exc)
-        q = None
-    tdr = tr / tf if fav == "rear" else tf / tr
-    out["tdr"] = tdr
-    if q is None:
         return out
-    af, ar = -float(q.torque_sun), -float(q.torque_coupling)
-    tdr_a = ar / af if fav == "rear" else af / ar
-    out.update(tdr=tdr, tdr_analytic=tdr_a, analytic_front=af, analytic_rear=ar,
-               tdr_error=tdr / tdr_a - 1.0)
+    tdr_a = a2 / a1 if fav == second.name else a1 / a2
+    out.update({"tdr_analytic": tdr_a, f"analytic_{first.name}": a1,
+                f"analytic_{second.name}": a2, "tdr_error": tdr / tdr_a - 1.0})
     return out
 
 
-def analyse(p: TorsenCFile, res, friction_scale: float = 1.0) -> list[dict]:
+def analyse(p: Any, res, friction_scale: float = 1.0) -> list[dict]:
     """:func:`level_stats` of every level the results cover."""
     out = []
-    for i, (_, t0, t1) in enumerate(level_windows(p)):
-        s = level_stats(p, res, i, (t0, t1), friction_scale)
+    for _, t0, t1, i, back in level_windows(p):
+        s = level_stats(p, res, i, (t0, t1), friction_scale, back)
         if s is not None:
             out.append(s)
     return out
 
 
-def reversals(levels: list[dict], res) -> list[dict]:
+def reversals(levels: list[dict], res, diff=None) -> list[dict]:
     """Axial motion across each sign reversal of the housing torque between consecutive
     loaded levels (zero-torque levels in between are skipped): change of the window-mean
-    axial position [m] of sun, ring and coupling (``d_sun``, ``d_ring``, ``d_coupling``)
-    from the level before to the level after (``from_level``, ``to_level``,
-    ``from_torque``, ``to_torque``)."""
+    axial position [m] of the differential's axial bodies (Type C: ``d_sun``, ``d_ring``,
+    ``d_coupling``; default ``diff``: the Type C) from the level before to the level after
+    (``from_level``, ``to_level``, ``from_torque``, ``to_torque``)."""
+    diff = diff or differentials.get("torsen_c")
     t = res["time"].values
     out = []
     loaded = [lv for lv in levels if abs(lv["housing"]) > ZERO_TORQUE]
@@ -190,19 +197,19 @@ def reversals(levels: list[dict], res) -> list[dict]:
         kb = (t >= b["t0"] - 1e-12) & (t <= b["t1"] + 1e-12)
         rec = {"from_level": a["level"], "to_level": b["level"],
                "from_torque": a["housing"], "to_torque": b["housing"]}
-        for body in ("sun", "ring", "coupling"):
+        for body, _ in diff.axial_bodies:
             z = res[f"{body}.position"].values[:, 2]
             rec[f"d_{body}"] = float(z[kb].mean() - z[ka].mean())
         out.append(rec)
     return out
 
 
-def default_output_dt(p: TorsenCFile) -> float:
+def default_output_dt(p: Any) -> float:
     """``solver.output_dt``, reduced to give :data:`WINDOW_SAMPLES` samples per window."""
     return min(p.solver.output_dt, WINDOW_FRACTION * p.vehicle.hold / WINDOW_SAMPLES)
 
 
-def run_vehicle(p: TorsenCFile, friction_scale: float = 1.0, progress=None,
+def run_vehicle(p: Any, friction_scale: float = 1.0, progress=None,
                 output_dt: float | None = None) -> VehicleRun:
     """Simulate the vehicle profile of ``p`` with the solver settings of ``p.solver`` and
     analyse its held levels.
@@ -223,7 +230,7 @@ def run_vehicle(p: TorsenCFile, friction_scale: float = 1.0, progress=None,
     from drivedyn.solver.simulate import simulate
 
     t0 = time.perf_counter()
-    sp, _, t_end = vehicle_spec(p, friction_scale)
+    sp, _, t_end = vehicle_spec(differentials.of(p), p, friction_scale)
     model = compile_model(sp)
     res = simulate(model, t_end, **p.solver.settings(h_max=p.vehicle.h_max),
                    output_dt=output_dt or default_output_dt(p), progress=progress)

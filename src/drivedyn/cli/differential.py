@@ -31,12 +31,12 @@ RPM = 2 * math.pi / 60
 def _params(model_file: str, sets: tuple[str, ...]):
     from drivedyn.config import read_library_file
     from drivedyn.config.loader import ModelFileError
-    from drivedyn.library.torsen_c import check_parameters
+    from drivedyn.library import differentials
     from drivedyn.model.spec import ModelError
 
     try:
         p, _, source = read_library_file(model_file, list(sets))
-        check_parameters(p)
+        differentials.of(p).check(p)
     except (ModelFileError, ModelError) as exc:
         bad_input(str(exc))
     return p, source
@@ -52,8 +52,9 @@ def _progress_note(quiet: bool):
 @click.command()
 @click.argument("model_file", metavar="FILE", default="torsen-c")
 @click.option("--mode", "mode", type=click.Choice(["1", "2", "3", "4", "all"]), default="all",
-              show_default=True, help="Locking mode: 1 drive/bias rear, 2 coast/bias rear, "
-              "3 drive/bias front, 4 coast/bias front.")
+              show_default=True, help="Locking mode: Type C 1 drive/bias rear, 2 coast/bias "
+              "rear, 3 drive/bias front, 4 coast/bias front; Type B 1 drive/bias right, 2 "
+              "coast/bias right, 3 drive/bias left, 4 coast/bias left.")
 @click.option("--torque", type=FiniteFloat(0.0, low_open=True, unit="N m"), default=None,
               metavar="NM",
               help="Applied torque [N m] (default: the file's bench.torque, 125 N m).")
@@ -73,8 +74,9 @@ def _progress_note(quiet: bool):
 def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | None,
         friction_scale: float, sets: tuple[str, ...], analytic_only: bool,
         as_json: bool) -> None:
-    """Torque distribution ratio of a TORSEN model on the simulated test bench (seed 003).
+    """Torque distribution ratio of a differential on the simulated test bench (seed 003).
 
+    FILE is a differential model file or a shipped one by name (torsen-c, torsen-b).
     Housing held, torque on one output, speed of the other controlled for the speed
     difference; drive then coast in one run per side, TDR = applied / resistant torque
     averaged over the steady windows. Prints the simulated, analytic (quasi-static) and
@@ -83,13 +85,15 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
     \b
     Examples:
         drivedyn tdr torsen-c
+        drivedyn tdr torsen-b --mode all
         drivedyn tdr torsen-c --mode 1 --torque 250 --speed-diff 10
         drivedyn tdr torsen-c --friction-scale 0.8 --set pockets.mu=0.12 --json
     """
-    from drivedyn.analysis import analytic_tdr as at
-    from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench, size_text
+    from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes, size_text
+    from drivedyn.library import differentials
 
     p, source = _params(model_file, sets)
+    diff = differentials.of(p)
     if torque is not None and not torque > 0:
         bad_input(f"--torque: expected a positive torque in N m, got {torque}")
     if speed_diff is not None and not speed_diff > 0:
@@ -107,7 +111,7 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
     failed = ""
     if not analytic_only:
         _progress_note(as_json)
-        for side, pair in SIDE_MODES.items():
+        for side, pair in side_modes(p).items():
             if not set(pair) & set(modes):
                 continue
             if not as_json:
@@ -126,11 +130,11 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
                 break
     rows = []
     for m in modes:
-        ana = at.bench_tdr(p, m, T0, dw, friction_scale)
+        ana = diff.analytic_bench(p, m, T0, dw, friction_scale)
         val = sim.get(m, math.nan) if not analytic_only else ana
         e = exp.get(m)
         rows.append({
-            "mode": m, "name": mode_name(m), "tdr": val, "analytic": ana,
+            "mode": m, "name": mode_name(diff, m), "tdr": val, "analytic": ana,
             "experimental": e,
             "error_pct": 100 * (val / e - 1) if e and math.isfinite(val) else None,
             "sim_vs_analytic_pct": 100 * (val / ana - 1) if math.isfinite(val) else None,
@@ -172,10 +176,10 @@ def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
 
 @click.command()
 @click.argument("model_file", metavar="FILE", default="torsen-c")
-@click.option("--free", "free", multiple=True, metavar="KEY",
-              help="Friction coefficient to fit (dotted key, e.g. washers.ring_case.mu). "
-                   "Repeatable. Default: the four washer coefficients other than the seeds' "
-                   "sun-coupling value.")
+@click.option("--free", "free", multiple=True, metavar="KEY[,KEY...]",
+              help="Friction coefficient to fit (dotted key, e.g. washers.ring_case.mu); keys "
+                   "joined by commas share one fitted value. Repeatable. Default: the "
+                   "model's declared free parameters ([calibration] tied/fitted).")
 @click.option("--target", "targets", multiple=True, metavar="MODE=TDR",
               help="Measured TDR of a mode, e.g. --target 1=4.02 (default: the file's "
                    "[experiment] table, all four modes).")
@@ -185,32 +189,39 @@ def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
               help="Override a parameter before fitting (dotted key). Repeatable.")
 @click.option("--no-confirm", is_flag=True, help="Skip the confirmation by simulation.")
+@click.option("--cross-validate", is_flag=True,
+              help="Also refit leaving out each mode in turn and report the error of the "
+                   "left-out mode (the predictive error).")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the calibrated model file here (comments kept, [calibration] "
                    "table replaced).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
               bounds: tuple[float, float], sets: tuple[str, ...], no_confirm: bool,
-              out: Path | None, as_json: bool) -> None:
-    """Fit friction coefficients of a TORSEN model to measured TDRs.
+              cross_validate: bool, out: Path | None, as_json: bool) -> None:
+    """Fit friction coefficients of a differential model to measured TDRs.
 
     Bounded least squares on log TDR with the analytic quasi-static model, then the bench is
     simulated with the fitted values (and the fit corrected by the small model difference if
-    needed). With --out, writes the model file with the fitted values and a [calibration]
-    table stating what was fitted to which data and this command.
+    needed). Fit fewer numbers than measurements, or the fit reproduces the data by
+    construction; --cross-validate gives the leave-one-out error. With --out, writes the
+    model file with the fitted values and a [calibration] table stating what was fitted to
+    which data, this command and the leave-one-out errors.
 
     \b
-    Example (reproduces the shipped torsen-c file):
-        drivedyn calibrate torsen-c --out torsen-c.toml
+    Examples (reproduce the shipped files):
+        drivedyn calibrate torsen-c --cross-validate --out torsen-c.toml
+        drivedyn calibrate torsen-b --cross-validate --out torsen-b.toml
     """
     from drivedyn.analysis import calibrate as C  # noqa: N812
     from drivedyn.analysis.tdr import experimental
     from drivedyn.config.loader import resolve_path
+    from drivedyn.library import differentials
 
     check_output_path(out, "--out")
     p, _ = _params(model_file, sets)
-    keys = list(free) or ["washers.sun_housing.mu", "washers.coupling_case.mu",
-                          "washers.ring_housing.mu", "washers.ring_case.mu"]
+    diff = differentials.of(p)
+    groups = C.groups_of(list(free)) if free else declared_free(p) or list(diff.free)
     goal: dict[int, float] = {}
     for t in targets:
         m, _, v = t.partition("=")
@@ -237,8 +248,10 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
             click.echo(msg, err=True)
 
     try:
-        cal = C.calibrate(p, keys, goal, bounds=(lo, hi), confirm=not no_confirm,
+        cal = C.calibrate(p, groups, goal, bounds=(lo, hi), confirm=not no_confirm,
                           progress=note)
+        cv = C.cross_validate(p, groups, goal, bounds=(lo, hi), offsets=cal.offsets,
+                              progress=note) if cross_validate else None
     except (KeyError, ValueError) as exc:
         bad_input(str(exc))
     except RuntimeError as exc:
@@ -248,11 +261,11 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     final = cal.simulated or cal.analytic
     errors = C.relative_errors(final, goal)
     command = "drivedyn calibrate " + " ".join(shlex.quote(a) for a in sys.argv[2:]) \
-        if len(sys.argv) > 2 else "drivedyn calibrate torsen-c"
+        if len(sys.argv) > 2 else f"drivedyn calibrate {diff.name}"
     if out is not None:
         text = resolve_path(model_file).read_text()
         table = C.calibration_table(cal, p.experiment.source or "command-line targets",
-                                    command)
+                                    command, cv)
         try:
             new = C.update_toml_text(text, cal.values, table)
         except KeyError as exc:
@@ -263,23 +276,35 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
         tmp.replace(out)
     if as_json:
         click.echo(json.dumps(jsonable({
-            "model": p.model.name, "free": cal.values, "targets": goal,
+            "model": p.model.name, "free": cal.values,
+            "groups": [list(g) for g in cal.groups], "targets": goal,
             "analytic": cal.analytic, "simulated": cal.simulated, "error_pct": errors,
-            "at_bound": cal.at_bound, "iterations": cal.iterations,
+            "cross_validation": cv, "at_bound": cal.at_bound, "iterations": cal.iterations,
             "written": str(out) if out else None, "wall_s": round(wall, 3)})))
         return
-    click.echo("fitted coefficients:")
-    for k, v in cal.values.items():
-        flag = "  (at a bound)" if k in cal.at_bound else ""
-        click.echo(f"  {k:32s} {v:.4f}{flag}")
-    click.echo("mode  target   analytic  simulated  error")
+    click.echo(f"fitted: {len(cal.groups)} number(s) for {len(goal)} measurement(s)")
+    for g in cal.groups:
+        label = ", ".join(g)
+        flag = "  (at a bound)" if label in cal.at_bound else ""
+        click.echo(f"  {cal.values[g[0]]:.4f}  {label}{flag}")
+    click.echo("mode  target   analytic  simulated  error    leave-one-out")
     for m in sorted(goal):
         s = cal.simulated.get(m, math.nan)
+        loo = f"{cv[m]['error_pct']:+6.2f} %" if cv and m in cv else "-"
         click.echo(f"  {m}   {goal[m]:6.3f}   {cal.analytic[m]:8.4f}  {s:9.4f}  "
-                   f"{errors.get(m, math.nan):+6.2f} %")
+                   f"{errors.get(m, math.nan):+6.2f} %  {loo}")
     if out is not None:
         click.echo(f"model file written to {out}")
     click.echo(f"wall time {wall:.1f} s")
+
+
+def declared_free(p) -> list[tuple[str, ...]]:
+    """The free parameters the model file declares: its ``[calibration]`` ``tied`` groups and
+    the other ``fitted`` keys alone (empty if the file declares none)."""
+    cal = p.calibration
+    tied = [tuple(g) for g in cal.tied]
+    in_groups = {k for g in tied for k in g}
+    return tied + [(k,) for k in cal.fitted if k not in in_groups]
 
 
 COMMANDS = (tdr, calibrate)

@@ -384,11 +384,11 @@ def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | 
                       ) -> tuple[Any, dict, str]:
     """Read, override and validate a parametric model file (``[model] library``, e.g. the
     shipped ``torsen-c``): (parameters, raw data, source name)."""
-    from drivedyn.library.torsen_c_schema import TorsenCFile
+    from drivedyn.library.differentials import schemas as differential_schemas
 
     data, source = _read_data(path, overrides)
     lib = library_of(data)
-    schemas = {"torsen_c": TorsenCFile}
+    schemas = differential_schemas()
     if lib not in schemas:
         raise ModelFileError(f"{source}: model.library = {lib!r}: expected one of "
                              f"{', '.join(schemas)}")
@@ -425,16 +425,19 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
 
 def _load_library_model(path: str | Path, overrides) -> Model:
     """A parametric file's scenario (``[scenario] kind``) as a compiled model."""
-    from drivedyn.library import torsen_c as tc
+    from drivedyn.library import differentials
+    from drivedyn.library.differentials import protocol
     from drivedyn.model.compile import compile_model
+
     params, data, source = read_library_file(path, overrides)
+    diff = differentials.of(params)
     try:
         h_max = None
         if params.scenario.kind == "bench":
-            spec, _ = tc.bench_spec(params, params.scenario.modes)
+            spec, _ = protocol.bench_spec(diff, params, params.scenario.modes or diff.sides[0])
             t_end = params.bench.t_end
         else:
-            spec, _, t_end = tc.vehicle_spec(params)
+            spec, _, t_end = protocol.vehicle_spec(diff, params)
             h_max = params.vehicle.h_max
         model = compile_model(spec)
     except ModelError as exc:

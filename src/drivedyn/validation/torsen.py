@@ -19,10 +19,10 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
     """TORSEN Type C on the test bench (seed 003 protocol): TDR of the four locking modes
     against the measurements (5 %), against the analytic quasi-static model (2 %), and the
     torque balance of the bench."""
-    from drivedyn.analysis import analytic_tdr as at
-    from drivedyn.analysis.tdr import SIDE_MODES, experimental, mode_name, run_bench
+    from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes
     from drivedyn.analysis.tdr import seeds_simulation as seeds_of
     from drivedyn.config import read_library_file
+    from drivedyn.library.differentials.torsen_c import analytic as at
     from drivedyn.validation.common import failed_check, finish_case, save_figure
 
     t0 = time.perf_counter()
@@ -33,7 +33,7 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
     out: list[CaseResult] = []
     runs = {}
     sim: dict[int, float] = {}
-    for side, modes in SIDE_MODES.items():
+    for side, modes in side_modes(p).items():
         run = run_bench(p, side)
         runs[side] = run
         if not run.success:
@@ -58,11 +58,12 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
         if e:
             seed_txt = f"; the seeds' simulation {s} ({100 * (s / e - 1):+.2f} %)" if s else ""
             beside = f" [seeds' simulation {s}]" if s else ""
-            out.append(compare(case, f"mode {m} TDR ({mode_name(m)}) vs measured{beside}", e,
+            out.append(compare(case, f"mode {m} TDR ({mode_name(p, m)}) vs measured{beside}", e,
                                sim[m], "1", 0.05, f"seed 003 Table 1, test bench{seed_txt}"))
         ana = at.bench_tdr(p, m)
         out.append(compare(case, f"mode {m} TDR vs analytic quasi-static", ana, sim[m], "1",
-                           0.02, "drivedyn.analysis.analytic_tdr (equilibrium of each part)"))
+                           0.02, "drivedyn.library.differentials.torsen_c.analytic (equilibrium of "
+                           "each part)"))
     figures: list[str] = []
     if sim:
         def bars(fig):
@@ -75,7 +76,7 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
                     ("measured (seed 003)", [exp.get(m, np.nan) for m in ms]),
                     ("seeds' simulation", [seeds.get(m, np.nan) for m in ms]))):
                 ax.bar(x + (i - 1.5) * 0.2, vals, 0.2, label=lab)
-            ax.set_xticks(x, [f"mode {m}\n{mode_name(m)}" for m in ms])
+            ax.set_xticks(x, [f"mode {m}\n{mode_name(p, m)}" for m in ms])
             ax.set_ylabel("TDR [-]")
             ax.set_title("TORSEN Type C: torque distribution ratio on the test bench")
             ax.legend()
@@ -111,7 +112,7 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     """TORSEN Type C with flexible washers and case (meshed, Craig-Bampton): bench TDR of the
     four modes against the rigid model (2 %); a vehicle-configuration run at 125 N m drive:
     torque balance, the washer pressure maps and the case stress history."""
-    from drivedyn.analysis.tdr import SIDE_MODES, mode_name, run_bench, size_text
+    from drivedyn.analysis.tdr import mode_name, run_bench, side_modes, size_text
     from drivedyn.analysis.vehicle import level_windows, run_vehicle
     from drivedyn.config import read_library_file
     from drivedyn.validation.common import failed_check, finish_case
@@ -123,7 +124,7 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     out: list[CaseResult] = []
     figures: list[str] = []
     size = ""
-    for side, modes in SIDE_MODES.items():
+    for side, modes in side_modes(p).items():
         rigid = run_bench(p, side)
         flex = run_bench(pf, side)
         size = size_text(flex.size)
@@ -132,7 +133,7 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
                 out.append(failed_check(case, f"mode {m} TDR, flexible", "1", 0.02,
                                         "rigid model", flex.results))
                 continue
-            out.append(compare(case, f"mode {m} TDR ({mode_name(m)}), flexible washers and "
+            out.append(compare(case, f"mode {m} TDR ({mode_name(p, m)}), flexible washers and "
                                "case vs rigid", rigid.tdr[m], flex.tdr[m], "1", 0.02,
                                f"the rigid model; {size}"))
     # vehicle configuration: one drive level, then the figures

@@ -67,8 +67,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import fsolve
 
-from drivedyn.library.torsen_c import MODES, check_parameters
-from drivedyn.library.torsen_c_schema import TorsenCFile
+from drivedyn.library.differentials.torsen_c.model import MODES, check_parameters
+from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 
 
 @dataclass(frozen=True)
@@ -212,8 +212,8 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
 def bench_speeds(p: TorsenCFile, side: str, drive: bool, speed_diff: float
                  ) -> tuple[tuple[float, float, float], float]:
     """Speeds (housing, sun, coupling) and sign of the applied torque in a bench mode
-    (as :func:`drivedyn.library.torsen_c.bench_spec`): the loaded output turns with its
-    torque, which is negative (resisting forward motion) in drive."""
+    (as :func:`drivedyn.library.differentials.protocol.bench_spec`): the loaded output turns
+    with its torque, which is negative (resisting forward motion) in drive."""
     rho = p.gears.teeth_ring / p.gears.teeth_sun
     s = 1.0 if drive else -1.0
     w_ring = speed_diff / (1 + rho)
@@ -236,6 +236,14 @@ def bench_tdr(p: TorsenCFile, mode: int, torque: float | None = None,
     if side == "rear":
         return abs(q.torque_coupling / q.torque_sun)
     return abs(q.torque_sun / q.torque_coupling)
+
+
+def vehicle_torques(p: TorsenCFile, speeds: tuple[float, float, float], torque: float,
+                    friction_scale: float = 1.0) -> tuple[float, float]:
+    """Output torques (front, rear) delivered to the axles [N m] with the housing torque
+    ``torque`` and the speeds (housing, front, rear) [rad/s]."""
+    q = solve(p, speeds, "housing", torque, friction_scale)
+    return -float(q.torque_sun), -float(q.torque_coupling)
 
 
 def all_modes(p: TorsenCFile, **kw) -> list[float]:

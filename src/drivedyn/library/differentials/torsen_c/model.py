@@ -34,10 +34,9 @@ with ``A_s``, ``A_r`` the mesh thrusts of sun and ring (F_t tan beta summed over
 and ``A_c = 2 pi T_spline / lead`` the spline thrust. A left-hand set mirrors this (drive and
 coast exchange their washers); spline and sun must have the same hand.
 
-The model is built from a validated :class:`~drivedyn.library.torsen_c_schema.TorsenCFile`
-(the shipped ``torsen-c`` file) for two scenarios: :func:`bench_spec` (housing held, torque on
-one output, speed of the other prescribed) and :func:`vehicle_spec` (torque on the housing,
-both output speeds prescribed).
+The model is built from a validated :class:`~.schema.TorsenCFile` (the shipped ``torsen-c``
+file); the bench and vehicle scenarios are the shared ones of
+:mod:`drivedyn.library.differentials.protocol`.
 """
 
 from __future__ import annotations
@@ -53,16 +52,13 @@ from drivedyn.elements import (
     Fixed,
     GearPair,
     Hinge,
-    JointDriver,
     Planar,
     Prismatic,
     Screw,
-    Torque,
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
-from drivedyn.library.torsen_c_schema import TorsenCFile
+from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
-from drivedyn.timefunctions import Constant, SmoothStep, Sum, TimeFunction
 
 Z = (0.0, 0.0, 1.0)
 MZ = (0.0, 0.0, -1.0)
@@ -322,8 +318,8 @@ def washer_part(p: TorsenCFile, name: str):
 
 def case_part(p: TorsenCFile, faces: dict):
     """(solid, reduced part, z of the bolting face [m]) of the flexible case (see
-    :class:`~drivedyn.library.torsen_c_schema.FlexibleParts`): part frame z = 0 on the bolting
-    face, which is also the ring-gear seat; static modes of the pressures on both seats."""
+    :class:`~drivedyn.library.differentials.torsen_c.schema.FlexibleParts`): part frame z = 0
+    on the bolting face, which is also the ring-gear seat; static modes of the pressures on both seats."""
     from drivedyn.fe import (
         Interface,
         SolidMaterial,
@@ -393,90 +389,3 @@ def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float
     fb = add_flexible_body(sp, f"washer_{name}", part, f"w_{name}")
     sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
                                  face=solid.select("z", t), law=_law(p), friction=friction))
-
-
-# -- scenarios ---------------------------------------------------------------------------
-
-
-def bench_profile(p: TorsenCFile) -> TimeFunction:
-    """s(t): 0 -> +1 (drive) over ``bench.ramp``, +1 -> -1 (coast) over
-    ``bench.transition``, smooth (C^1) steps."""
-    bn = p.bench
-    t1, t2 = bn.transition
-    return Sum([SmoothStep(0.0, bn.ramp, 0.0, 1.0), SmoothStep(t1, t2, 0.0, -2.0)])
-
-
-def bench_spec(p: TorsenCFile, side: str, torque: float | None = None,
-               speed_diff: float | None = None, friction_scale: float = 1.0
-               ) -> tuple[Spec, Geometry]:
-    """Test bench (seed 003, Fig. 7a): housing held, torque on the ``side`` output
-    (``"rear"``: coupling, ``"front"``: sun), speed of the other output prescribed so that
-    the outputs differ by ``speed_diff`` [rad/s]; drive first, then coast.
-
-    Sign convention (forward = +z): in drive the axle torques resist forward motion, so the
-    applied torque is ``-torque s(t)``; the loaded output turns with its torque (it is the
-    input of the gear train seen from the housing), which makes the mode "bias ``side``".
-    Outputs: the applied torque is the load ``applied_torque``; the resistant torque is the
-    ``speed_control`` driver's torque.
-    """
-    if side not in ("rear", "front"):
-        raise ModelError(f"bench side must be 'rear' or 'front', got {side!r}")
-    T0 = p.bench.torque if torque is None else torque
-    dw = p.bench.speed_diff if speed_diff is None else speed_diff
-    if not T0 > 0:
-        raise ModelError(f"bench torque must be > 0 N m, got {T0!r}")
-    if not dw > 0:
-        raise ModelError(f"bench speed difference must be > 0 rad/s, got {dw!r}")
-    sp, geo = build_spec(p, friction_scale=friction_scale)
-    rho = geo.rho
-    # housing fixed: z_s w_s = -z_r w_r, |w_r - w_s| = dw
-    w_ring = dw / (1 + rho)
-    w_sun = rho * dw / (1 + rho)
-    s = bench_profile(p)
-    sp.add(JointDriver("hold_housing", "housing_bearing", 0.0, quantity="angle"))
-    if side == "rear":
-        sp.add(Torque("applied_torque", "b_coupling", vector=(0, 0, -T0), function=s))
-        # coupling turns with -s (input); the sun the other way
-        sp.add(JointDriver("speed_control", "sun_bearing", s * w_sun, quantity="speed"))
-    else:
-        sp.add(Torque("applied_torque", "b_sun", vector=(0, 0, -T0), function=s))
-        sp.add(JointDriver("speed_control", "coupling_bearing", s * w_ring, quantity="speed"))
-    return sp, geo
-
-
-def vehicle_profile(p: TorsenCFile) -> tuple[TimeFunction, TimeFunction, float]:
-    """(housing torque T(t) [N m], rear-minus-front speed difference d(t) [rad/s], t_end):
-    from T = 0 at t = 0, smooth steps over ``vehicle.ramp`` to each level, held for
-    ``vehicle.hold``; level i is held over [(i + 1) ramp + i hold, (i + 1)(ramp + hold)]."""
-    v = p.vehicle
-    if len(v.torque_levels) != len(v.speed_diff) or len(v.torque_levels) < 1:
-        raise ModelError("vehicle.torque_levels and vehicle.speed_diff must have the same "
-                         f"length >= 1, got {len(v.torque_levels)} and {len(v.speed_diff)}")
-    tq: list[Any] = []
-    dd: list[Any] = [Constant(v.speed_diff[0])]
-    t = 0.0
-    last = 0.0
-    for i, level in enumerate(v.torque_levels):
-        tq.append(SmoothStep(t, t + v.ramp, 0.0, level - last))
-        if i:
-            dd.append(SmoothStep(t, t + v.ramp, 0.0, v.speed_diff[i] - v.speed_diff[i - 1]))
-        last = level
-        t += v.ramp + v.hold
-    return Sum(tq), Sum(dd), t
-
-
-def vehicle_spec(p: TorsenCFile, friction_scale: float = 1.0) -> tuple[Spec, Geometry, float]:
-    """Vehicle configuration (seed 003, Fig. 7b and 10): engine torque on the housing, both
-    output speeds prescribed (mean ``vehicle.speed``, rear - front = d(t)). Returns
-    (spec, geometry, t_end)."""
-    T, d, t_end = vehicle_profile(p)
-    g = p.gears
-    w0 = p.vehicle.speed
-    d0 = p.vehicle.speed_diff[0]
-    ws0, wc0 = w0 - d0 / 2, w0 + d0 / 2
-    wh0 = (g.teeth_sun * ws0 + g.teeth_ring * wc0) / (g.teeth_sun + g.teeth_ring)
-    sp, geo = build_spec(p, omega=(wh0, ws0, wc0), friction_scale=friction_scale)
-    sp.add(Torque("engine_torque", "b_housing", vector=(0, 0, 1.0), function=T))
-    sp.add(JointDriver("front_speed", "sun_bearing", Sum([w0, d * -0.5]), quantity="speed"))
-    sp.add(JointDriver("rear_speed", "coupling_bearing", Sum([w0, d * 0.5]), quantity="speed"))
-    return sp, geo, t_end

@@ -1,0 +1,44 @@
+"""Differentials on one framework: each type is a subpackage declaring a
+:class:`~drivedyn.library.differentials.base.Differential` (builder, schema, default model
+file, analytic TDR), and shares the bench protocol, the vehicle configuration
+(:mod:`.protocol`), the TDR evaluation and the calibration (:mod:`drivedyn.analysis`).
+
+Adding a differential = one subpackage + one default model file + one line in
+:data:`TYPES`; the CLI (``drivedyn tdr NAME``, ``drivedyn calibrate NAME``,
+``drivedyn models``) finds it by name.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from drivedyn.library.differentials.base import Differential, Mode, Output
+
+#: library key -> module declaring ``DIFFERENTIAL`` (imported on first use)
+TYPES = {
+    "torsen_c": "drivedyn.library.differentials.torsen_c",
+    # "torsen_b": "drivedyn.library.differentials.torsen_b",
+}
+
+
+def get(name: str) -> Differential:
+    """The differential of a library key (``"torsen_c"``) or model name (``"torsen-c"``)."""
+    key = name.replace("-", "_")
+    if key not in TYPES:
+        raise KeyError(f"no differential {name!r} (known: "
+                       f"{', '.join(k.replace('_', '-') for k in TYPES)})")
+    return importlib.import_module(TYPES[key]).DIFFERENTIAL
+
+
+def of(params: Any) -> Differential:
+    """The differential a validated parameter set belongs to (by ``[model] library``)."""
+    return get(params.model.library)
+
+
+def schemas() -> dict[str, type]:
+    """library key -> model-file schema of every differential."""
+    return {k: get(k).schema for k in TYPES}
+
+
+__all__ = ["TYPES", "Differential", "Mode", "Output", "get", "of", "schemas"]

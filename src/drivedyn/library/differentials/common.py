@@ -1,0 +1,161 @@
+"""Schema sections shared by the differential model files: contact law, bodies, the bench
+protocol, the vehicle-configuration profile, solver settings, measured data and the record of
+a calibration. Each differential's schema adds its own geometry sections."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+import drivedyn.units as U  # noqa: N812 - short name for units
+from drivedyn.schema_base import (
+    AdaptiveStepFile,
+    Inertia,
+    Mass,
+    NewtonFile,
+    Strict,
+    Time,
+    scalar,
+)
+
+AngularVelocity = Annotated[float, scalar(U.ANGULAR_VELOCITY)]
+TorqueValue = Annotated[float, scalar(U.TORQUE)]
+PositiveVelocity = Annotated[float, scalar(U.VELOCITY, positive=True)]
+PositiveTime = Time
+Coefficient = Annotated[float, Field(ge=0.0, le=1.0)]
+Modulus = Annotated[float, scalar((-1, 1, -2, 0), positive=True)]
+
+
+class Contact(Strict):
+    """Normal law of every washer and pocket contact, and the friction regularisation."""
+
+    stiffness: Annotated[float, Field(gt=0)] = 1e10
+    exponent: float = Field(default=1.5, ge=1.0, le=3.0)
+    law: str = "hunt-crossley"
+    restitution: float = Field(default=0.5, gt=0.0, le=1.0)
+    eps_v: PositiveVelocity = 1e-3
+
+
+class Body(Strict):
+    mass: Mass
+    inertia: Inertia
+
+
+class Bench(Strict):
+    """Test-bench protocol (seed 003): drive then coast in one run, steady windows."""
+
+    torque: TorqueValue = 125.0
+    speed_diff: AngularVelocity = 2.0943951023931953
+    ramp: PositiveTime = 0.3
+    transition: tuple[Time, Time] = (1.2, 2.0)
+    t_end: PositiveTime = 3.0
+    window_drive: tuple[Time, Time] = (0.4, 1.0)
+    window_coast: tuple[Time, Time] = (2.2, 2.8)
+
+    @model_validator(mode="after")
+    def _order(self) -> Bench:
+        t1, t2 = self.transition
+        if not self.ramp <= t1 < t2 <= self.t_end:
+            raise ValueError(f"expected ramp <= transition start < transition end <= t_end, got "
+                             f"ramp {self.ramp}, transition {list(self.transition)}, t_end "
+                             f"{self.t_end} [s]")
+        for label, (a, b), lo, hi in (("window_drive", self.window_drive, self.ramp, t1),
+                                      ("window_coast", self.window_coast, t2, self.t_end)):
+            if not lo <= a < b <= hi:
+                raise ValueError(f"{label} = {[a, b]} s must lie in a steady part, within "
+                                 f"[{lo}, {hi}] s")
+        return self
+
+
+class Vehicle(Strict):
+    """Vehicle configuration: torque on the housing, both output speeds prescribed.
+
+    The engine torque starts at 0, ramps to ``torque_levels[0]`` [N m] over ``ramp``, holds
+    it for ``hold``, ramps to the next level, and so on (positive = drive in forward motion);
+    ``speed_diff`` is the second-minus-first output speed [rad/s] of each level (Type C: rear
+    minus front; Type B: right minus left); ``speed`` is the mean output speed (positive =
+    forward, about +z). With ``backward = true`` the profile then reverses both output speeds
+    over ``reversal`` (the last torque level held) and runs the levels again in backwards
+    motion, with the torques and speed differences negated, so that every level shows the same
+    locking mode as in forward motion (seed 003, second half of the Type B run). ``h_max`` caps
+    the step of this run: the turning gears excite the meshes, and long steps cost Newton
+    failures and leave numerical oscillations in the held torques."""
+
+    speed: AngularVelocity = 30.0
+    torque_levels: list[float] = Field(default_factory=lambda: [
+        60.0, 125.0, 60.0, -60.0, -125.0, -60.0, 60.0, 125.0, 60.0, -60.0, -125.0, -60.0])
+    speed_diff: list[float] = Field(default_factory=lambda: [
+        -2.0, -2.0, -2.0, -2.0, -2.0, -2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0])
+    hold: PositiveTime = 0.6
+    ramp: PositiveTime = 0.25
+    backward: bool = False
+    reversal: PositiveTime = 0.5
+    h_max: PositiveTime = 2e-4
+
+    @model_validator(mode="after")
+    def _levels(self) -> Vehicle:
+        if len(self.torque_levels) != len(self.speed_diff) or not self.torque_levels:
+            raise ValueError(f"torque_levels ({len(self.torque_levels)} values) and speed_diff "
+                             f"({len(self.speed_diff)} values) must have the same length >= 1")
+        return self
+
+
+class Solver(Strict):
+    rho_inf: float = Field(default=0.8, ge=0.0, le=1.0)
+    step: AdaptiveStepFile = Field(default_factory=lambda: AdaptiveStepFile(
+        mode="adaptive", h0=1e-4, h_min=1e-9, h_max=2e-3, rtol=1e-3, atol=1e-6))
+    newton: NewtonFile = Field(default_factory=NewtonFile)
+    output_dt: PositiveTime = 5e-3
+
+    def settings(self, h_max: float | None = None) -> dict:
+        """``integrator``, ``step`` and ``newton`` arguments of ``simulate``; ``h_max`` [s]
+        caps the largest step (the vehicle run)."""
+        from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
+
+        st, nw = self.step, self.newton
+        hm = st.h_max if h_max is None else min(st.h_max, h_max)
+        return {"integrator": GeneralizedAlpha(self.rho_inf),
+                "step": AdaptiveStep(st.h0, st.h_min, hm, st.rtol, st.atol),
+                "newton": Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter)}
+
+
+class Calibration(Strict):
+    """What was fitted to what (written by ``drivedyn calibrate``).
+
+    ``fitted`` lists the dotted keys whose values were fitted; ``tied`` groups keys that
+    share one fitted value (one group per fitted number); ``cross_validation`` gives the
+    leave-one-out error [%] of each mode (the error of its prediction by a fit to the other
+    modes)."""
+
+    fitted: list[str] = Field(default_factory=list)
+    tied: list[list[str]] = Field(default_factory=list)
+    targets: dict[str, float] = Field(default_factory=dict)
+    source: str = ""
+    command: str = ""
+    method: str = ""
+    result: dict[str, float] = Field(default_factory=dict)
+    cross_validation: dict[str, float] = Field(default_factory=dict)
+
+
+class Experiment(Strict):
+    """Measured TDR of the four modes and the seeds' simulated values (seed 003, Table 1)."""
+
+    tdr: dict[str, float] = Field(default_factory=dict)
+    seeds: dict[str, float] = Field(default_factory=dict)
+    source: str = ""
+
+
+class Scenario(Strict):
+    """What ``drivedyn run`` simulates: the vehicle configuration, or the bench with the
+    torque on output ``modes`` (an output name of the differential)."""
+
+    kind: Literal["vehicle", "bench"] = "vehicle"
+    modes: str | None = None
+
+
+class Provenance(Strict):
+    """Where each parameter comes from: dotted key (or section) -> ``"paper: ..."``,
+    ``"literature: ..."``, ``"chosen: ..."`` or ``"fitted: ..."`` (printed by the docs)."""
+
+    sources: dict[str, str] = Field(default_factory=dict)
