@@ -1,8 +1,9 @@
 """Benchmark: the TORSEN Type C central differential on the test bench, all four modes.
 
 The shipped ``torsen-c`` model file (``drivedyn.library.differentials.torsen_c``: housing
-with one pocket per planet, sun, planets on planar guides with pocket contact and tip friction, internal
-gear on a helical spline to the coupling, 2 n helical meshes, five thrust washers) is run on
+with one pocket per planet, sun, planets on planar guides with pocket contact and tip
+friction, internal gear on a helical spline to the coupling, 2 n helical meshes, five thrust
+washers) is run on
 the seed 003 bench protocol of its ``[bench]`` table: housing held, 125 N m on one output,
 the other output's speed prescribed for a 20 rpm speed difference; drive, then a smooth
 reversal to coast (default ramp 0.3 s, reversal 1.2-2.0 s, end 3 s, steady windows 0.4-1.0 s

@@ -319,7 +319,8 @@ def washer_part(p: TorsenCFile, name: str):
 def case_part(p: TorsenCFile, faces: dict):
     """(solid, reduced part, z of the bolting face [m]) of the flexible case (see
     :class:`~drivedyn.library.differentials.torsen_c.schema.FlexibleParts`): part frame z = 0
-    on the bolting face, which is also the ring-gear seat; static modes of the pressures on both seats."""
+    on the bolting face, which is also the ring-gear seat; static modes of the pressures on
+    both seats."""
     from drivedyn.fe import (
         Interface,
         SolidMaterial,
