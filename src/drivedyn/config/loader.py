@@ -282,6 +282,7 @@ def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
     joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
                    "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
                    "universal": E.Universal, "planar": E.Planar,
+                   "parallel_axes": E.ParallelAxes,
                    "screw": E.Screw}
     for j in mf.joints:
         kw = {"pitch": j.pitch} if j.type == "screw" else {}

@@ -11,7 +11,7 @@ File layout (every section optional except what the model needs)::
     [[nodes]]              # massless 6-dof nodes
     [[markers]]            # frames on bodies, nodes or "ground"
     [[joints]]             # type = spherical | fixed | hinge | cylindrical | prismatic |
-                           #        universal | planar | screw
+                           #        universal | planar | parallel_axes | screw
     [[springs]]            # linear spring-dampers
     [[torsional_springs]]  # torsional spring-dampers
     [[forces]] / [[torques]]
@@ -109,7 +109,7 @@ class MarkerFile(Strict):
 
 class JointFile(Strict):
     type: Literal["spherical", "fixed", "hinge", "cylindrical", "prismatic", "universal", "planar",
-                  "screw"]
+                  "parallel_axes", "screw"]
     name: str
     marker_a: str
     marker_b: str

@@ -16,6 +16,8 @@ Screw         Cylindrical + d.a3 - pitch theta / (2 pi) - c0        coupled scre
 Universal     d.a1, d.a2, d.a3, a1.b2                              about a1 and b2
 Planar        d.a3, a3.b1, a3.b2                                   slide in the a1-a2 plane,
                                                                    rotation about a3
+ParallelAxes  a3.b1, a3.b2                                         3 translations,
+                                                                   rotation about a3
 ============  ==================================================  ==================
 
 The joint axis is the z axis of marker A (the markers must be assembled: B's axes as the
@@ -301,6 +303,20 @@ class Planar(Joint):
 
 
 @dataclass(frozen=True)
+class ParallelAxes(Joint):
+    """Keeps marker B's z axis parallel to marker A's: the three translations and the
+    rotation about the axis are free, the two tilts are held.
+
+    Holds a floating gear against tilting while its centre moves freely, e.g. a TORSEN Type B
+    element gear in its pocket, where a :class:`~drivedyn.elements.contact.JournalContact`
+    takes the radial load and thrust-washer contacts on its end faces the axial load.
+    """
+
+    family: ClassVar[str] = "parallel_axes"
+    rows: ClassVar = ((_D, 2, 0), (_D, 2, 1))
+
+
+@dataclass(frozen=True)
 class Screw(Joint):
     """Screw: cylindrical joint whose slide is ``pitch * theta / (2 pi)`` [m].
 
@@ -388,5 +404,6 @@ class JointFamily(Family):
                                       self.spec_type.has_angle)
 
 
-for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, Screw):
+for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, ParallelAxes,
+           Screw):
     register(JointFamily(_t))

@@ -18,7 +18,7 @@ from drivedyn.library.differentials.base import Differential, Mode, Output
 #: library key -> module declaring ``DIFFERENTIAL`` (imported on first use)
 TYPES = {
     "torsen_c": "drivedyn.library.differentials.torsen_c",
-    # "torsen_b": "drivedyn.library.differentials.torsen_b",
+    "torsen_b": "drivedyn.library.differentials.torsen_b",
 }
 
 

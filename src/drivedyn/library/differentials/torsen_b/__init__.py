@@ -1,0 +1,42 @@
+"""TORSEN Type B (parallel-axis element gears, front/rear axle) differential, after seed 003
+and the slides of seed 002: the parametric model (:mod:`.model`), its model-file schema
+(:mod:`.schema`, default file ``torsen-b``) and the independent quasi-static TDR
+(:mod:`.analytic`)."""
+
+from __future__ import annotations
+
+from drivedyn.library.differentials.base import Differential, Mode, Output
+from drivedyn.library.differentials.torsen_b import analytic, model
+from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
+
+
+def _fixed_speeds(p: TorsenBFile, dw: float) -> tuple[float, float]:
+    # housing held: w_l = -w_r, |w_r - w_l| = dw
+    return dw / 2, dw / 2
+
+
+def _housing_speed(p: TorsenBFile, w_left: float, w_right: float) -> float:
+    return 0.5 * (w_left + w_right)
+
+
+DIFFERENTIAL = Differential(
+    name="torsen-b",
+    library="torsen_b",
+    title="TORSEN Type B (front/rear, parallel element gears)",
+    schema=TorsenBFile,
+    outputs=(Output("left", "left", "left_bearing", "b_left", "left output (side gear)"),
+             Output("right", "right", "right_bearing", "b_right", "right output (side gear)")),
+    modes=tuple(Mode(*m) for m in model.MODES),
+    check=model.check_parameters,
+    build=lambda p, omega, fs: model.build_spec(p, omega, fs),
+    housing_fixed_speeds=_fixed_speeds,
+    housing_speed=_housing_speed,
+    analytic_bench=analytic.bench_tdr,
+    analytic_vehicle=analytic.vehicle_torques,
+    free=(("washers.mu",), ("pockets.mu",)),
+    washers={"left": "left side gear - housing", "middle": "between the side gears",
+             "right": "right side gear - housing"},
+    axial_bodies=(("left", "left side gear"), ("right", "right side gear"),
+                  ("a1", "element gear a1"), ("b1", "element gear b1")),
+    mesh_elements=lambda n: n.startswith(("left_", "right_")) or (n[0] == "a" and "_b" in n),
+)
