@@ -168,6 +168,8 @@ def check_parameters(p: TorsenCFile) -> Geometry:
         if w.r_ext > p.spline.radius:
             fail(f"washers.{name}.r_ext", w.r_ext, "outside the internal gear, whose outer "
                  f"radius is the spline radius {p.spline.radius * 1e3:.2f} mm")
+    if g.backlash > 0.1 * g.module:
+        fail("gears.backlash", g.backlash, f"expected < 0.1 module = {0.1 * g.module:.2e} m")
     if p.pockets.clearance > 0.2 * g.module:
         fail("pockets.clearance", p.pockets.clearance, "expected a small radial clearance "
              f"(< 0.2 module = {0.2 * g.module * 1e3:.3f} mm)")
@@ -195,7 +197,7 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
         p: validated parameters.
         omega: initial speeds (housing, sun, coupling) [rad/s] about +z; the planets' spin
             follows from Willis' equation so that the meshes start unloaded.
-        friction_scale: factor on every friction coefficient (washers, pockets).
+        friction_scale: factor on every friction coefficient (washers, pockets, teeth).
     Returns:
         (spec, geometry). Joints: ``housing_bearing`` (hinge), ``sun_bearing`` and
         ``coupling_bearing`` (cylindrical, to the ground), ``spline`` (screw ring/coupling).
@@ -242,7 +244,8 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     a = geo.carrier_radius
     gear_kw = dict(module=g.module, face_width=b, pressure_angle=g.pressure_angle,
                    damping_ratio=g.damping_ratio, stiffness=g.stiffness,
-                   youngs_modulus=g.youngs_modulus)
+                   youngs_modulus=g.youngs_modulus, stiffness_variation=g.stiffness_variation,
+                   backlash=g.backlash, friction=g.tooth_friction * friction_scale)
     wp = wh - (ws - wh) * g.teeth_sun / g.teeth_planet  # Willis, planet spin
     for k in range(n):
         th = 2 * math.pi * k / n
@@ -258,10 +261,13 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
                               bore_radius=geo.r_tip_planet + p.pockets.clearance,
                               pin_radius=geo.r_tip_planet,
                               friction=_friction(p.pockets.mu, p, friction_scale)))
+        # mesh phases of a planet at th: the sun's and the ring's teeth passed since planet 1
         sp.add(GearPair(f"sun_{pl}", "m_sun", f"m_{pl}", g.teeth_sun, g.teeth_planet,
-                        helix_angle=g.helix_angle, **gear_kw))
+                        helix_angle=g.helix_angle, mesh_phase=(g.teeth_sun * k / n) % 1.0,
+                        **gear_kw))
         sp.add(GearPair(f"{pl}_ring", f"m_{pl}", "m_ring", g.teeth_planet, g.teeth_ring,
-                        helix_angle=-g.helix_angle, internal="b", **gear_kw))
+                        helix_angle=-g.helix_angle, internal="b",
+                        mesh_phase=(g.teeth_ring * k / n) % 1.0, **gear_kw))
     # thrust washers: marker A = washer face (z = normal towards B), marker B = the other face
     faces = {
         "sun_housing": (("housing", -half - w.sun_housing.gap, Z), ("sun", -half)),

@@ -51,6 +51,9 @@ class Gears(Strict):
     face_width: PositiveLength
     damping_ratio: float = Field(default=0.05, ge=0.0)
     stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] | None = None
+    stiffness_variation: bool = False
+    backlash: NonNegLength = 0.0
+    tooth_friction: Coefficient = 0.0
     youngs_modulus: Modulus = 206e9
 
 
