@@ -25,6 +25,7 @@ from drivedyn.analysis.vehicle import (
     run_vehicle,
 )
 from drivedyn.config import read_library_file
+from drivedyn.library.differentials import get
 from drivedyn.library.differentials.torsen_c import analytic as analytic_tdr
 from drivedyn.plots import vehicle_figures
 
@@ -51,11 +52,18 @@ def run(params):
 
 
 def test_mode_of_follows_the_modes_table() -> None:
-    assert mode_of(50.0, -2.0) == (1, "rear")  # drive, rear slower
-    assert mode_of(-50.0, 2.0) == (2, "rear")  # coast, rear faster
-    assert mode_of(50.0, 2.0) == (3, "front")  # drive, front slower
-    assert mode_of(-50.0, -2.0) == (4, "front")  # coast, front faster
-    assert mode_of(0.0, 2.0) == (None, None)
+    tc = get("torsen-c")
+    for sign in (1.0, -1.0):  # forward and backward motion: the same modes
+        def mode(torque, diff, sign=sign):
+            w = 30.0 * sign
+            wf, wr = w - sign * diff / 2, w + sign * diff / 2
+            return mode_of(tc, sign * torque, wf, wr, 0.5 * (wf + wr))
+
+        assert mode(50.0, -2.0) == (1, "rear")  # drive, rear slower
+        assert mode(-50.0, 2.0) == (2, "rear")  # coast, rear faster
+        assert mode(50.0, 2.0) == (3, "front")  # drive, front slower
+        assert mode(-50.0, -2.0) == (4, "front")  # coast, front faster
+        assert mode(0.0, 2.0) == (None, None)
 
 
 def test_level_windows_match_the_profile(params) -> None:
@@ -66,7 +74,7 @@ def test_level_windows_match_the_profile(params) -> None:
     torque, _, diff, t_end = vehicle_profile(params)
     w = level_windows(params)
     assert len(w) == len(params.vehicle.torque_levels)
-    for (hold_start, a, b), level, d in zip(w, params.vehicle.torque_levels,
+    for (hold_start, a, b, _, _), level, d in zip(w, params.vehicle.torque_levels,
                                             params.vehicle.speed_diff, strict=True):
         assert hold_start < a < b
         for t in np.linspace(hold_start, b, 7):

@@ -2,8 +2,8 @@
 exact or published reference. One module per subject registers its cases:
 :mod:`~drivedyn.validation.engine` (rigid bodies, joints, integrator),
 :mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears`,
-:mod:`~drivedyn.validation.beams` and
-:mod:`~drivedyn.validation.torsen`."""
+:mod:`~drivedyn.validation.beams`, :mod:`~drivedyn.validation.fe`,
+:mod:`~drivedyn.validation.torsen` and :mod:`~drivedyn.validation.torsen_b`."""
 
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ from drivedyn.validation import gears  # noqa: F401
 from drivedyn.validation import beams  # noqa: F401
 from drivedyn.validation import fe  # noqa: F401
 from drivedyn.validation import torsen  # noqa: F401
+from drivedyn.validation import torsen_b  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case
 

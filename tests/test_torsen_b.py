@@ -1,0 +1,248 @@
+"""TORSEN Type B: geometry checks, the independent quasi-static model (its limits, identities
+and invariances), the dynamic bench against it and against seed 003 Table 2, the kinematics
+(Willis) and the vehicle configuration with backwards motion.
+
+What the physics of a friction-locked differential implies, derived from the analytic model
+(module doc of :mod:`drivedyn.library.differentials.torsen_b.analytic`) and checked here:
+
+* without friction the TDR is 1 (equal side gears) and the outputs share the housing torque;
+* the external power in the housing frame equals the friction power of the washers, tips and
+  end faces (power balance), for every mode;
+* washer friction alone (no pocket friction) has a closed form: the side-gear thrusts
+  ``n tan(beta) W`` go to the two housing washers (diverging thrusts) or to the middle washer
+  (converging), and ``TDR = (r_s + mu_w tan(beta) r_m) / (r_s - mu_w tan(beta) r_m)`` with
+  ``r_m`` the friction radius of the loaded washer(s);
+* the TDR does not depend on the torque level nor on the speed difference (all friction is
+  proportional to load; seed 003);
+* the geometry is the mirror image left/right, so mode 1 = mode 3 and mode 2 = mode 4;
+* the TDR grows with every friction coefficient.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from drivedyn.analysis.tdr import run_bench
+from drivedyn.analysis.vehicle import run_vehicle
+from drivedyn.config import read_library_file
+from drivedyn.config.loader import ModelFileError
+from drivedyn.library.differentials import get
+from drivedyn.library.differentials.protocol import bench_spec, level_times, vehicle_profile
+from drivedyn.library.differentials.torsen_b import analytic as A  # noqa: N812
+from drivedyn.library.differentials.torsen_b.model import check_parameters
+from drivedyn.model.compile import compile_model
+from drivedyn.model.spec import ModelError
+
+TB = get("torsen-b")
+SHIPPED, _, _ = read_library_file("torsen-b")
+SHORT = ["bench.ramp=0.1", "bench.transition=[0.5, 0.8]", "bench.t_end=1.1",
+         "bench.window_drive=[0.25, 0.45]", "bench.window_coast=[0.9, 1.1]"]
+
+
+def params(*sets: str):
+    return read_library_file("torsen-b", list(sets))[0]
+
+
+# -- geometry ----------------------------------------------------------------------------
+
+
+def test_shipped_geometry_and_model_structure() -> None:
+    geo = check_parameters(SHIPPED)
+    # the two element gears of a pair are one element diameter apart (they mesh)
+    assert 2 * geo.centre * math.sin(geo.spread / 2) == pytest.approx(2 * geo.r_element,
+                                                                      rel=1e-12)
+    assert geo.length == pytest.approx(0.056)
+    model = compile_model(bench_spec(TB, SHIPPED, "right")[0])
+    count: dict[str, int] = {}
+    for g in model.groups:
+        count[g.family] = count.get(g.family, 0) + len(g.names)
+    # seed 003: 20 gear pairs, 10 element gears on guides, 3 washers (+ 20 end faces)
+    assert count["gear_pair"] == 20
+    assert count["parallel_axes"] == 10
+    assert count["journal_contact"] == 10
+    assert count["thrust_washer_contact"] == 3 + 20
+    assert count["cylindrical"] == 2 and count["hinge"] == 1
+
+
+@pytest.mark.parametrize("sets, key", [
+    (["gears.pairs=8"], "gears.pairs"),
+    (["gears.teeth_element=8"], "gears.teeth_element"),
+    (["gears.teeth_element=40"], "gears.teeth_element"),
+    (["washers.left.r_ext=\"40 mm\""], "washers.left.r_ext"),
+    (["washers.middle.gap=\"5 mm\""], "washers.middle.gap"),
+    (["pockets.end_r_ext=\"12 mm\""], "pockets.end_r_ext"),
+    (["pockets.clearance=\"1 mm\""], "pockets.clearance"),
+    (["gears.helix_angle=\"50 deg\""], "gears.helix_angle"),
+])
+def test_impossible_geometry_is_refused(sets: list[str], key: str) -> None:
+    with pytest.raises(ModelError, match=key.replace(".", r"\.")):
+        check_parameters(params(*sets))
+
+
+def test_schema_errors_name_the_key() -> None:
+    with pytest.raises(ModelFileError, match=r"washers\.mu"):
+        params("washers.mu=1.5")
+    with pytest.raises(ModelFileError, match=r"gears\.spline"):
+        params("gears.spline=1")
+
+
+# -- analytic model ------------------------------------------------------------------------
+
+
+def test_analytic_frictionless_splits_equally() -> None:
+    p = params("washers.mu=0", "pockets.mu=0")
+    assert A.all_modes(p) == pytest.approx([1.0] * 4, abs=1e-12)
+    T1, T2 = A.vehicle_torques(p, (30.0, 29.0, 31.0), 200.0)
+    assert T1 == pytest.approx(100.0, rel=1e-12) and T2 == pytest.approx(100.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("mode", [1, 2, 3, 4])
+def test_analytic_power_balance(mode: int) -> None:
+    """External power in the housing frame = friction power of all sources."""
+    speeds, sgn = A.bench_speeds(mode, SHIPPED.bench.speed_diff)
+    side = TB.mode(mode).side
+    q = A.solve(SHIPPED, speeds, side, sgn * 125.0)
+    _, wl, wr = speeds
+    external = q.torque_left * wl + q.torque_right * wr
+    assert external == pytest.approx(sum(q.friction_power.values()), rel=1e-9)
+    assert q.residual < 1e-10
+
+
+@pytest.mark.parametrize("mode", [1, 2])
+def test_analytic_washer_only_closed_form(mode: int) -> None:
+    mu = 0.15
+    p = params(f"washers.mu={mu}", "pockets.mu=0")
+    geo = check_parameters(p)
+    speeds, sgn = A.bench_speeds(mode, p.bench.speed_diff)
+    q = A.solve(p, speeds, "right", sgn * 125.0)
+    loaded = [k for k, v in q.washer_force.items() if v > 1e-9]
+    # one direction of the torque loads both housing washers, the other the middle one
+    assert loaded == (["left", "right"] if mode == 1 else ["middle"])
+    r_m = geo.washer_radius[loaded[0]]
+    k = mu * math.tan(abs(p.gears.helix_angle)) * r_m / geo.r_side
+    assert A.bench_tdr(p, mode) == pytest.approx((1 + k) / (1 - k), rel=1e-10)
+
+
+def test_analytic_invariances_and_symmetry() -> None:
+    base = A.all_modes(SHIPPED)
+    assert base[0] == pytest.approx(base[2], rel=1e-9)  # mirror image left/right
+    assert base[1] == pytest.approx(base[3], rel=1e-9)
+    for T in (20.0, 400.0):
+        assert A.all_modes(SHIPPED, torque=T) == pytest.approx(base, rel=1e-9)
+    for dw in (0.2, 20.0):
+        assert A.all_modes(SHIPPED, speed_diff=dw) == pytest.approx(base, rel=1e-9)
+    lower = A.all_modes(SHIPPED, friction_scale=0.7)
+    assert all(1.0 < lo < b for lo, b in zip(lower, base, strict=True))
+
+
+def test_analytic_vehicle_balance_and_modes() -> None:
+    """Vehicle configuration: T_h = T_l + T_r, and the favoured output is the slower one in
+    drive and the faster one in coast, in forward and in backward motion."""
+    for w, th in ((30.0, 150.0), (30.0, -150.0), (-30.0, -150.0), (-30.0, 150.0)):
+        wl, wr = w - 1.0, w + 1.0  # right turns faster than left (in magnitude if w > 0)
+        tl, tr = A.vehicle_torques(SHIPPED, ((wl + wr) / 2, wl, wr), th)
+        assert tl + tr == pytest.approx(th, rel=1e-10)
+        drive = th * w > 0
+        slower_left = abs(wl) < abs(wr)
+        assert (abs(tl) > abs(tr)) == (drive == slower_left)
+
+
+# -- dynamic bench ---------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def shipped_runs():
+    return {side: run_bench(SHIPPED, side) for side in TB.sides}
+
+
+def test_bench_matches_table_2_analytic_and_symmetry(shipped_runs) -> None:
+    sim = {}
+    for run in shipped_runs.values():
+        assert run.success, run.message
+        sim.update(run.tdr)
+    exp = {1: 1.6, 2: 1.7, 3: 1.6, 4: 1.7}
+    for m in (1, 2, 3, 4):
+        # issue target 3 %; the fit of two numbers misses by 1.7 %
+        assert abs(sim[m] / exp[m] - 1) < 0.02, (m, sim[m])
+        # the independent quasi-static model (measured agreement 6e-4)
+        assert abs(sim[m] / A.bench_tdr(SHIPPED, m) - 1) < 2e-3, (m, sim[m])
+    # mirrored geometry (measured 2e-4)
+    assert abs(sim[1] / sim[3] - 1) < 1e-3 and abs(sim[2] / sim[4] - 1) < 1e-3
+
+
+def test_bench_torque_balance(shipped_runs) -> None:
+    res = shipped_runs["right"].results
+    t = res["time"].values
+    k = (t >= SHIPPED.bench.window_drive[0]) & (t <= SHIPPED.bench.window_drive[1])
+    ta = res["applied_torque.torque_z"].values[k].mean()
+    tr = res["speed_control.torque"].values[k].mean()
+    th = res["hold_housing.torque"].values[k].mean()
+    assert abs((ta + tr + th) / ta) < 1e-6
+
+
+def test_bench_washer_only_closed_form() -> None:
+    mu = 0.15
+    p = params(f"washers.mu={mu}", "pockets.mu=0", *SHORT)
+    run = run_bench(p, "right")
+    assert run.success
+    for m in (1, 2):
+        exact = A.bench_tdr(p, m)
+        assert abs(run.tdr[m] / exact - 1) < 1e-3, (m, run.tdr[m], exact)
+
+
+def test_frictionless_willis_and_equal_split() -> None:
+    """No friction: the vehicle's free housing follows Willis' identity
+    w_l + w_r = 2 w_h (1e-6 relative) and the outputs share the torque equally."""
+    p = params("washers.mu=0", "pockets.mu=0", "vehicle.torque_levels=[100]",
+               "vehicle.speed_diff=[3]", "vehicle.hold=0.3", "vehicle.backward=false")
+    run = run_vehicle(p)
+    assert run.success, run.message
+    res = run.results
+    t = res["time"].values
+    k = t > 0.3
+    wl = res["left.angular_velocity"].values[k, 2]
+    wr = res["right.angular_velocity"].values[k, 2]
+    wh = res["housing.angular_velocity"].values[k, 2]
+    assert np.max(np.abs(wl + wr - 2 * wh)) / np.max(np.abs(wh)) < 1e-6
+    (lv,) = run.levels
+    assert lv["tdr"] == pytest.approx(1.0, abs=2e-3)
+    assert lv["balance_error"] < 1e-3
+
+
+# -- vehicle configuration ------------------------------------------------------------
+
+
+def test_vehicle_profile_runs_backwards() -> None:
+    T, w, d, t_end = vehicle_profile(SHIPPED)
+    times = level_times(SHIPPED)
+    assert len(times) == 8 and t_end == pytest.approx(times[-1][1])
+    for t0, t1, i, back in times:
+        tm = 0.5 * (t0 + t1)
+        sign = -1.0 if back else 1.0
+        assert T(tm) == pytest.approx(sign * SHIPPED.vehicle.torque_levels[i])
+        assert d(tm) == pytest.approx(sign * SHIPPED.vehicle.speed_diff[i])
+        assert w(tm) == pytest.approx(sign * SHIPPED.vehicle.speed)
+
+
+@pytest.fixture(scope="module")
+def vehicle_run():
+    p = params("vehicle.torque_levels=[125, -125]", "vehicle.speed_diff=[-2, -2]",
+               "vehicle.hold=0.4")
+    return p, run_vehicle(p)
+
+
+def test_vehicle_balance_and_backward_equals_forward(vehicle_run) -> None:
+    _, run = vehicle_run
+    assert run.success, run.message
+    assert len(run.levels) == 4
+    for lv in run.levels:
+        assert lv["balance_error"] < 5e-3, lv  # issue: 0.5 %
+        assert abs(lv["tdr_error"]) < 0.01, lv  # the quasi-static model at the same speeds
+    fwd = {lv["mode"]: lv["tdr"] for lv in run.levels if lv["direction"] == "forward"}
+    bwd = {lv["mode"]: lv["tdr"] for lv in run.levels if lv["direction"] == "backward"}
+    assert set(fwd) == set(bwd) == {1, 4}
+    for m in fwd:
+        assert abs(bwd[m] / fwd[m] - 1) < 0.01, (m, fwd[m], bwd[m])
