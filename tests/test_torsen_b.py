@@ -180,7 +180,9 @@ def test_bench_torque_balance(shipped_runs) -> None:
     ta = res["applied_torque.torque_z"].values[k].mean()
     tr = res["speed_control.torque"].values[k].mean()
     th = res["hold_housing.torque"].values[k].mean()
-    assert abs((ta + tr + th) / ta) < 1e-6
+    # the window mean of the inertia torque of the element gears, whose speeds ripple with
+    # the mesh stiffness, is left (measured 3.4e-6)
+    assert abs((ta + tr + th) / ta) < 1e-5
 
 
 def test_bench_washer_only_closed_form() -> None:
@@ -195,9 +197,12 @@ def test_bench_washer_only_closed_form() -> None:
 
 def test_frictionless_willis_and_equal_split() -> None:
     """No friction: the vehicle's free housing follows Willis' identity
-    w_l + w_r = 2 w_h (1e-6 relative) and the outputs share the torque equally."""
+    w_l + w_r = 2 w_h (1e-6 relative) and the outputs share the torque equally. The
+    kinematics are checked on the gear train without backlash and with constant mesh
+    stiffness: with a backlash the housing rattles within it (1e-4 of its speed)."""
     p = params("washers.mu=0", "pockets.mu=0", "vehicle.torque_levels=[100]",
-               "vehicle.speed_diff=[3]", "vehicle.hold=0.3", "vehicle.backward=false")
+               "vehicle.speed_diff=[3]", "vehicle.hold=0.3", "vehicle.backward=false",
+               "gears.backlash=0", "gears.stiffness_variation=false")
     run = run_vehicle(p)
     assert run.success, run.message
     res = run.results

@@ -47,8 +47,9 @@ def torsen_b_bench(quick: bool = False, figure_dir: str | None = None) -> list[C
         tr = res["speed_control.torque"].values[k].mean()
         th = res["hold_housing.torque"].values[k].mean()
         out.append(compare(case, f"bench torque balance, {side} side (sum / applied torque)",
-                           0.0, float((ta + tr + th) / abs(ta)), "1", 1e-6,
-                           "moment balance of the whole differential at steady speed"))
+                           0.0, float((ta + tr + th) / abs(ta)), "1", 1e-5,
+                           "moment balance of the whole differential at steady speed (the "
+                           "mesh-stiffness ripple leaves a window-mean inertia torque)"))
     for m in sorted(sim):
         e, s = exp.get(m), seeds.get(m)
         if e:
