@@ -227,27 +227,23 @@ def test_vehicle_profile_runs_backwards() -> None:
     for t0, t1, i, back in times:
         tm = 0.5 * (t0 + t1)
         sign = -1.0 if back else 1.0
-        assert T(tm) == pytest.approx(sign * SHIPPED.vehicle.torque_levels[i])
+        assert T(tm) == pytest.approx(SHIPPED.vehicle.torque_levels[i])
         assert d(tm) == pytest.approx(sign * SHIPPED.vehicle.speed_diff[i])
         assert w(tm) == pytest.approx(sign * SHIPPED.vehicle.speed)
 
 
-@pytest.fixture(scope="module")
-def vehicle_run():
-    p = params("vehicle.torque_levels=[125, -125]", "vehicle.speed_diff=[-2, -2]",
-               "vehicle.hold=0.4")
-    return p, run_vehicle(p)
-
-
-def test_vehicle_balance_and_backward_equals_forward(vehicle_run) -> None:
-    _, run = vehicle_run
+def test_vehicle_balance_and_backward_equals_forward() -> None:
+    """125 N m with the right side slower, then the speeds reversed: forwards mode 1 (drive,
+    bias right), backwards the same torque favours the left side (mode 3), with the same TDR
+    (the mirror image; the analytic model differs by 0.2 % between the two, by the
+    centrifugal and separating forces that do not reverse)."""
+    p = params("vehicle.torque_levels=[125]", "vehicle.speed_diff=[-2]", "vehicle.hold=0.3")
+    run = run_vehicle(p)
     assert run.success, run.message
-    assert len(run.levels) == 4
+    assert [(lv["direction"], lv["mode"]) for lv in run.levels] == [("forward", 1),
+                                                                    ("backward", 3)]
     for lv in run.levels:
         assert lv["balance_error"] < 5e-3, lv  # issue: 0.5 %
         assert abs(lv["tdr_error"]) < 0.01, lv  # the quasi-static model at the same speeds
-    fwd = {lv["mode"]: lv["tdr"] for lv in run.levels if lv["direction"] == "forward"}
-    bwd = {lv["mode"]: lv["tdr"] for lv in run.levels if lv["direction"] == "backward"}
-    assert set(fwd) == set(bwd) == {1, 4}
-    for m in fwd:
-        assert abs(bwd[m] / fwd[m] - 1) < 0.01, (m, fwd[m], bwd[m])
+    fwd, bwd = (lv["tdr"] for lv in run.levels)
+    assert abs(bwd / fwd - 1) < 0.01, (fwd, bwd)

@@ -53,16 +53,17 @@ def run(params):
 
 def test_mode_of_follows_the_modes_table() -> None:
     tc = get("torsen-c")
-    for sign in (1.0, -1.0):  # forward and backward motion: the same modes
+    for sign in (1.0, -1.0):  # forward, then backward motion (all speeds negated)
         def mode(torque, diff, sign=sign):
-            w = 30.0 * sign
-            wf, wr = w - sign * diff / 2, w + sign * diff / 2
-            return mode_of(tc, sign * torque, wf, wr, 0.5 * (wf + wr))
+            wf, wr = sign * (30.0 - diff / 2), sign * (30.0 + diff / 2)
+            return mode_of(tc, torque, wf, wr, 0.5 * (wf + wr))
 
-        assert mode(50.0, -2.0) == (1, "rear")  # drive, rear slower
-        assert mode(-50.0, 2.0) == (2, "rear")  # coast, rear faster
-        assert mode(50.0, 2.0) == (3, "front")  # drive, front slower
-        assert mode(-50.0, -2.0) == (4, "front")  # coast, front faster
+        rear, front = ("rear", "front") if sign > 0 else ("front", "rear")
+        num = {"rear": (1, 2), "front": (3, 4)}
+        assert mode(50.0, -2.0) == (num[rear][0], rear)  # drive, rear slower
+        assert mode(-50.0, 2.0) == (num[rear][1], rear)  # coast, rear faster
+        assert mode(50.0, 2.0) == (num[front][0], front)  # drive, front slower
+        assert mode(-50.0, -2.0) == (num[front][1], front)  # coast, front faster
         assert mode(0.0, 2.0) == (None, None)
 
 

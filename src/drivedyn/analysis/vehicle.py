@@ -81,15 +81,20 @@ def level_windows(p: Any) -> list[tuple[float, float, float, int, bool]]:
 def mode_of(diff, torque: float, w_first: float, w_second: float, w_housing: float
             ) -> tuple[int | None, str | None]:
     """(mode number, favoured output name) of a housing torque and output speeds [rad/s];
-    (None, None) without torque or without speed difference. Drive: the housing torque
-    delivers power (``torque * w_housing > 0``); the favoured output is the slower one in
-    drive and the faster one in coast (in either direction of motion)."""
+    (None, None) without torque or without speed difference.
+
+    The helical thrusts, hence the friction faces they load, follow the sign of the torque,
+    and the friction follows the speeds relative to the housing: a mode is "drive" when the
+    housing torque has the forward-drive sign (``torque > 0``), and the favoured output is the
+    one that turns against the torque relative to the housing (``(w - w_housing) torque <
+    0``). In forward motion this is the usual rule (drive favours the slower output, coast the
+    faster one); in backwards motion the same torque favours the other side."""
     if abs(torque) <= ZERO_TORQUE or w_first == w_second:
         return None, None
-    drive = torque * w_housing > 0
+    drive = torque > 0
     first, second = diff.outputs
-    slower, faster = (first, second) if abs(w_first) < abs(w_second) else (second, first)
-    favoured = (slower if drive else faster).name
+    w_rel = w_first - w_housing if w_first != w_housing else -(w_second - w_housing)
+    favoured = (first if w_rel * torque < 0 else second).name
     for m in diff.modes:
         if m.side == favoured and m.drive == drive:
             return m.number, favoured
@@ -141,11 +146,10 @@ def level_stats(p: Any, res, index: int, window: tuple[float, float],
     w2 = _window_mean(res, f"{second.body}.angular_velocity", k, 2)
     mode, fav = mode_of(diff, th, w1, w2, wh)
     names = [str(n) for n in res.dataset.data_vars if str(n).endswith(".dissipated_power")]
-    sign = -1.0 if backward else 1.0
     out: dict[str, Any] = {
         "level": index, "direction": "backward" if backward else "forward",
         "t0": float(window[0]), "t1": float(window[1]),
-        "nominal": sign * float(p.vehicle.torque_levels[index]),
+        "nominal": float(p.vehicle.torque_levels[index]),
         "housing": th, first.name: t1, second.name: t2, "w_housing": wh,
         f"w_{first.name}": w1, f"w_{second.name}": w2,
         "balance_error": abs(th - (t1 + t2)) / abs(th) if abs(th) > ZERO_TORQUE else None,

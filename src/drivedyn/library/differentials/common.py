@@ -76,11 +76,11 @@ class Vehicle(Strict):
     ``speed_diff`` is the second-minus-first output speed [rad/s] of each level (Type C: rear
     minus front; Type B: right minus left); ``speed`` is the mean output speed (positive =
     forward, about +z). With ``backward = true`` the profile then reverses both output speeds
-    over ``reversal`` (the last torque level held) and runs the levels again in backwards
-    motion, with the torques and speed differences negated, so that every level shows the same
-    locking mode as in forward motion (seed 003, second half of the Type B run). ``h_max`` caps
-    the step of this run: the turning gears excite the meshes, and long steps cost Newton
-    failures and leave numerical oscillations in the held torques."""
+    over ``reversal`` (the last torque level held) and runs the same torque levels again in
+    backwards motion with the speed differences negated (seed 003, second half of the Type B
+    run): each level shows the mode of the same torque with the favoured side exchanged.
+    ``h_max`` caps the step of this run: the turning gears excite the meshes, and long steps
+    cost Newton failures and leave numerical oscillations in the held torques."""
 
     speed: AngularVelocity = 30.0
     torque_levels: list[float] = Field(default_factory=lambda: [

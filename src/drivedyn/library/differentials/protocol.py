@@ -13,7 +13,10 @@ torque (the speed-control driver's), window means.
 **Vehicle configuration** (seed 003, Fig. 7b, 10, 13): engine torque on the housing
 (``engine_torque``), both output speeds prescribed (drivers ``{output}_speed``, mean speed
 ``vehicle.speed``, second minus first = the level's ``speed_diff``); optionally the same
-levels again in backwards motion after a speed reversal (``vehicle.backward``).
+torque levels again in backwards motion after a reversal of both output speeds
+(``vehicle.backward``): the helical thrusts, hence the loaded friction faces, follow the
+torque's sign, and the favoured output follows the speeds relative to the housing, so the
+backward half shows the four modes with the favoured sides exchanged.
 """
 
 from __future__ import annotations
@@ -95,7 +98,7 @@ def vehicle_profile(p: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, f
     From T = 0 at t = 0, smooth steps over ``vehicle.ramp`` to each level, held for
     ``vehicle.hold`` (level i over [(i + 1) ramp + i hold, (i + 1)(ramp + hold)]). With
     ``vehicle.backward``: then w and d reverse over ``vehicle.reversal`` with the last torque
-    held, and the levels run again with T and d negated."""
+    held, and the levels run again with the same torques and d negated (backwards motion)."""
     v = p.vehicle
     if len(v.torque_levels) != len(v.speed_diff) or len(v.torque_levels) < 1:
         raise ModelError("vehicle.torque_levels and vehicle.speed_diff must have the same "
@@ -113,7 +116,7 @@ def vehicle_profile(p: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, f
             last_d = -last_d
             t += v.reversal
         for i, level in enumerate(v.torque_levels):
-            level, diff = sign * level, sign * v.speed_diff[i]
+            diff = sign * v.speed_diff[i]
             tq.append(SmoothStep(t, t + v.ramp, 0.0, level - last_t))
             if diff != last_d:
                 dd.append(SmoothStep(t, t + v.ramp, 0.0, diff - last_d))
