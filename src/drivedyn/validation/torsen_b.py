@@ -89,10 +89,11 @@ def torsen_b_bench(quick: bool = False, figure_dir: str | None = None) -> list[C
 @register_case("torsen_b_vehicle")
 def torsen_b_vehicle(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """TORSEN Type B in vehicle configuration (seed 003 Fig. 13): torque on the housing, both
-    side-gear speeds prescribed, the four modes forward, then the speeds reversed and the four
-    modes in backwards motion. Output torques sum to the housing torque (0.5 %) in every
-    window, the backward TDRs equal the forward ones (1 %) and the quasi-static model at the
-    window's speeds (1 %)."""
+    side-gear speeds prescribed, the four modes forward, then the speeds reversed and the same
+    torques in backwards motion (each favours the other side). Output torques sum to the
+    housing torque (0.5 %) in every window, each backward TDR equals the forward TDR of the
+    same torque level (1 %), and every TDR the quasi-static model at the window's speeds
+    (1 %). Quick: two levels (125 and -125 N m) held 0.3 s instead of the file's four."""
     from drivedyn.analysis.vehicle import run_vehicle
     from drivedyn.config import read_library_file
     from drivedyn.plots.vehicle import vehicle_figures
@@ -100,14 +101,15 @@ def torsen_b_vehicle(quick: bool = False, figure_dir: str | None = None) -> list
 
     t0 = time.perf_counter()
     case = "torsen_b_vehicle"
-    sets = ["vehicle.hold=0.3"] if quick else []
+    sets = ["vehicle.torque_levels=[125, -125]", "vehicle.speed_diff=[-2, -2]",
+            "vehicle.hold=0.3"] if quick else []
     p, _, _ = read_library_file("torsen-b", sets)
     run = run_vehicle(p)
     out: list[CaseResult] = []
     if not run.success:
         out.append(failed_check(case, "vehicle configuration run", "1", 5e-3,
                                 "torque balance", run.results))
-    fwd: dict[int, float] = {}
+    fwd: dict[int, dict] = {}
     for lv in run.levels:
         if lv["mode"] is None:
             continue
@@ -119,10 +121,12 @@ def torsen_b_vehicle(quick: bool = False, figure_dir: str | None = None) -> list
             out.append(compare(case, f"{label}: TDR vs quasi-static", lv["tdr_analytic"],
                                lv["tdr"], "1", 0.01, "analytic model at the window's speeds"))
         if lv["direction"] == "forward":
-            fwd[lv["mode"]] = lv["tdr"]
-        elif lv["mode"] in fwd:
-            out.append(compare(case, f"mode {lv['mode']}: TDR backwards vs forwards",
-                               fwd[lv["mode"]], lv["tdr"], "1", 0.01,
+            fwd[lv["level"]] = lv
+        elif lv["level"] in fwd:
+            f = fwd[lv["level"]]
+            out.append(compare(case, f"{lv['housing']:+.0f} N m: TDR backwards (mode "
+                               f"{lv['mode']}) vs forwards (mode {f['mode']})", f["tdr"],
+                               lv["tdr"], "1", 0.01,
                                "seed 003: the same TDRs in backwards motion"))
     figures: list[str] = []
     if figure_dir and run.levels:
