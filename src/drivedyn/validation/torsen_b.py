@@ -93,7 +93,8 @@ def torsen_b_vehicle(quick: bool = False, figure_dir: str | None = None) -> list
     torques in backwards motion (each favours the other side). Output torques sum to the
     housing torque (0.5 %) in every window, each backward TDR equals the forward TDR of the
     same torque level (1 %), and every TDR the quasi-static model at the window's speeds
-    (1.5 %: forwards the element gears vibrate in their pockets, see docs/torsen_b.md). Quick: two levels (125 and -125 N m) held 0.3 s instead of the file's four."""
+    (1.5 %: forwards the element gears vibrate in their pockets, see docs/torsen_b.md).
+    Quick: two levels (125 and -125 N m) held 0.3 s instead of the file's four."""
     from drivedyn.analysis.vehicle import run_vehicle
     from drivedyn.config import read_library_file
     from drivedyn.plots.vehicle import vehicle_figures
