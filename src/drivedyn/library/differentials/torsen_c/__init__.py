@@ -35,8 +35,10 @@ DIFFERENTIAL = Differential(
     housing_speed=_housing_speed,
     analytic_bench=analytic.bench_tdr,
     analytic_vehicle=analytic.vehicle_torques,
-    free=(("washers.sun_housing.mu",), ("washers.coupling_case.mu",),
-          ("washers.ring_housing.mu",), ("washers.ring_case.mu",)),
+    # W1 alone, W3-W5 shared, pockets: three numbers for four modes (W2: the paper's 0.03)
+    free=(("washers.sun_housing.mu",),
+          ("washers.coupling_case.mu", "washers.ring_housing.mu", "washers.ring_case.mu"),
+          ("pockets.mu",)),
     washers={"sun_housing": "W1 sun - housing", "sun_coupling": "W2 sun - coupling",
              "coupling_case": "W3 coupling - case", "ring_housing": "W4 ring - housing",
              "ring_case": "W5 ring - case"},
