@@ -201,19 +201,20 @@ def _friction(mu: float, p: TorsenBFile, scale: float) -> FrictionLaw | None:
 
 
 def _law(p: TorsenBFile) -> NormalLaw:
-    c = p.contact
-    return NormalLaw(c.stiffness, c.exponent, law=c.law, restitution=c.restitution)
+    """Normal law of the pocket contacts (bores and end faces)."""
+    return p.contact.law_of()
 
 
 def _washer(sp: Spec, p: TorsenBFile, name: str, marker_a: str, marker_b: str, r_int: float,
             r_ext: float, friction) -> None:
     w = p.washers
+    law = p.contact.washer_law(r_int, r_ext)
     if w.squeeze_film:
         sp.add(SqueezeFilm(name, marker_a, marker_b, viscosity=w.viscosity, r_int=r_int,
-                           r_ext=r_ext, roughness=w.roughness, contact=_law(p),
+                           r_ext=r_ext, roughness=w.roughness, contact=law,
                            friction=friction, cavitation=True))
     else:
-        sp.add(ThrustWasherContact(name, marker_a, marker_b, law=_law(p), r_int=r_int,
+        sp.add(ThrustWasherContact(name, marker_a, marker_b, law=law, r_int=r_int,
                                    r_ext=r_ext, friction=friction))
 
 

@@ -185,8 +185,8 @@ def _friction(mu: float, p: TorsenCFile, scale: float) -> FrictionLaw | None:
 
 
 def _law(p: TorsenCFile) -> NormalLaw:
-    c = p.contact
-    return NormalLaw(c.stiffness, c.exponent, law=c.law, restitution=c.restitution)
+    """Normal law of the pocket contacts."""
+    return p.contact.law_of()
 
 
 def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.0),
@@ -292,7 +292,8 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
             continue
         sp.add_marker(f"w_{name}", ba, position=(0, 0, za - z_body[ba]), axis=axis)
         sp.add_marker(f"f_{name}", bb, position=(0, 0, zb - z_body[bb]), axis=Z)
-        sp.add(ThrustWasherContact(name, f"w_{name}", f"f_{name}", law=_law(p),
+        sp.add(ThrustWasherContact(name, f"w_{name}", f"f_{name}",
+                                   law=p.contact.washer_law(wd.r_int, wd.r_ext),
                                    r_int=wd.r_int, r_ext=wd.r_ext,
                                    friction=_friction(wd.mu, p, friction_scale)))
     return sp, geo
@@ -378,8 +379,10 @@ def _seat_contact(sp: Spec, p: TorsenCFile, name: str, case: tuple, za: float, b
     wd = getattr(p.washers, name)
     face = solid.select("z", za - z0, wd.r_int, wd.r_ext)
     sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=Z)
+    # the case's mesh carries the seat's elasticity: the law keeps only the rough faces
     sp.add(FlexibleWasherContact(name, "m_case", f"f_{name}", body="case", face=face,
-                                 law=_law(p), friction=friction))
+                                 law=p.contact.washer_law(wd.r_int, wd.r_ext, layer=False),
+                                 friction=friction))
 
 
 def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float, axis,
@@ -390,9 +393,11 @@ def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float
     from drivedyn.model.flexible import add_flexible_body
 
     solid, part = washer_part(p, name)
+    wd = getattr(p.washers, name)
     t = p.flexible.washer_thickness
     sp.add_marker(f"w_{name}", body_a, position=(0, 0, za - t * axis[2]), axis=axis)
     sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=(0.0, 0.0, -axis[2]))
     fb = add_flexible_body(sp, f"washer_{name}", part, f"w_{name}")
     sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
-                                 face=solid.select("z", t), law=_law(p), friction=friction))
+                                 face=solid.select("z", t), friction=friction,
+                                 law=p.contact.washer_law(wd.r_int, wd.r_ext, layer=False)))
