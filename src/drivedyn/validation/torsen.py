@@ -50,10 +50,11 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
         tr = res["speed_control.torque"].values[k].mean()
         th = res["hold_housing.torque"].values[k].mean()
         out.append(compare(case, f"bench torque balance, {side} side (sum / applied torque)",
-                           0.0, float((ta + tr + th) / abs(ta)), "1", 1e-5,
+                           0.0, float((ta + tr + th) / abs(ta)), "1", 4e-5,
                            "moment balance of the whole differential at steady speed (the "
-                           "mesh-stiffness ripple leaves a window-mean inertia torque, "
-                           "measured 4.6e-6)"))
+                           "mesh-stiffness ripple and the axial ripple on the elastic "
+                           "washers leave a window-mean inertia torque, "
+                           "measured 1.9e-5 rear; 4.6e-6 with the former Hertz washers)"))
     for m in sorted(sim):
         e = exp.get(m)
         s = seeds.get(m)
