@@ -153,3 +153,60 @@ def test_netcdf_write_is_atomic(tmp_path, monkeypatch):
     with pytest.raises(KeyboardInterrupt):
         res.to_netcdf(target)
     assert list(tmp_path.iterdir()) == []
+
+
+# -- linear solvers ------------------------------------------------------------------------
+
+
+def _saddle_csc(n: int, m: int, seed: int):
+    """A random saddle-point matrix [[K, G^T], [G, 0]]: its CSC arrays (canonical, as the
+    model's fixed pattern) and its dense copy."""
+    import scipy.sparse as sps
+
+    rng = np.random.default_rng(seed)
+    K = rng.normal(size=(n, n))
+    K = K @ K.T + n * np.eye(n)
+    G = rng.normal(size=(m, n))
+    A = np.block([[K, G.T], [G, np.zeros((m, m))]])
+    csc = sps.csc_matrix(A)
+    return csc.data.copy(), csc.indices.astype(np.int32), csc.indptr.astype(np.int32), A
+
+
+@pytest.mark.parametrize("n, m", [(5, 2), (90, 23)])
+def test_dense_and_sparse_lu_solve_the_assembled_pattern(n: int, m: int) -> None:
+    """Both solvers, fed the CSC arrays, solve the saddle-point system to round-off
+    (residual relative to |A| |x| + |b|) and leave the arrays as they were."""
+    from drivedyn.solver.linear import DenseLU, SparseLU
+
+    data, indices, indptr, A = _saddle_csc(n, m, 3)
+    b = np.arange(1.0, n + m + 1.0)
+    kept = (data.copy(), indices.copy(), indptr.copy())
+    for lin in (DenseLU(), SparseLU()):
+        lin.factor_csc(data, indices, indptr, n + m)
+        x = lin.solve(b)
+        scale = np.abs(A) @ np.abs(x) + np.abs(b)
+        assert np.max(np.abs(A @ x - b) / scale) < 1e-13
+        for arr, ref in zip((data, indices, indptr), kept, strict=True):
+            assert np.array_equal(arr, ref)
+    # refactorising another matrix of the same size reuses the work array
+    lin = DenseLU()
+    lin.factor_csc(data, indices, indptr, n + m)
+    lin.factor_csc(2.0 * data, indices, indptr, n + m)
+    assert np.allclose(A @ lin.solve(b), 0.5 * b, rtol=1e-10, atol=1e-10)
+
+
+def test_dense_lu_refuses_a_singular_matrix() -> None:
+    from drivedyn.solver.linear import DenseLU
+
+    data, indices, indptr, _ = _saddle_csc(4, 2, 5)
+    cols = np.repeat(np.arange(6), np.diff(indptr))
+    data = np.where(cols == 5, 0.0, data)    # a zero column: exactly singular
+    with pytest.raises(np.linalg.LinAlgError):
+        DenseLU().factor_csc(data, indices, indptr, 6)
+
+
+def test_default_linear_solver_by_size() -> None:
+    from drivedyn.solver.linear import DENSE_MAX, DenseLU, SparseLU, default_linear_solver
+
+    assert isinstance(default_linear_solver(113), DenseLU)      # the TORSEN Type B bench
+    assert isinstance(default_linear_solver(DENSE_MAX + 1), SparseLU)

@@ -109,6 +109,12 @@ class System:
         m = self.model
         return sp.csc_matrix((self.data.copy(), m.indices, m.indptr), shape=(m.neq, m.neq))
 
+    def factor(self, lin) -> None:
+        """Factorise the last assembled matrix with ``lin`` (a
+        :class:`~drivedyn.solver.linear.LinearSolver`) straight from the CSC arrays."""
+        m = self.model
+        lin.factor_csc(self.data, m.indices, m.indptr, m.neq)
+
     def reset_tangent(self) -> None:
         self.Tn[:] = np.eye(3)
 

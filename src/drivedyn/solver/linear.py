@@ -23,6 +23,12 @@ class LinearSolver(abc.ABC):
     def solve(self, b: np.ndarray) -> np.ndarray:
         """Solve with the last factorisation; ``b`` (neq,)."""
 
+    def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
+                   n: int) -> None:
+        """Factorise the n x n matrix given by its CSC arrays (the model's fixed pattern);
+        ``data`` is not kept."""
+        self.factor(sp.csc_matrix((data.copy(), indices, indptr), shape=(n, n)))
+
 
 @njit(cache=True)
 def _lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
@@ -86,16 +92,36 @@ class SparseLU(LinearSolver):
         return x
 
 
+@njit(cache=True)
+def _scatter_dense(data, indices, indptr, out):
+    """out[:, :] = the CSC matrix (column-major ``out``, duplicates summed)."""
+    n = out.shape[1]
+    out[:, :] = 0.0
+    for j in range(n):
+        for k in range(indptr[j], indptr[j + 1]):
+            out[indices[k], j] += data[k]
+
+
 class DenseLU(LinearSolver):
-    """LAPACK LU; faster than SuperLU for tiny systems (a few dozen unknowns)."""
+    """LAPACK LU (getrf/getrs with partial pivoting); faster than SuperLU up to about 150
+    unknowns: for the 113 unknowns of the TORSEN Type B, getrf takes about 60 us where
+    SuperLU with its factor extraction takes about 450 us (benchmarks/README.md)."""
 
     def __init__(self) -> None:
         self._lu = None
+        self._a: np.ndarray | None = None
 
     def factor(self, A: sp.csc_matrix) -> None:
-        Ad = A.toarray()
-        lu, piv = sla.lu_factor(Ad, check_finite=False)
-        if np.any(np.abs(np.diag(lu)) <= 1e-300) or not np.all(np.isfinite(lu)):
+        A = sp.csc_matrix(A)
+        self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
+
+    def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
+                   n: int) -> None:
+        if self._a is None or self._a.shape[0] != n:
+            self._a = np.zeros((n, n), order="F")
+        _scatter_dense(data, indices, indptr, self._a)
+        lu, piv, info = _getrf(self._a, overwrite_a=True)
+        if info != 0 or not np.all(np.isfinite(lu)):
             raise np.linalg.LinAlgError("singular matrix")
         self._lu = (lu, piv)
 
@@ -105,8 +131,15 @@ class DenseLU(LinearSolver):
 
 
 _getrs = sla.lapack.get_lapack_funcs("getrs", (np.zeros(1),))
+_getrf = sla.lapack.get_lapack_funcs("getrf", (np.zeros(1),))
+
+
+#: largest system solved by the dense LU: the TORSEN benches (92 and 113 unknowns) run 1.6-1.7x
+#: faster with it than with SuperLU (benchmarks/README.md); LAPACK's getrf grows as n^3 and
+#: loses to the sparse LU of the long chains (hundreds to thousands of unknowns)
+DENSE_MAX = 150
 
 
 def default_linear_solver(neq: int) -> LinearSolver:
-    """Dense LU below 60 unknowns, sparse LU above."""
-    return DenseLU() if neq < 60 else SparseLU()
+    """Dense LU up to :data:`DENSE_MAX` unknowns, sparse LU above."""
+    return DenseLU() if neq <= DENSE_MAX else SparseLU()

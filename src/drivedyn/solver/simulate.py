@@ -52,13 +52,13 @@ def consistent_initial_state(model: Model, st: State, sys: System | None = None,
             sys.evaluate(st, 1.0, 0.0, 0.0, MODE_VEL, True)
             rhs = np.zeros(model.neq)
             rhs[nd:] = -sys.r[nd:]
-            lin.factor(sys.matrix())
+            sys.factor(lin)
             dv = lin.solve(rhs)
             st.v += dv[:nd]
         st.vd[:] = 0.0
         st.lam[:] = 0.0
         sys.evaluate(st, 1.0, 0.0, 0.0, MODE_ACC, True)
-        lin.factor(sys.matrix())
+        sys.factor(lin)
         sol = lin.solve(-sys.r)
     except np.linalg.LinAlgError as exc:
         raise InitializationError(
@@ -86,7 +86,7 @@ def _settle_active_set(model: Model, st: State, sys: System, lin: LinearSolver,
         if not finite or (rq <= 1e-12 and ph <= 1e-14):
             return
         try:
-            lin.factor(sys.matrix())
+            sys.factor(lin)
         except np.linalg.LinAlgError:
             return
         d = lin.solve(-sys.r)
@@ -140,7 +140,7 @@ def simulate(
         step: :class:`FixedStep` (default h = 1 ms) or :class:`AdaptiveStep`.
         output_dt, output_times: when to record (default about 1000 outputs); steps are
             shortened to land on output times.
-        linear_solver: default sparse LU (dense below 60 unknowns).
+        linear_solver: default: dense LU up to 150 unknowns, sparse LU above.
         progress: called as ``progress(t, h, steps)`` after every accepted step.
         initialize: make velocities and accelerations consistent first (default True).
         variables: glob patterns of the sensors to keep (default all), e.g.

@@ -72,7 +72,7 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
                     g.commit(g, st)
             return st
         try:
-            lin.factor(sys.matrix())
+            sys.factor(lin)
         except np.linalg.LinAlgError as exc:
             raise StaticsError(f"singular stiffness matrix ({exc}): the mechanism has a free "
                                "motion with no stiffness; constrain or drive it") from None

@@ -143,7 +143,7 @@ class Stepper:
         tangents(self.hdq, self.model.nn, sys.Tn)
         sys.evaluate(st, 1.0 / (self.bp * h * h), self.gp / (self.bp * h), 1.0, MODE_DYN, True)
         try:
-            self.lin.factor(sys.matrix())
+            sys.factor(self.lin)
         except (np.linalg.LinAlgError, ValueError) as exc:
             self.lu_h = None
             return StepOutcome(StepStatus.SINGULAR, message=str(exc))
