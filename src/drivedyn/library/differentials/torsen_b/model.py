@@ -211,7 +211,7 @@ def _washer(sp: Spec, p: TorsenBFile, name: str, marker_a: str, marker_b: str, r
     law = p.contact.washer_law(r_int, r_ext)
     if w.squeeze_film:
         sp.add(SqueezeFilm(name, marker_a, marker_b, viscosity=w.viscosity, r_int=r_int,
-                           r_ext=r_ext, roughness=w.roughness, contact=law,
+                           r_ext=r_ext, roughness=p.contact.elastic_washers.roughness, contact=law,
                            friction=friction, cavitation=True))
     else:
         sp.add(ThrustWasherContact(name, marker_a, marker_b, law=law, r_int=r_int,

@@ -84,7 +84,7 @@ class Washers(Strict):
     right: WasherFace
     squeeze_film: bool = False
     viscosity: Annotated[float, scalar((-1, 1, -1, 0), positive=True)] = 0.05
-    roughness: NonNegLength = 4e-7
+    # the faces' roughness (the film's metal-contact height) is contact.elastic_washers.roughness
 
 
 class Pockets(Strict):
