@@ -105,7 +105,7 @@ def _scatter_dense(data, indices, indptr, out):
 class DenseLU(LinearSolver):
     """LAPACK LU (getrf/getrs with partial pivoting); faster than SuperLU up to about 150
     unknowns: for the 113 unknowns of the TORSEN Type B, getrf takes about 60 us where
-    SuperLU with its factor extraction takes about 450 us (benchmarks/README.md)."""
+    SuperLU with its factor extraction takes about 470 us (benchmarks/README.md)."""
 
     def __init__(self) -> None:
         self._lu = None
@@ -134,7 +134,7 @@ _getrs = sla.lapack.get_lapack_funcs("getrs", (np.zeros(1),))
 _getrf = sla.lapack.get_lapack_funcs("getrf", (np.zeros(1),))
 
 
-#: largest system solved by the dense LU: the TORSEN benches (92 and 113 unknowns) run 1.6-1.7x
+#: largest system solved by the dense LU: the TORSEN benches (92 and 113 unknowns) run 1.7-1.8x
 #: faster with it than with SuperLU (benchmarks/README.md); LAPACK's getrf grows as n^3 and
 #: loses to the sparse LU of the long chains (hundreds to thousands of unknowns)
 DENSE_MAX = 150
