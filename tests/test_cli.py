@@ -139,3 +139,26 @@ def test_no_cases_registered(runner: CliRunner, fake_cases: dict,
     res = runner.invoke(main, ["validate", "--json"])
     assert res.exit_code == 0
     assert json.loads(res.stdout) == []
+
+
+def test_command_line_starts_without_the_numerical_stack() -> None:
+    """`drivedyn --help` and the command tree load neither numba, scipy nor xarray (the
+    package exports its names lazily; the commands import what they run): the cold start of
+    the command line is the import of click and numpy only."""
+    import subprocess
+    import sys
+
+    code = ("import sys, drivedyn.cli, drivedyn; "
+            "print(sorted(m for m in ('numba', 'scipy', 'xarray', 'matplotlib') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[]"
+    # the lazy exports resolve to the defining modules' objects
+    import drivedyn
+    from drivedyn.solver import simulate
+
+    assert drivedyn.simulate is simulate
+    assert set(drivedyn.__all__) == set(dir(drivedyn)) & set(drivedyn.__all__)
+    with pytest.raises(AttributeError, match="no_such_name"):
+        drivedyn.no_such_name  # noqa: B018

@@ -8,57 +8,70 @@ Build a :class:`Spec`, ``compile_model`` it, ``simulate`` it::
     results = dd.simulate(dd.compile_model(spec), t_end=1.0)
 """
 
-from drivedyn.config import ModelFileError, load_model
-from drivedyn.elements import (
-    Cylindrical,
-    Fixed,
-    Force,
-    FrictionLaw,
-    GearPair,
-    Hinge,
-    JointDriver,
-    JournalContact,
-    NormalLaw,
-    ParallelAxes,
-    Planar,
-    PlaneContact,
-    Prismatic,
-    Screw,
-    SpeedDifferenceDriver,
-    Spherical,
-    SpringDamper,
-    SqueezeFilm,
-    ThrustWasherContact,
-    Torque,
-    TorsionalSpringDamper,
-    UnilateralContact,
-    Universal,
-)
-from drivedyn.elements.beams import (
-    STEEL,
-    GeneralSection,
-    GeometricallyExactBeam,
-    HollowCircular,
-    Material,
-    Rectangular,
-    SolidCircular,
-)
-from drivedyn.elements.flexible import FlexibleBody, FlexibleInterface, FlexibleWasherContact
-from drivedyn.model import GROUND, Model, ModelError, Spec, State, compile_model
-from drivedyn.model.beams import add_straight_beam
-from drivedyn.model.flexible import add_flexible_body
-from drivedyn.results import Results, load_results
-from drivedyn.solver import (
-    AdaptiveStep,
-    FixedStep,
-    GeneralizedAlpha,
-    Newton,
-    element_outputs,
-    linear_modes,
-    simulate,
-    solve_static,
-)
-from drivedyn.timefunctions import Constant, Ramp, SmoothStep, Table
+import importlib
+from typing import Any
+
+# public names -> defining module, imported on first use (PEP 562): `import drivedyn` and
+# the command line stay fast (`drivedyn --help` must not load numba and the kernels)
+_EXPORTS: dict[str, str] = {
+    "AdaptiveStep": "drivedyn.solver",
+    "Constant": "drivedyn.timefunctions",
+    "Cylindrical": "drivedyn.elements",
+    "Fixed": "drivedyn.elements",
+    "FixedStep": "drivedyn.solver",
+    "FlexibleBody": "drivedyn.elements.flexible",
+    "FlexibleInterface": "drivedyn.elements.flexible",
+    "FlexibleWasherContact": "drivedyn.elements.flexible",
+    "Force": "drivedyn.elements",
+    "FrictionLaw": "drivedyn.elements",
+    "GROUND": "drivedyn.model",
+    "GearPair": "drivedyn.elements",
+    "GeneralSection": "drivedyn.elements.beams",
+    "GeneralizedAlpha": "drivedyn.solver",
+    "GeometricallyExactBeam": "drivedyn.elements.beams",
+    "Hinge": "drivedyn.elements",
+    "HollowCircular": "drivedyn.elements.beams",
+    "JointDriver": "drivedyn.elements",
+    "JournalContact": "drivedyn.elements",
+    "Material": "drivedyn.elements.beams",
+    "Model": "drivedyn.model",
+    "ModelError": "drivedyn.model",
+    "ModelFileError": "drivedyn.config",
+    "Newton": "drivedyn.solver",
+    "NormalLaw": "drivedyn.elements",
+    "ParallelAxes": "drivedyn.elements",
+    "Planar": "drivedyn.elements",
+    "PlaneContact": "drivedyn.elements",
+    "Prismatic": "drivedyn.elements",
+    "Ramp": "drivedyn.timefunctions",
+    "Rectangular": "drivedyn.elements.beams",
+    "Results": "drivedyn.results",
+    "STEEL": "drivedyn.elements.beams",
+    "Screw": "drivedyn.elements",
+    "SmoothStep": "drivedyn.timefunctions",
+    "SolidCircular": "drivedyn.elements.beams",
+    "Spec": "drivedyn.model",
+    "SpeedDifferenceDriver": "drivedyn.elements",
+    "Spherical": "drivedyn.elements",
+    "SpringDamper": "drivedyn.elements",
+    "SqueezeFilm": "drivedyn.elements",
+    "State": "drivedyn.model",
+    "Table": "drivedyn.timefunctions",
+    "ThrustWasherContact": "drivedyn.elements",
+    "Torque": "drivedyn.elements",
+    "TorsionalSpringDamper": "drivedyn.elements",
+    "UnilateralContact": "drivedyn.elements",
+    "Universal": "drivedyn.elements",
+    "add_flexible_body": "drivedyn.model.flexible",
+    "add_straight_beam": "drivedyn.model.beams",
+    "compile_model": "drivedyn.model",
+    "element_outputs": "drivedyn.solver",
+    "linear_modes": "drivedyn.solver",
+    "load_model": "drivedyn.config",
+    "load_results": "drivedyn.results",
+    "simulate": "drivedyn.solver",
+    "solve_static": "drivedyn.solver",
+}
 
 __version__ = "0.1.0"
 
@@ -121,3 +134,16 @@ __all__ = [
     "simulate",
     "solve_static",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'drivedyn' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
