@@ -123,7 +123,12 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
 
     t0 = time.perf_counter()
     case = "torsen_c_flexible"
-    p, _, _ = read_library_file("torsen-c")
+    # the flexible machinery against the rigid model with the same, soft face law (Hertz,
+    # 1e10 N/m^1.5): the washers' and case's compliance then hardly moves the pressure and
+    # the TDRs agree within the mesh faceting (0.5 %). With the elastic washer law (faces
+    # 0.3 um at rated load) the flexible case's seat concentrates the pressure outwards and
+    # the coast TDRs rise by 1.6 % and 4.0 %: a prediction, see docs/flexible.md
+    p, _, _ = read_library_file("torsen-c", ["contact.elastic_washers.enabled=false"])
     pf = flexible_params(p)
     out: list[CaseResult] = []
     figures: list[str] = []
