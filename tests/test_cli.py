@@ -159,6 +159,11 @@ def test_command_line_starts_without_the_numerical_stack() -> None:
     from drivedyn.solver import simulate
 
     assert drivedyn.simulate is simulate
-    assert set(drivedyn.__all__) == set(dir(drivedyn)) & set(drivedyn.__all__)
+    # every exported name resolves, to the object of the module it is defined in
+    for name in drivedyn.__all__:
+        obj = getattr(drivedyn, name)
+        if hasattr(obj, "__module__") and not isinstance(obj, str | int | float):
+            assert obj.__module__.startswith("drivedyn."), (name, obj.__module__)
+    assert set(drivedyn.__all__) <= set(dir(drivedyn))
     with pytest.raises(AttributeError, match="no_such_name"):
         drivedyn.no_such_name  # noqa: B018

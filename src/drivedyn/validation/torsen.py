@@ -127,7 +127,7 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     # 1e10 N/m^1.5): the washers' and case's compliance then hardly moves the pressure and
     # the TDRs agree within the mesh faceting (0.5 %). With the elastic washer law (faces
     # 0.3 um at rated load) the flexible case's seat concentrates the pressure outwards and
-    # the coast TDRs rise by 1.6 % and 4.0 %: a prediction, see docs/flexible.md
+    # the coast TDRs rise by 1.45 % and 3.95 %: a prediction, see docs/flexible.md
     p, _, _ = read_library_file("torsen-c", ["contact.elastic_washers.enabled=false"])
     pf = flexible_params(p)
     out: list[CaseResult] = []
