@@ -1,0 +1,169 @@
+"""Reader of tyre property files (``.tir``, the TNO/Adams MF-Tyre format).
+
+A file is a sequence of ``[SECTION]`` headers and ``KEY = value`` lines; ``$`` starts a comment
+(outside quotes), lines starting with ``!`` are comments, values are numbers (a Fortran ``D``
+exponent is accepted) or quoted strings. Sections that hold tables (``[SHAPE]``,
+``[LOADED_RADIUS]`` ...) or that this reader does not use are skipped; the sections of the
+Magic Formula are read strictly: a line that is not ``KEY = value``, a value that is not a
+number, a key given twice or a key the formula needs but the file lacks is an error naming the
+file, the section and the key. Keys the file omits take MF-Tyre's defaults (scaling factors 1,
+coefficients 0, :data:`~drivedyn.tyres.magic_formula.DEFAULTS`).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from drivedyn.errors import ModelError
+from drivedyn.tyres.magic_formula import GROUPS, INDEX, pack
+
+#: section of each key the formula reads
+SECTION_OF: dict[str, str] = {
+    "FITTYP": "MODEL", "LONGVL": "MODEL", "VXLOW": "MODEL",
+    "FNOMIN": "VERTICAL", "VERTICAL_STIFFNESS": "VERTICAL", "VERTICAL_DAMPING": "VERTICAL",
+    "BREFF": "VERTICAL", "DREFF": "VERTICAL", "FREFF": "VERTICAL",
+    "UNLOADED_RADIUS": "DIMENSION", "WIDTH": "DIMENSION",
+    "NOMPRES": "OPERATING_CONDITIONS", "INFLPRES": "OPERATING_CONDITIONS",
+    "LONGITUDINAL_STIFFNESS": "STRUCTURAL", "LATERAL_STIFFNESS": "STRUCTURAL",
+    **{k: "SCALING_COEFFICIENTS" for k in GROUPS["scaling"]},
+    **{k: "LONGITUDINAL_COEFFICIENTS" for k in GROUPS["longitudinal"]},
+    **{k: "LATERAL_COEFFICIENTS" for k in GROUPS["lateral"]},
+    **{k: "ALIGNING_COEFFICIENTS" for k in GROUPS["aligning"]},
+    **{k: "ROLLING_COEFFICIENTS" for k in GROUPS["rolling"]},
+}
+#: keys without which the formula has no meaning
+REQUIRED = ("FITTYP", "UNLOADED_RADIUS", "FNOMIN", "VERTICAL_STIFFNESS", "PCX1", "PDX1",
+            "PKX1", "PCY1", "PDY1", "PKY1", "PKY2", "QBZ1", "QCZ1", "QDZ1")
+#: keys that must be > 0
+POSITIVE = ("UNLOADED_RADIUS", "FNOMIN", "VERTICAL_STIFFNESS", "PCX1", "PDX1", "PCY1", "PDY1",
+            "LONGVL", "LFZO")
+#: FITTYP values and the version they stand for
+VERSIONS = {6: "5.2", 21: "5.2", 52: "5.2", 61: "6.1", 62: "6.2"}
+#: sections read strictly (the others may hold tables or vendor data)
+STRICT = {"MODEL", "DIMENSION", "OPERATING_CONDITIONS", "VERTICAL", "STRUCTURAL",
+          "SCALING_COEFFICIENTS", "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS",
+          "ALIGNING_COEFFICIENTS", "ROLLING_COEFFICIENTS", "OVERTURNING_COEFFICIENTS",
+          "TURNSLIP_COEFFICIENTS"}
+
+_SECTION = re.compile(r"^\[\s*([A-Za-z0-9_]+)\s*\]\s*$")
+_ASSIGN = re.compile(r"^([A-Za-z][A-Za-z0-9_]*)\s*=\s*(.*?)\s*$")
+
+
+@dataclass
+class TirFile:
+    """The parsed content of a property file.
+
+    Attributes:
+        path: file read.
+        sections: ``{SECTION: {KEY: value}}`` (numbers as float, strings without quotes).
+        lines: ``{(SECTION, KEY): line number}`` for messages.
+    """
+
+    path: str
+    sections: dict[str, dict[str, float | str]] = field(default_factory=dict)
+    lines: dict[tuple[str, str], int] = field(default_factory=dict)
+
+    def where(self, section: str, key: str) -> str:
+        """``"file.tir [SECTION] KEY (line N)"`` for messages."""
+        n = self.lines.get((section, key))
+        return f"{self.path} [{section}] {key}" + (f" (line {n})" if n else "")
+
+
+def _strip_comment(line: str) -> str:
+    out, quote = [], False
+    for ch in line:
+        if ch == "'" or ch == '"':
+            quote = not quote
+        elif ch == "$" and not quote:
+            break
+        out.append(ch)
+    return "".join(out).strip()
+
+
+def _value(text: str) -> float | str:
+    t = text.strip()
+    if len(t) >= 2 and t[0] in "'\"" and t[-1] == t[0]:
+        return t[1:-1]
+    return float(t.replace("D", "E").replace("d", "e"))
+
+
+def parse_tir(path: str | Path) -> TirFile:
+    """Parse a ``.tir`` file (no evaluation of its content); :class:`ModelError` naming the
+    line for syntax errors."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise ModelError(f"tyre file {str(p)!r}: cannot be read ({exc.strerror})") from None
+    tf = TirFile(str(p))
+    section = ""
+    for n, raw in enumerate(text.splitlines(), start=1):
+        if raw.lstrip().startswith("!"):
+            continue
+        line = _strip_comment(raw)
+        if not line:
+            continue
+        m = _SECTION.match(line)
+        if m:
+            section = m.group(1).upper()
+            tf.sections.setdefault(section, {})
+            continue
+        if section not in STRICT:
+            continue  # tables and vendor sections
+        m = _ASSIGN.match(line)
+        if not m:
+            raise ModelError(f"tyre file {tf.path} [{section}] line {n}: expected "
+                             f"'KEY = value', got {raw.strip()!r}")
+        key = m.group(1).upper()
+        if key in tf.sections[section]:
+            raise ModelError(f"{tf.where(section, key)}: given twice (again at line {n})")
+        try:
+            val = _value(m.group(2))
+        except ValueError:
+            raise ModelError(f"tyre file {tf.path} [{section}] {key} (line {n}): expected a "
+                             f"number, got {m.group(2)!r}") from None
+        if isinstance(val, float) and not math.isfinite(val):
+            raise ModelError(f"tyre file {tf.path} [{section}] {key} (line {n}): expected a "
+                             f"finite number, got {m.group(2)!r}")
+        tf.sections[section][key] = val
+        tf.lines[(section, key)] = n
+    return tf
+
+
+def coefficients(tf: TirFile) -> tuple[np.ndarray, int]:
+    """The coefficient array ``P`` and FITTYP of a parsed file; refuses a missing required
+    key, an unsupported FITTYP and impossible values, naming section and key."""
+    values: dict[str, float] = {}
+    for key, section in SECTION_OF.items():
+        sec = tf.sections.get(section, {})
+        if key not in sec:
+            continue
+        v = sec[key]
+        if isinstance(v, str):
+            raise ModelError(f"{tf.where(section, key)}: expected a number, got {v!r}")
+        values[key] = v
+    for key in REQUIRED:
+        if key not in values:
+            section = SECTION_OF[key]
+            have = "" if section in tf.sections else f" (the file has no [{section}] section)"
+            raise ModelError(f"tyre file {tf.path} [{section}] {key}: missing; the Magic "
+                             f"Formula needs it{have}")
+    fittyp = int(values["FITTYP"])
+    if fittyp not in VERSIONS or fittyp != values["FITTYP"]:
+        raise ModelError(f"{tf.where('MODEL', 'FITTYP')}: expected one of "
+                         f"{', '.join(map(str, VERSIONS))} (MF 5.2, 6.1, 6.2), got "
+                         f"{values['FITTYP']!r}")
+    P = pack(values)
+    for key in POSITIVE:
+        if P[INDEX[key]] <= 0.0:
+            raise ModelError(f"{tf.where(SECTION_OF[key], key)}: must be > 0, got "
+                             f"{P[INDEX[key]]!r}")
+    if P[INDEX["VERTICAL_DAMPING"]] < 0.0:
+        raise ModelError(f"{tf.where('VERTICAL', 'VERTICAL_DAMPING')}: must be >= 0, got "
+                         f"{P[INDEX['VERTICAL_DAMPING']]!r}")
+    return P, fittyp
