@@ -20,7 +20,7 @@ from functools import partial
 from drivedyn.elements import REGISTRY
 from drivedyn.elements.joints import JointFamily
 from drivedyn.model.spec import Spec
-from element_cases import basic, beams, contact, flexible, gears
+from element_cases import basic, beams, contact, flexible, gears, tyres
 
 _JOINTS = [f.spec_type for f in REGISTRY.values() if isinstance(f, JointFamily)]
 
@@ -44,4 +44,5 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "flexible_body": list(flexible.CASES),
     "flexible_washer_contact": [flexible.washer_case],
     "flexible_interface": [flexible.free_case, flexible.tie_case, flexible.average_tie_case],
+    "tyre": list(tyres.CASES),
 }

@@ -28,6 +28,7 @@ from drivedyn.elements.joints import (
 )
 from drivedyn.elements.loads import Force, Torque
 from drivedyn.elements.springs import SpringDamper, TorsionalSpringDamper
+from drivedyn.elements.tyre import RoadPatch, TyreContact
 
 __all__ = [
     "REGISTRY",
@@ -48,6 +49,7 @@ __all__ = [
     "ParallelAxes",
     "Planar",
     "PlaneContact",
+    "RoadPatch",
     "Prismatic",
     "Screw",
     "SpeedDifferenceDriver",
@@ -57,6 +59,7 @@ __all__ = [
     "ThrustWasherContact",
     "Torque",
     "TorsionalSpringDamper",
+    "TyreContact",
     "UnilateralContact",
     "Universal",
     "register",

@@ -1,0 +1,404 @@
+"""A tyre on a flat road (family ``tyre``): Magic Formula forces on a wheel body.
+
+:class:`TyreContact` attaches a :class:`drivedyn.tyres.Tyre` to a marker on the wheel: origin
+at the wheel centre, z axis along the spin axis pointing to the tyre's left (the ISO-W +y
+axis: forward rolling is a positive spin about it). The road is the plane ``z = road_height``
+of the global frame (z up) with a friction factor per x-interval (:class:`RoadPatch`, e.g.
+split-mu or a mu-jump).
+
+Per evaluation, in the road axes of the tyre (``e_x = a x n`` heading, ``e_y = n x e_x``,
+``n`` the road normal, ``a`` the spin axis):
+
+* deflection ``rho = R0 - h / cos(gamma)`` (``h`` height of the centre, camber
+  ``gamma = asin(-a . n)``: positive when the wheel top leans to the tyre's +y side);
+  vertical load ``Fz = max(0, Cz rho + Kz rho_dot)`` (the file's VERTICAL_STIFFNESS and
+  VERTICAL_DAMPING);
+* slip velocities of the contact point (``R_e`` the effective rolling radius)
+  ``V_sx = e_x . (v_c + omega x (-R_e n))``, ``V_sy = e_y . (...)``; forward speed
+  ``V_x = e_x . v_c``;
+* transient slips (Pacejka 2012 sec. 7.2, the first-order model written with the slip
+  velocities so that standstill is regular):
+  ``sigma_k dkappa'/dt + |V_x| kappa' = -V_sx``, ``sigma_a dalpha'/dt + |V_x| alpha' = V_sy``
+  (``alpha'`` is tan of the transient slip angle), integrated by backward Euler from the
+  values committed at the last accepted step; with ``relaxation=False`` the steady slips
+  ``kappa = -V_sx/|V_x|``, ``tan alpha = V_sy/|V_x|`` with ``|V_x| >= VXLOW/10``;
+* below VXLOW a damping ``kappa' - d w V_sx/VXLOW``, ``alpha' + d w V_sy/VXLOW`` with
+  ``w = (1 + cos(pi |V_x|/VXLOW))/2`` stops the carcass spring ringing at standstill
+  (MF-Tyre's low-speed damping; ``d = low_speed_damping``);
+* forces ``Fx, Fy, Mz`` from the formula at the contact point below the centre, rolling
+  resistance ``My`` opposing the spin (smoothed over 0.01 m/s of rolling speed).
+
+The tangent matrices are central finite differences of the element's own residual over its
+12 local coordinates (6 positions with right rotation perturbations, 6 velocities): the
+combined-slip formula's derivatives in closed form would be long and fragile, and a tyre
+group has a handful of elements. The registry tangent test checks them like any other.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+from numba import njit
+
+import drivedyn.elements.scaffold as sc
+from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.building import make_group, node_dofs, what_of
+from drivedyn.elements.checks import check_number
+from drivedyn.errors import ModelError
+from drivedyn.rotations import exp_so3
+from drivedyn.tyres import Tyre
+from drivedyn.tyres.magic_formula import NOUT, NPAR, effective_radius, evaluate
+
+MAX_PATCHES = 8
+NSTATE = 3  # kappa', alpha' (tan), time of the committed values
+NAUX = 19
+FD_POS = 1e-7  # [m] and [rad]: steps of the in-kernel finite differences
+FD_VEL = 1e-6  # [m/s] and [rad/s]
+V_ROLL = 0.01  # [m/s] rolling speed over which the rolling resistance changes sign
+
+
+@dataclass(frozen=True)
+class RoadPatch:
+    """Road friction factor ``mu`` on ``x_start <= x < x_end`` [m] (global x of the contact
+    point), blended linearly over ``TyreContact.transition`` at the edges."""
+
+    x_start: float
+    x_end: float
+    mu: float
+
+
+@dataclass(frozen=True)
+class TyreContact(ElementSpec):
+    """A tyre on the flat road under the wheel of ``marker`` (see the module docstring).
+
+    Attributes:
+        name: unique element name.
+        marker: marker on the wheel: origin at the centre, z = spin axis (tyre's +y).
+        tyre: the :class:`~drivedyn.tyres.Tyre` (``read_tir``, ``simple_tyre``).
+        mu: road friction factor (on LMUX, LMUY; on D for simple tyres) outside the patches.
+        patches: :class:`RoadPatch` (at most 8) overriding ``mu`` on x-intervals.
+        transition: blend length [m] > 0 of the friction at patch edges.
+        road_height: z of the road [m].
+        pressure: inflation pressure [Pa]; 0 = the file's INFLPRES (MF 6.x only).
+        relaxation: first-order transient slips (True) or steady slips.
+        low_speed_damping: ``d`` [-] >= 0 of the low-speed damping.
+        vertical_damping: Kz [N s/m]; None = the file's VERTICAL_DAMPING.
+    """
+
+    name: str
+    marker: str
+    tyre: Tyre
+    mu: float = 1.0
+    patches: tuple[RoadPatch, ...] = ()
+    transition: float = 0.05
+    road_height: float = 0.0
+    pressure: float = 0.0
+    relaxation: bool = True
+    low_speed_damping: float = 0.2
+    vertical_damping: float | None = None
+    family: ClassVar[str] = "tyre"
+    units: ClassVar[dict[str, str]] = {"transition": "m", "road_height": "m", "pressure": "Pa",
+                                       "vertical_damping": "N s/m"}
+
+    def markers(self) -> tuple[str, ...]:
+        return (self.marker,)
+
+    def validate(self) -> None:
+        what = what_of(self)
+        if not isinstance(self.tyre, Tyre):
+            raise ModelError(f"{what}.tyre: expected a Tyre (drivedyn.tyres.read_tir or "
+                             f"simple_tyre), got {type(self.tyre).__name__}")
+        check_number(what, "mu", self.mu, 0.0)
+        check_number(what, "transition", self.transition, 0.0)
+        if self.transition <= 0.0:
+            raise ModelError(f"{what}.transition: must be > 0 m, got {self.transition!r}")
+        check_number(what, "pressure", self.pressure, 0.0)
+        check_number(what, "low_speed_damping", self.low_speed_damping, 0.0)
+        if self.vertical_damping is not None:
+            check_number(what, "vertical_damping", self.vertical_damping, 0.0)
+        if not math.isfinite(self.road_height):
+            raise ModelError(f"{what}.road_height: expected a finite number, got "
+                             f"{self.road_height!r}")
+        if len(self.patches) > MAX_PATCHES:
+            raise ModelError(f"{what}.patches: at most {MAX_PATCHES}, got {len(self.patches)}")
+        for i, p in enumerate(self.patches):
+            check_number(f"{what}.patches[{i}]", "mu", p.mu, 0.0)
+            if not (math.isfinite(p.x_start) and math.isfinite(p.x_end)
+                    and p.x_end > p.x_start):
+                raise ModelError(f"{what}.patches[{i}]: expected x_start < x_end [m], got "
+                                 f"{p.x_start!r}, {p.x_end!r}")
+
+
+@njit(cache=True, inline="always")
+def _road_mu(x, mu0, patches, npatch, blend):
+    """Friction factor at global x: ``mu0`` outside the patches, each patch's mu inside,
+    linear over ``blend`` centred on the edges (later patches win where they overlap)."""
+    mu = mu0
+    for k in range(npatch):
+        x0 = patches[k, 0]
+        x1 = patches[k, 1]
+        w0 = min(max((x - x0) / blend + 0.5, 0.0), 1.0)
+        w1 = min(max((x1 - x) / blend + 0.5, 0.0), 1.0)
+        w = min(w0, w1)
+        mu = (1.0 - w) * mu + w * patches[k, 2]
+    return mu
+
+
+@njit(cache=True)
+def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, aux, rq):
+    """The residual ``rq`` (6,) of one tyre at node position ``xn`` (3,), rotation ``Rn``
+    (3, 3), velocity ``vn`` (3,) and body angular velocity ``Om`` (3,); ``aux`` (NAUX,) the
+    outputs, returns (potential energy, dissipated power)."""
+    mu0, blend, zroad, pres, relax, dlow, kz, _ = opt
+    for i in range(6):
+        rq[i] = 0.0
+    for i in range(NAUX):
+        aux[i] = 0.0
+    # wheel centre, spin axis, road axes
+    c = xn + Rn @ pm
+    a = Rn @ np.array([Rm[0, 2], Rm[1, 2], Rm[2, 2]])
+    an = a[2]  # a . n with n = +z
+    ex = np.array([a[1], -a[0], 0.0])  # a x n
+    cg = math.sqrt(ex[0] * ex[0] + ex[1] * ex[1])  # cos(camber)
+    ex /= cg
+    ey = np.array([-ex[1], ex[0], 0.0])  # n x e_x
+    gamma = math.asin(min(max(-an, -1.0), 1.0))
+    h = c[2] - zroad
+    r0 = P[4]
+    rho = r0 - h / cg
+    w = Rn @ Om  # angular velocity, global
+    arm = Rn @ pm
+    vc = vn + np.array([w[1] * arm[2] - w[2] * arm[1], w[2] * arm[0] - w[0] * arm[2],
+                        w[0] * arm[1] - w[1] * arm[0]])
+    vx = ex[0] * vc[0] + ex[1] * vc[1]
+    # state
+    kap_n = es0[0]
+    alp_n = es0[1]
+    tn = es0[2]
+    dt = t - tn if math.isfinite(tn) else 0.0
+    if dt < 0.0:
+        dt = 0.0
+    re = effective_radius(P, max(rho, 0.0))
+    # contact-point slip velocities: v_c + w x (-R_e n)
+    vpx = vc[0] - re * w[1]
+    vpy = vc[1] + re * w[0]
+    vsx = ex[0] * vpx + ex[1] * vpy
+    vsy = ey[0] * vpx + ey[1] * vpy
+    spin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2]
+    mu = _road_mu(c[0], mu0, patches, npatch, blend)
+    if rho <= 0.0:
+        aux[6] = kap_n
+        aux[7] = alp_n
+        aux[13] = mu
+        aux[14] = h
+        aux[15] = spin
+        aux[16] = vx
+        return 0.0, 0.0
+    rhod = -vc[2] / cg
+    fz = P[6] * rho + kz * rhod
+    if fz < 0.0:
+        fz = 0.0
+    # relaxation lengths at this load (the formula at zero slip)
+    evaluate(P, fz, 0.0, 0.0, gamma, vx, pres, mu, out)
+    sig_k = out[6]
+    sig_a = out[7]
+    avx = abs(vx)
+    vxlow = P[2]
+    if relax:
+        kap = (kap_n * sig_k - dt * vsx) / (sig_k + dt * avx)
+        alp = (alp_n * sig_a + dt * vsy) / (sig_a + dt * avx)
+    else:
+        vref = max(avx, 0.1 * vxlow)
+        kap = -vsx / vref
+        alp = vsy / vref
+    kap_f = kap
+    alp_f = alp
+    if avx < vxlow:
+        wl = 0.5 * (1.0 + math.cos(math.pi * avx / vxlow))
+        kap_f = kap - dlow * wl * vsx / vxlow
+        alp_f = alp + dlow * wl * vsy / vxlow
+    evaluate(P, fz, kap_f, math.atan(alp_f), gamma, vx, pres, mu, out)
+    fx = out[0]
+    fy = out[1]
+    mz = out[2]
+    rr = abs(out[3])
+    vroll = spin * re
+    my = -rr * vroll / math.sqrt(vroll * vroll + V_ROLL * V_ROLL)
+    F = fx * ex + fy * ey
+    F[2] += fz
+    # moment about the node origin: arm to the contact point below the centre
+    rc = arm.copy()
+    rc[2] -= h
+    M = np.array([rc[1] * F[2] - rc[2] * F[1], rc[2] * F[0] - rc[0] * F[2],
+                  rc[0] * F[1] - rc[1] * F[0]])
+    M[2] += mz
+    M += my * ey
+    Mb = Rn.T @ M
+    for i in range(3):
+        rq[i] = -F[i]
+        rq[3 + i] = -Mb[i]
+    # power of the tyre on the wheel (contact-point velocity), stored vertical energy
+    # contact point velocity v_c + w x (-h n), with w x n = (w1, -w0, 0)
+    vcp = vc + np.array([-h * w[1], h * w[0], 0.0])
+    pw = F[0] * vcp[0] + F[1] * vcp[1] + F[2] * vcp[2] + mz * w[2] + my * (
+        ey[0] * w[0] + ey[1] * w[1])
+    pot = 0.5 * P[6] * rho * rho
+    dis = -pw - P[6] * rho * rhod
+    aux[0] = fx
+    aux[1] = fy
+    aux[2] = fz
+    aux[3] = mz
+    aux[4] = my
+    aux[5] = kap_f
+    aux[6] = kap
+    aux[7] = alp
+    aux[8] = math.atan(alp_f)
+    aux[9] = gamma
+    aux[10] = rho
+    aux[11] = sig_k
+    aux[12] = sig_a
+    aux[13] = mu
+    aux[14] = h
+    aux[15] = spin
+    aux[16] = vx
+    aux[17] = vsx
+    aux[18] = dis
+    return pot, dis
+
+
+@njit(cache=True, inline="always")
+def _tyres(P, C, W, full):
+    params, opts, patches, npatch, pm, Rm = P
+    L, (out, ax, axd, rp, rm, Rp, vp, Op) = W
+    rq, _, _, Cd, K, _ = L
+    x, R, v, _, _, es, _, t = sc.state(C)
+    aux = C[sc.AUX]
+    for e in range(sc.count(C)):
+        n = sc.node(C, e, 0)
+        d0 = sc.first_dof(C, e)
+        s0 = sc.state_offset(C, e)
+        es0 = es[s0:s0 + NSTATE]
+        vn = v[d0:d0 + 3]
+        Om = v[d0 + 3:d0 + 6]
+        pot, dis = _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], x[n],
+                               R[n], vn, Om, es0, t, out, ax, rq)
+        if full:
+            K[:, :] = 0.0
+            Cd[:, :] = 0.0
+            for j in range(6):
+                for sgn in (1.0, -1.0):
+                    for i in range(3):
+                        Rp[i, :] = R[n, i, :]
+                        vp[i] = vn[i]
+                        Op[i] = Om[i]
+                    xp = x[n].copy()
+                    # positions: translation j < 3, right rotation j >= 3
+                    if j < 3:
+                        xp[j] += sgn * FD_POS
+                    else:
+                        ph = np.zeros(3)
+                        ph[j - 3] = sgn * FD_POS
+                        Rp[:, :] = R[n] @ exp_so3(ph)
+                    _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], xp,
+                                Rp, vn, Om, es0, t, out, axd, rp)
+                    for i in range(6):
+                        K[i, j] += sgn * rp[i] / (2.0 * FD_POS)
+                    # velocities
+                    if j < 3:
+                        vp[j] += sgn * FD_VEL
+                    else:
+                        Op[j - 3] += sgn * FD_VEL
+                    _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], x[n],
+                                R[n], vp, Op, es0, t, out, axd, rm)
+                    for i in range(6):
+                        Cd[i, j] += sgn * rm[i] / (2.0 * FD_VEL)
+        sc.scatter(C, L, e, 1, full)
+        sc.energy(C, e, 0.0, pot, 0.0, dis)
+        for k in range(NAUX):
+            aux[e, k] = ax[k]
+
+
+@njit(cache=True)
+def tyre_kernel(params, opts, patches, npatch, pm, Rm,
+                lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+                cM, cC, cK, mode, want, r, rabs, data, eout, aux):
+    sc.run(_tyres, (params, opts, patches, npatch, pm, Rm),
+           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+            r, rabs, data, eout, aux),
+           (local_arrays(6, 0), (np.zeros(NOUT), np.zeros(NAUX), np.zeros(NAUX), np.zeros(6),
+                                 np.zeros(6), np.zeros((3, 3)), np.zeros(3), np.zeros(3))))
+
+
+OUTPUTS = (
+    ("fx", "N", "longitudinal force on the wheel (tyre axes, ISO-W)"),
+    ("fy", "N", "lateral force on the wheel (tyre axes, ISO-W)"),
+    ("fz", "N", "vertical load"),
+    ("mz", "N m", "aligning moment"),
+    ("my", "N m", "rolling-resistance moment about the tyre's y axis"),
+    ("kappa", "1", "longitudinal slip the formula used (transient, with low-speed damping)"),
+    ("kappa_transient", "1", "transient longitudinal slip kappa'"),
+    ("tan_alpha_transient", "1", "transient slip (tan of the slip angle) alpha'"),
+    ("alpha", "rad", "slip angle the formula used"),
+    ("camber", "rad", "camber angle"),
+    ("deflection", "m", "radial deflection rho"),
+    ("sigma_kappa", "m", "longitudinal relaxation length"),
+    ("sigma_alpha", "m", "lateral relaxation length"),
+    ("road_mu", "1", "road friction factor under the tyre"),
+    ("height", "m", "height of the wheel centre above the road"),
+    ("spin", "rad/s", "wheel spin rate about its axis"),
+    ("vx", "m/s", "forward speed of the wheel centre"),
+    ("slip_speed", "m/s", "longitudinal slip velocity V_sx of the contact point"),
+    ("dissipated_power", "W", "power dissipated by the tyre (slip and vertical damping)"),
+)
+assert len(OUTPUTS) == NAUX
+
+
+def _commit(group: Group, state: Any) -> None:
+    """Keep the transient slips of the accepted step and its time."""
+    es = state.es
+    for e, off in enumerate(group.eoff):
+        es[off] = group.aux[e, 6]
+        es[off + 1] = group.aux[e, 7]
+        es[off + 2] = state.t
+
+
+class TyreFamily(Family):
+    name = "tyre"
+    spec_types = (TyreContact,)
+
+    def build(self, specs, ctx) -> Group:
+        nel = len(specs)
+        params = np.zeros((nel, NPAR))
+        opts = np.zeros((nel, 8))
+        patches = np.zeros((nel, MAX_PATCHES, 3))
+        npatch = np.zeros(nel, np.int64)
+        pm = np.zeros((nel, 3))
+        Rm = np.zeros((nel, 3, 3))
+        lnodes = np.zeros((nel, 1), np.int64)
+        eoff = np.zeros(nel, np.int64)
+        for e, s in enumerate(specs):
+            what = what_of(s)
+            s.validate()
+            lnodes[e, 0], pm[e], Rm[e] = ctx.marker(s.marker, what)
+            if lnodes[e, 0] == ctx.nn:
+                raise ModelError(f"{what}: marker {s.marker!r} is on the ground; a tyre must "
+                                 "be on a wheel body")
+            params[e] = s.tyre.params
+            kz = s.tyre.vertical_damping if s.vertical_damping is None else s.vertical_damping
+            opts[e] = (s.mu, s.transition, s.road_height, s.pressure, float(s.relaxation),
+                       s.low_speed_damping, kz, 0.0)
+            npatch[e] = len(s.patches)
+            for k, p in enumerate(s.patches):
+                patches[e, k] = (p.x_start, p.x_end, p.mu)
+            eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0])  # models start at t = 0
+        return make_group(
+            self.name, specs, tyre_kernel, (params, opts, patches, npatch, pm, Rm), lnodes,
+            node_dofs(ctx, lnodes), OUTPUTS, eoff=eoff, nstate=NSTATE, commit=_commit,
+            dissipative=True,
+        )
+
+
+register(TyreFamily())

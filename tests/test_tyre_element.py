@@ -1,0 +1,101 @@
+"""The tyre element on a wheel: static load, free rolling, the relaxation time constant of a
+slip step, standstill and the energy balance."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import curve_fit
+
+from drivedyn.elements import Hinge, JointDriver, Prismatic, TyreContact
+from drivedyn.model.compile import compile_model
+from drivedyn.model.spec import Spec
+from drivedyn.solver import simulate
+from drivedyn.solver.settings import FixedStep
+from drivedyn.timefunctions import SmoothStep
+from drivedyn.tyres import read_tir, shipped
+
+TYRE = read_tir(shipped("pac2002_235_60R16"))
+R0 = TYRE.unloaded_radius
+CZ = TYRE.vertical_stiffness
+
+
+def _rig(v: float, spin, height: float, relaxation: bool = True) -> Spec:
+    """A carrier at fixed height sliding along x at ``v`` [m/s], so heavy (1e7 kg) that the
+    tyre force changes its speed by < 1e-5 relative in these runs; the wheel hinged to it
+    with its spin speed [rad/s] prescribed by ``spin`` (a time function)."""
+    spec = Spec()
+    w0 = spin.evaluate(0.0)[0] if hasattr(spin, "evaluate") else float(spin)
+    spec.add_rigid_body("carrier", 1e7, np.diag([1e6, 1e6, 1e6]), position=(0, 0, height),
+                        velocity=(v, 0, 0))
+    spec.add_rigid_body("wheel", 20.0, np.diag([0.6, 1.0, 0.6]), position=(0, 0, height),
+                        velocity=(v, 0, 0), angular_velocity=(0, w0, 0))
+    spec.add_marker("g_x", "ground", position=(0, 0, height), axis=(1, 0, 0))
+    spec.add_marker("c_x", "carrier", axis=(1, 0, 0))
+    spec.add(Prismatic("slide", "g_x", "c_x"))
+    spec.add_marker("c_hub", "carrier", axis=(0, 1, 0))
+    spec.add_marker("w_hub", "wheel", axis=(0, 1, 0))
+    spec.add(Hinge("axle", "c_hub", "w_hub"))
+    spec.add(JointDriver("spin", "axle", function=spin, quantity="speed"))
+    spec.add(TyreContact("tyre", "w_hub", TYRE, relaxation=relaxation))
+    return spec
+
+
+def test_free_rolling_carries_the_load_without_slip():
+    height = R0 - 0.02
+    fz = CZ * 0.02
+    re = TYRE.effective_radius(0.02)
+    v = 10.0
+    res = simulate(compile_model(_rig(v, v / re, height)), 0.2, step=FixedStep(1e-3))
+    assert res["tyre.fz"].values[-1] == pytest.approx(fz, rel=1e-9)
+    # the carrier slows by (F_x + F_rr)/m t = 150 N / 1e7 kg * 0.2 s = 3e-6 m/s: kappa 3e-7
+    assert abs(res["tyre.kappa"].values[-1]) < 4e-7
+    # the shifts PHX1, PVX1 of the file make a small force at zero slip
+    k = res["tyre.kappa"].values[-1]
+    assert res["tyre.fx"].values[-1] == pytest.approx(TYRE.forces(fz, k, 0.0, vx=v)[0],
+                                                       rel=1e-9)
+    assert TYRE.forces(fz, 0.0, 0.0, vx=v)[0] > 100.0
+    # rolling resistance about the tyre's y axis opposes the spin
+    assert res["tyre.my"].values[-1] == pytest.approx(-0.01 * fz * R0, rel=1e-3)
+
+
+def test_slip_step_relaxes_with_time_constant_sigma_over_v():
+    """kappa' follows kappa (1 - exp(-t/tau)) with tau = sigma_kappa / V (within 1 %)."""
+    height = R0 - 0.02
+    fz = CZ * 0.02
+    re = TYRE.effective_radius(0.02)
+    v = 10.0
+    kappa = 0.01
+    w0, w1 = v / re, v * (1 + kappa) / re
+    t0 = 0.05
+    spin = SmoothStep(t0, t0 + 1e-4, w0, w1)
+    res = simulate(compile_model(_rig(v, spin, height)), 0.5, step=FixedStep(2e-4),
+                   output_dt=2e-4)
+    t = res["time"].values
+    k = res["tyre.kappa_transient"].values
+    sig = TYRE.relaxation_lengths(fz)[0]
+    tau = sig / v
+    sel = t > t0 + 2e-4
+    (amp, tau_fit), _ = curve_fit(lambda tt, a, ta: a * (1 - np.exp(-(tt - t0) / ta)),
+                                  t[sel], k[sel], p0=(kappa, 0.1))
+    assert amp == pytest.approx(kappa, rel=2e-3)
+    assert tau_fit == pytest.approx(tau, rel=0.01)
+    # the force is the formula's at the transient slip
+    k_end = res["tyre.kappa"].values[-1]
+    assert res["tyre.fx"].values[-1] == pytest.approx(TYRE.forces(fz, k_end, 0.0, vx=v)[0],
+                                                       rel=1e-9)
+
+
+def test_standstill_spinning_wheel_is_regular():
+    """A wheel spun up at zero forward speed: the slip stays finite (transient slip grows
+    with the slip velocity) and the force saturates at the friction limit."""
+    height = R0 - 0.02
+    fz = CZ * 0.02
+    spin = SmoothStep(0.0, 0.1, 0.0, 5.0)
+    res = simulate(compile_model(_rig(0.0, spin, height)), 1.0, step=FixedStep(1e-3))
+    fx = res["tyre.fx"].values
+    assert np.all(np.isfinite(fx))
+    peak = TYRE.forces(fz, np.linspace(0, 1, 2001), 0.0, vx=0.0)[0].max()
+    assert fx[-1] > 0.5 * peak and fx.max() <= peak * (1 + 1e-9)
