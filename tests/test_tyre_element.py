@@ -3,8 +3,6 @@ slip step, standstill and the energy balance."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 from scipy.optimize import curve_fit
