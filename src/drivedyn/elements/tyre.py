@@ -24,7 +24,8 @@ Per evaluation, in the road axes of the tyre (``e_x = a x n`` heading, ``e_y = n
   ``kappa = -V_sx/|V_x|``, ``tan alpha = V_sy/|V_x|`` with ``|V_x| >= VXLOW/10``;
 * below VXLOW a damping ``kappa' - d w V_sx/VXLOW``, ``alpha' + d w V_sy/VXLOW`` with
   ``w = (1 + cos(pi |V_x|/VXLOW))/2`` stops the carcass spring ringing at standstill
-  (MF-Tyre's low-speed damping; ``d = low_speed_damping``);
+  (MF-Tyre's low-speed damping; ``d = low_speed_damping``), and the formula's horizontal and
+  vertical shifts are scaled by ``1 - w``: a tyre at rest carries no force at zero slip;
 * forces ``Fx, Fy, Mz`` from the formula at the contact point below the centre, rolling
   resistance ``My`` opposing the spin (smoothed over 0.01 m/s of rolling speed).
 
@@ -202,7 +203,7 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     if fz < 0.0:
         fz = 0.0
     # relaxation lengths at this load (the formula at zero slip)
-    evaluate(P, fz, 0.0, 0.0, gamma, vx, pres, mu, out)
+    evaluate(P, fz, 0.0, 0.0, gamma, vx, pres, mu, 1.0, out)
     sig_k = out[6]
     sig_a = out[7]
     avx = abs(vx)
@@ -216,11 +217,12 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
         alp = vsy / vref
     kap_f = kap
     alp_f = alp
+    wl = 0.0
     if avx < vxlow:
         wl = 0.5 * (1.0 + math.cos(math.pi * avx / vxlow))
         kap_f = kap - dlow * wl * vsx / vxlow
         alp_f = alp + dlow * wl * vsy / vxlow
-    evaluate(P, fz, kap_f, math.atan(alp_f), gamma, vx, pres, mu, out)
+    evaluate(P, fz, kap_f, math.atan(alp_f), gamma, vx, pres, mu, 1.0 - wl, out)
     fx = out[0]
     fy = out[1]
     mz = out[2]

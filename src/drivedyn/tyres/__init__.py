@@ -91,7 +91,7 @@ class Tyre:
         out = np.zeros((*b[0].shape, NOUT))
         buf = np.zeros(NOUT)
         for idx in np.ndindex(b[0].shape):
-            evaluate(self.params, *(float(a[idx]) for a in b), buf)
+            evaluate(self.params, *(float(a[idx]) for a in b), 1.0, buf)
             out[idx] = buf
         return {n: out[..., i] for i, n in enumerate(OUT_NAMES)}
 

@@ -103,7 +103,7 @@ def _weight(B, C, E, x):
 
 
 @njit(cache=True)
-def _lateral(P, v6, fz, dfz, dpi, ta, gamma, lmuy_s, lmuy_p):
+def _lateral(P, v6, fz, dfz, dpi, ta, gamma, lmuy_s, lmuy_p, shift):
     """Pure lateral slip (4.E19-4.E30): (Fy0, mu_y, By, Cy, Kya, SHy, SVy, gamma_y)."""
     (lfzo, lcx, lmux, lex, lkx, lhx, lvx, lgax, lcy, lmuy, ley, lky, lhy, lvy, lgay, ltr,
      lres, lgaz, lxal, lyka, lvyka, ls, lsgkp, lsgal, lmy, lkyc, lkzc, lmuv) = P[15:43]
@@ -127,6 +127,8 @@ def _lateral(P, v6, fz, dfz, dpi, ta, gamma, lmuy_s, lmuy_p):
             1.0 - pky3 * abs(gy)) * lky
         shy = (phy1 + phy2 * dfz) * lhy + phy3 * gy
         svy = fz * ((pvy1 + pvy2 * dfz) * lvy + (pvy3 + pvy4 * dfz) * gy) * lmuy_s
+    shy *= shift
+    svy *= shift
     ay = ta + shy
     cy = pcy1 * lcy
     muy = (pdy1 + pdy2 * dfz) * (1.0 + ppy3 * dpi + ppy4 * dpi * dpi) * (
@@ -168,7 +170,7 @@ def _simple(P, fz, kappa, alpha, vx, mu_scale, out):
 
 
 @njit(cache=True)
-def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, out):
+def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     """Steady-state tyre forces into ``out`` (NOUT,): Fx, Fy [N], Mz, My [N m] at the contact
     point (ISO-W), the slip stiffnesses Kxk = dFx0/dkappa [N] and Kya = dFy0/dalpha [N/rad],
     the relaxation lengths sigma_kappa, sigma_alpha [m] and the friction coefficients mu_x,
@@ -178,7 +180,9 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, out):
     ``alpha`` slip angle [rad], ``gamma`` camber [rad], ``vx`` longitudinal speed of the wheel
     centre [m/s] (signs of Mz and My, speed terms), ``pressure`` inflation [Pa] (<= 0: the
     file's INFLPRES), ``mu_scale`` road friction factor on LMUX and LMUY (1 = the tyre's test
-    surface).
+    surface), ``shift`` factor on the horizontal and vertical shifts of Fx and Fy (1; the
+    tyre element fades them out below VXLOW so that a tyre at rest carries no force at zero
+    slip).
     """
     for i in range(NOUT):
         out[i] = 0.0
@@ -224,7 +228,7 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, out):
         lmuy_p = lmuy_s
     # --- pure longitudinal slip (4.E9-4.E18)
     gx = math.sin(gamma) if v6 else gamma * lgax
-    shx = (phx1 + phx2 * dfz) * lhx
+    shx = (phx1 + phx2 * dfz) * lhx * shift
     kx = kappa + shx
     cx = pcx1 * lcx
     mux = (pdx1 + pdx2 * dfz) * (1.0 + ppx3 * dpi + ppx4 * dpi * dpi) * (
@@ -234,11 +238,11 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, out):
     kxk = fz * (pkx1 + pkx2 * dfz) * math.exp(pkx3 * dfz) * (
         1.0 + ppx1 * dpi + ppx2 * dpi * dpi) * lkx
     bx = kxk / (cx * dx + EPS)
-    svx = fz * (pvx1 + pvx2 * dfz) * lvx * lmux_p
+    svx = fz * (pvx1 + pvx2 * dfz) * lvx * lmux_p * shift
     fx0 = _mf(bx, cx, dx, ex, kx) + svx
     # --- pure lateral slip (4.E19-4.E30)
     fy0, muy, by, cy, kya, shy, svy, gy = _lateral(P, v6, fz, dfz, dpi, ta, gamma, lmuy_s,
-                                                   lmuy_p)
+                                                   lmuy_p, shift)
     # --- combined slip, longitudinal force (4.E50-4.E57)
     gc = math.sin(gamma) if v6 else gamma
     if v6:
@@ -250,7 +254,7 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, out):
     fx = gxa * fx0
     # --- combined slip, lateral force (4.E58-4.E67)
     dvyk = muy * fz * (rvy1 + rvy2 * dfz + rvy3 * gc) * math.cos(math.atan(rvy4 * ta))
-    svyk = dvyk * math.sin(rvy5 * math.atan(rvy6 * kappa)) * lvyka
+    svyk = dvyk * math.sin(rvy5 * math.atan(rvy6 * kappa)) * lvyka * shift
     shyk = rhy1 + rhy2 * dfz
     if v6:
         byk = (rby1 + rby4 * gc * gc) * math.cos(math.atan(rby2 * (ta - rby3))) * lyka
@@ -291,7 +295,7 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, out):
     at_eq = math.sqrt(at * at + rk * rk * kappa * kappa) * (1.0 if at >= 0.0 else -1.0)
     ar_eq = math.sqrt(ar * ar + rk * rk * kappa * kappa) * (1.0 if ar >= 0.0 else -1.0)
     if gamma != 0.0:
-        fy0_g0 = _lateral(P, v6, fz, dfz, dpi, ta, 0.0, lmuy_s, lmuy_p)[0]
+        fy0_g0 = _lateral(P, v6, fz, dfz, dpi, ta, 0.0, lmuy_s, lmuy_p, shift)[0]
     else:
         fy0_g0 = fy0
     fyp = gyk * fy0_g0
