@@ -381,15 +381,20 @@ def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | No
     return mf, data, source
 
 
+def _library_schemas() -> dict[str, type]:
+    from drivedyn.library import vehicles
+    from drivedyn.library.differentials import schemas as differential_schemas
+
+    return {**differential_schemas(), **vehicles.schemas()}
+
+
 def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
                       ) -> tuple[Any, dict, str]:
     """Read, override and validate a parametric model file (``[model] library``, e.g. the
-    shipped ``torsen-c``): (parameters, raw data, source name)."""
-    from drivedyn.library.differentials import schemas as differential_schemas
-
+    shipped ``torsen-c`` or ``vehicle-4wd``): (parameters, raw data, source name)."""
     data, source = _read_data(path, overrides)
     lib = library_of(data)
-    schemas = differential_schemas()
+    schemas = _library_schemas()
     if lib not in schemas:
         raise ModelFileError(f"{source}: model.library = {lib!r}: expected one of "
                              f"{', '.join(schemas)}")
@@ -398,6 +403,33 @@ def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | 
     except ValidationError as exc:
         raise ModelFileError(format_validation_error(source, data, exc, schemas[lib])) from None
     return params, data, source
+
+
+def _sibling(name: str, base: Path) -> str | Path:
+    """A model named by another file: a shipped name, or a path relative to ``base``."""
+    p = Path(name)
+    if str(name) in shipped_models() or p.is_absolute():
+        return name
+    return base / p
+
+
+def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str, Any]:
+    """The validated TORSEN parameter files a vehicle's positions use (``differentials.
+    torsen_c``, ``differentials.torsen_b``), errors naming the vehicle's key."""
+    out: dict[str, Any] = {}
+    d = params.differentials
+    for kind in sorted({d.central, d.front, d.rear} & {"torsen-c", "torsen-b"}):
+        key = kind.replace("-", "_")
+        name = getattr(d, key)
+        try:
+            out[kind], _, _ = read_library_file(_sibling(name, base))
+        except ModelFileError as exc:
+            raise ModelFileError(f"{source}: differentials.{key} = {name!r}: {exc}") from None
+        lib = out[kind].model.library
+        if lib != key:
+            raise ModelFileError(f"{source}: differentials.{key} = {name!r}: expected a "
+                                 f"{key} model file, got model.library = {lib!r}")
+    return out
 
 
 def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = None) -> Model:
@@ -425,27 +457,43 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
 
 
 def _load_library_model(path: str | Path, overrides) -> Model:
-    """A parametric file's scenario (``[scenario] kind``) as a compiled model."""
-    from drivedyn.library import differentials
+    """A parametric file's scenario (``[scenario] kind`` of a differential, or a vehicle) as
+    a compiled model."""
+    from drivedyn.library import differentials, vehicles
     from drivedyn.library.differentials import protocol
     from drivedyn.model.compile import compile_model
 
     params, data, source = read_library_file(path, overrides)
-    diff = differentials.of(params)
-    try:
-        h_max = None
-        if params.scenario.kind == "bench":
-            spec, _ = protocol.bench_spec(diff, params, params.scenario.modes or diff.sides[0])
-            t_end = params.bench.t_end
-        else:
-            spec, _, t_end = protocol.vehicle_spec(diff, params)
-            h_max = params.vehicle.h_max
-        model = compile_model(spec)
-    except ModelError as exc:
-        raise ModelError(f"{source}: {exc}") from None
-    model.meta["scenario"] = Scenario(
-        t_end=t_end, **params.solver.settings(h_max=h_max), output_dt=params.solver.output_dt,
-        output_times=None, variables=None)
+    lib = params.model.library
+    if lib in vehicles.TYPES:
+        base = resolve_path(path).parent
+        torsen = read_vehicle_differentials(params, source, base)
+        try:
+            spec, layout = vehicles.get(lib).build_spec(params, torsen, base)
+            model = compile_model(spec)
+        except ModelError as exc:
+            raise ModelError(f"{source}: {exc}") from None
+        model.meta["scenario"] = Scenario(
+            t_end=params.run.t_end, **params.solver.settings(h_max=params.run.h_max),
+            output_dt=params.solver.output_dt, output_times=None, variables=None)
+        model.meta["layout"] = layout
+    else:
+        diff = differentials.of(params)
+        try:
+            h_max = None
+            if params.scenario.kind == "bench":
+                spec, _ = protocol.bench_spec(diff, params,
+                                              params.scenario.modes or diff.sides[0])
+                t_end = params.bench.t_end
+            else:
+                spec, _, t_end = protocol.vehicle_spec(diff, params)
+                h_max = params.vehicle.h_max
+            model = compile_model(spec)
+        except ModelError as exc:
+            raise ModelError(f"{source}: {exc}") from None
+        model.meta["scenario"] = Scenario(
+            t_end=t_end, **params.solver.settings(h_max=h_max),
+            output_dt=params.solver.output_dt, output_times=None, variables=None)
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = params.model.name

@@ -55,7 +55,7 @@ from drivedyn.tyres.magic_formula import NOUT, NPAR, effective_radius, evaluate
 
 MAX_PATCHES = 8
 NSTATE = 3  # kappa', alpha' (tan), time of the committed values
-NAUX = 19
+NAUX = 20
 FD_POS = 1e-7  # [m] and [rad]: steps of the in-kernel finite differences
 FD_VEL = 1e-6  # [m/s] and [rad/s]
 V_ROLL = 0.01  # [m/s] rolling speed over which the rolling resistance changes sign
@@ -268,6 +268,7 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     aux[16] = vx
     aux[17] = vsx
     aux[18] = dis
+    aux[19] = out[8] * fz
     return pot, dis
 
 
@@ -354,6 +355,7 @@ OUTPUTS = (
     ("vx", "m/s", "forward speed of the wheel centre"),
     ("slip_speed", "m/s", "longitudinal slip velocity V_sx of the contact point"),
     ("dissipated_power", "W", "power dissipated by the tyre (slip and vertical damping)"),
+    ("friction_limit", "N", "longitudinal friction limit mu_x Fz (road friction included)"),
 )
 assert len(OUTPUTS) == NAUX
 

@@ -128,7 +128,8 @@ def build_bevel(p, kind: str, omega: float = 0.0) -> Spec:
         for side in ("a", "b"):
             sp.add(GearPair(f"{name}_{side}", f"m_{name}", f"m_{side}", p.teeth_spider,
                             p.teeth_side, cone_angle_a=geo["cone_spider"],
-                            cone_angle_b=geo["cone_side"], **gear_kw))
+                            cone_angle_b=geo["cone_side"], profile_shift_a=p.profile_shift,
+                            profile_shift_b=-p.profile_shift, **gear_kw))
     return sp
 
 

@@ -73,6 +73,8 @@ class Layout:
         tyres: wheel -> tyre element name.
         halfshafts: wheel -> half-shaft spring name (its torque is the wheel's drive torque).
         propshafts: ``front``/``rear`` -> propeller-shaft spring name.
+        bevels: ``front``/``rear`` -> final-drive gear pair (its ``torque_b`` drives the axle
+            differential's housing).
         housings: position -> housing body name.
         types: position -> differential type.
         engine: engine torque element name.
@@ -81,13 +83,17 @@ class Layout:
         rolling_radius: effective rolling radius at the static load [m].
         static_load: wheel -> static vertical load [N].
         total_mass: [kg].
-        tdr: position -> nominal torque bias of a TORSEN (analytic, None for the others).
+        tdr: position -> (lowest, highest) analytic bench TDR of a TORSEN's four modes
+            (None for the other types).
+        driveline: body -> mass [kg] of every body between the engine and the wheels
+            (shafts and differentials).
     """
 
     wheels: dict[str, str] = field(default_factory=dict)
     tyres: dict[str, str] = field(default_factory=dict)
     halfshafts: dict[str, str] = field(default_factory=dict)
     propshafts: dict[str, str] = field(default_factory=dict)
+    bevels: dict[str, str] = field(default_factory=dict)
     housings: dict[str, str] = field(default_factory=dict)
     types: dict[str, str] = field(default_factory=dict)
     engine: str = "engine"
@@ -97,6 +103,7 @@ class Layout:
     static_load: dict[str, float] = field(default_factory=dict)
     total_mass: float = 0.0
     tdr: dict[str, tuple[float, float] | None] = field(default_factory=dict)
+    driveline: dict[str, float] = field(default_factory=dict)
 
 
 def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".") -> Tyre:
@@ -275,6 +282,7 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
                         cone_angle_a=fd_geo["cone_pinion"], cone_angle_b=fd_geo["cone_ring"],
                         damping_ratio=fd.damping_ratio,
                         stiffness_variation=fd.stiffness_variation))
+        lay.bevels[axle] = f"{axle}_bevel"
     # wheels, half-shafts, tyres
     patches = {w: tuple(RoadPatch(pa.x_start, pa.x_end, pa.mu) for pa in p.road.patches
                         if w in pa.wheels) for w in WHEELS}
@@ -301,6 +309,8 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         lay.wheels[w] = name
         lay.tyres[w] = f"tyre_{w}"
         lay.halfshafts[w] = f"halfshaft_{w}"
+    lay.driveline = {n: bd.mass for n, bd in sp.bodies.items()
+                     if n != "body" and not n.startswith("wheel_")}
     # weights: the car body, wheels, shafts and differential housings; the gears inside the
     # differentials carry none (in the pocket clearances their weight makes them rattle at
     # low speed, a cost without effect on the torques: below 0.5 % of the static load)

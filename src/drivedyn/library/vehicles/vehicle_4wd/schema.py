@@ -98,7 +98,7 @@ class Road(Strict):
     tyre's test surface, about mu = 1.1 for the shipped tyre), optional patches along x."""
 
     mu: dict[Literal["fl", "fr", "rl", "rr"], float] = Field(
-        default_factory=lambda: {"fl": 0.01, "fr": 0.05, "rl": 0.2, "rr": 0.8})
+        default_factory=lambda: {"fl": 0.002, "fr": 0.05, "rl": 0.01, "rr": 0.8})
     patches: list[Patch] = Field(default_factory=list)
     transition: PositiveLength = 0.05
 
@@ -121,9 +121,9 @@ class Shafts(Strict):
     propshaft_mass: Mass = 8.0
     propshaft_inertia: Inertia = (0.02, 0.3, 0.3)
     propshaft_stiffness: TorsionalStiffness = 2.0e4
-    propshaft_damping: TorsionalDamping = 20.0
+    propshaft_damping: TorsionalDamping = 100.0
     halfshaft_stiffness: TorsionalStiffness = 8.0e3
-    halfshaft_damping: TorsionalDamping = 8.0
+    halfshaft_damping: TorsionalDamping = 40.0
 
 
 class FinalDrive(Strict):
@@ -149,11 +149,11 @@ class ClutchPack(Strict):
     """The limited-slip parts of the ``clutch`` differential (see
     :mod:`drivedyn.library.vehicles.bevel_differential`)."""
 
-    preload: ForceValue = 1000.0
-    ramp_angle: Angle = 0.7853981633974483
+    preload: ForceValue = 100.0
+    ramp_angle: Angle = 1.0471975511965976
     ramp_radius: PositiveLength = 0.03
     mu: float = Field(default=0.1, ge=0.0)
-    faces: int = Field(default=6, ge=1)
+    faces: int = Field(default=4, ge=1)
     r_int: PositiveLength = 0.025
     r_ext: PositiveLength = 0.04
     stiffness: Stiffness = 5.0e8
@@ -179,6 +179,7 @@ class BevelDifferential(Strict):
     teeth_side: int = Field(default=16, gt=4)
     teeth_spider: int = Field(default=10, gt=4)
     spiders: int = Field(default=2, ge=2, le=4)
+    profile_shift: float = 0.35  # spider +x, side gears -x (long-addendum spiders)
     module: PositiveLength = 0.0045
     face_width: PositiveLength = 0.012
     pressure_angle: Angle = 0.3490658503988659

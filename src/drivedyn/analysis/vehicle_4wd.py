@@ -1,0 +1,311 @@
+"""The four-wheel-drive vehicle on split-mu: run, window means, torque splits, balances,
+and the comparison of differential types (seed 003, Figure 15).
+
+Signs: a wheel's *drive torque* is the torque its half-shaft applies to it about the wheel's
+axis (+y, forward rolling positive), the negative of the half-shaft spring's reported torque;
+the tyre force ``fx`` is positive forward. All window quantities are means over
+``run.window`` of the recorded samples (record densely: ``output_dt`` 1 ms by default here).
+
+Checks (:func:`checks`, the issue's acceptance criteria):
+
+* ``open``: the four drive torques are equal within 2 % (an open differential splits evenly
+  whatever the speeds); the lowest-friction wheel spins (its slip grows).
+* ``locked``: no tyre force exceeds its wheel's friction limit ``mu_x Fz`` (+2 %), and the
+  wheel with more grip on each axle takes more torque.
+* ``torsen``: each axle's torque ratio (high / low) stays within that differential's highest
+  analytic TDR (+2 %) and the wheel with more grip gets more torque.
+* every configuration: torque balance of each differential (housing input vs outputs) and
+  power balance of the driveline (engine power = wheel powers + driveline dissipation + rate
+  of driveline kinetic energy) within 0.5 % over the window; the model's energy audit.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from drivedyn.library.vehicles.vehicle_4wd import Layout, Vehicle4WDFile, build_spec
+from drivedyn.library.vehicles.vehicle_4wd.schema import WHEELS
+
+#: the configurations ``compare`` knows: position types
+CONFIGS = {
+    "open": ("open", "open", "open"),
+    "locked": ("locked", "locked", "locked"),
+    "clutch": ("clutch", "clutch", "clutch"),
+    "torsen": ("torsen-c", "torsen-b", "torsen-b"),
+}
+
+
+@dataclass
+class WheelWindow:
+    """Window means of one wheel: drive torque [N m], tyre forces [N], spin [rad/s], slip (at
+    the window's end), road friction factor and the tyre's friction limit ``mu_x Fz`` [N]."""
+
+    torque: float
+    fx: float
+    fz: float
+    spin: float
+    kappa: float
+    mu_road: float
+    limit: float
+
+
+@dataclass
+class Summary:
+    """What a split-mu run shows over its window.
+
+    Attributes:
+        types: position -> differential type.
+        wheels: wheel -> :class:`WheelWindow`.
+        speed: vehicle speed [m/s] at the window's end; acceleration [m/s^2] over it.
+        engine: mean engine torque [N m].
+        front_share: front axle's share of the four drive torques.
+        left_share: axle -> left wheel's share of that axle's torque.
+        axle_ratio: axle -> higher / lower wheel torque of that axle.
+        central_ratio: rear / front axle torque.
+        traction: sum of the four tyre forces [N].
+        torque_balance: position -> |input - outputs| / |input| of that differential.
+        power_balance: |P_engine - P_wheels - D_driveline - dK/dt| / P_engine.
+        energy_error: |balance error| / work in of the whole model at the window's end.
+        wall: wall time [s]; steps, rejected, newton: solver counts.
+        tdr: position -> (lowest, highest) analytic TDR of a TORSEN, else None.
+    """
+
+    types: dict[str, str]
+    wheels: dict[str, WheelWindow]
+    speed: float
+    acceleration: float
+    engine: float
+    front_share: float
+    left_share: dict[str, float]
+    axle_ratio: dict[str, float]
+    central_ratio: float
+    traction: float
+    torque_balance: dict[str, float]
+    power_balance: float
+    energy_error: float
+    wall: float = 0.0
+    steps: int = 0
+    rejected: int = 0
+    newton: int = 0
+    tdr: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        for k, v in CONFIGS.items():
+            if tuple(self.types[p] for p in ("central", "front", "rear")) == v:
+                return k
+        return "/".join(self.types[p] for p in ("central", "front", "rear"))
+
+
+def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
+    """``p`` with every position set to the types of ``config`` (a :data:`CONFIGS` key)."""
+    if config not in CONFIGS:
+        raise KeyError(f"no configuration {config!r} (known: {', '.join(CONFIGS)})")
+    c, f, r = CONFIGS[config]
+    d = p.differentials.model_copy(update={"central": c, "front": f, "rear": r})
+    return p.model_copy(update={"differentials": d})
+
+
+def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: float | None = None,
+        output_dt: float = 1e-3, progress=None):
+    """Build, compile and simulate the vehicle: (results, layout)."""
+    from drivedyn.model.compile import compile_model
+    from drivedyn.solver import simulate
+
+    spec, lay = build_spec(p, torsen, base_dir)
+    model = compile_model(spec)
+    t_end = p.run.t_end if t_end is None else t_end
+    res = simulate(model, t_end, output_dt=output_dt, progress=progress,
+                   **p.solver.settings(h_max=p.run.h_max))
+    return res, lay
+
+
+def _mean(res, name: str, sel, col: int | None = None) -> float:
+    v = res[name].values
+    v = v[:, col] if col is not None else v
+    return float(np.mean(v[sel]))
+
+
+def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
+    """Window means, splits and balances of a run (see the module docstring)."""
+    t = res.time
+    sel = (t >= window[0] - 1e-12) & (t <= window[1] + 1e-12)
+    if sel.sum() < 3:
+        raise ValueError(f"window {window} s holds {int(sel.sum())} samples; record more "
+                         "densely or widen it")
+    i0, i1 = np.flatnonzero(sel)[[0, -1]]
+    wheels = {}
+    for w in WHEELS:
+        tq = -_mean(res, f"{lay.halfshafts[w]}.torque", sel)
+        fx = _mean(res, f"{lay.tyres[w]}.fx", sel)
+        fz = _mean(res, f"{lay.tyres[w]}.fz", sel)
+        spin = _mean(res, f"{lay.wheels[w]}.angular_velocity", sel, 1)
+        kap = float(res[f"{lay.tyres[w]}.kappa"].values[i1])
+        mu = _mean(res, f"{lay.tyres[w]}.road_mu", sel)
+        lim = _mean(res, f"{lay.tyres[w]}.friction_limit", sel)
+        wheels[w] = WheelWindow(tq, fx, fz, spin, kap, mu, lim)
+    T = {w: wheels[w].torque for w in WHEELS}
+    front = T["fl"] + T["fr"]
+    rear = T["rl"] + T["rr"]
+    v = res["body.velocity"].values[:, 0]
+    dt = t[i1] - t[i0]
+    # torque balance of each differential (Euler: input - outputs = rate of the angular
+    # momentum of its bodies about its axis, relative to the car body)
+    tb = {}
+    prop = {a: -_mean(res, f"{lay.propshafts[a]}.torque", sel) for a in ("front", "rear")}
+    eng = float(np.linalg.norm(_vec_mean(res, f"{lay.engine}.torque", sel)))
+    inputs = {"central": eng,
+              "front": _mean(res, f"{lay.bevels['front']}.torque_b", sel),
+              "rear": _mean(res, f"{lay.bevels['rear']}.torque_b", sel)}
+    outputs = {"central": prop["front"] + prop["rear"], "front": front, "rear": rear}
+    for pos in ("central", "front", "rear"):
+        dh = (_axial_momentum(res, lay, pos, i1) - _axial_momentum(res, lay, pos, i0)) / dt
+        tb[pos] = abs(inputs[pos] - outputs[pos] - dh) / abs(inputs[pos])
+    # power balance of the driveline over the window
+    w_eng = _integral(res, f"{lay.engine}.power", i0, i1) + \
+        _integral(res, f"{lay.engine}_reaction.power", i0, i1)
+    w_wheels = 0.0
+    wb = res["body.angular_velocity"].values[:, 1]
+    for w in WHEELS:
+        p_w = -res[f"{lay.halfshafts[w]}.torque"].values * (
+            res[f"{lay.wheels[w]}.angular_velocity"].values[:, 1] - wb)
+        w_wheels += float(np.trapezoid(p_w[i0:i1 + 1], t[i0:i1 + 1]))
+    d_dl = 0.0
+    for name in res.dataset.data_vars:
+        n = str(name)
+        if n.endswith(".dissipated_energy") and not n.startswith(("tyre_", "energy.")):
+            d = res[n].values
+            d_dl += float(d[i1] - d[i0])
+    dk = _driveline_kinetic(res, lay, i1) - _driveline_kinetic(res, lay, i0)
+    pb = abs(w_eng - w_wheels - d_dl - dk) / abs(w_eng)
+    wi = res["energy.work_in"].values[i1]
+    ee = abs(res["energy.balance_error"].values[i1]) / max(abs(wi), 1e-12)
+    return Summary(
+        types=dict(lay.types), wheels=wheels, speed=float(v[i1]),
+        acceleration=float((v[i1] - v[i0]) / dt), engine=eng,
+        front_share=front / (front + rear),
+        left_share={"front": T["fl"] / front, "rear": T["rl"] / rear},
+        axle_ratio={"front": max(T["fl"], T["fr"]) / min(T["fl"], T["fr"]),
+                    "rear": max(T["rl"], T["rr"]) / min(T["rl"], T["rr"])},
+        central_ratio=rear / front, traction=sum(wh.fx for wh in wheels.values()),
+        torque_balance=tb, power_balance=pb, energy_error=ee,
+        wall=res.stats.wall_s, steps=res.stats.steps, rejected=res.stats.rejected,
+        newton=res.stats.newton_iterations, tdr=dict(lay.tdr))
+
+
+def _vec_mean(res, name: str, sel) -> np.ndarray:
+    cols = [f"{name}_{c}" for c in "xyz"]
+    return np.array([float(np.mean(res[c].values[sel])) for c in cols])
+
+
+def _integral(res, name: str, i0: int, i1: int) -> float:
+    t = res.time
+    return float(np.trapezoid(res[name].values[i0:i1 + 1], t[i0:i1 + 1]))
+
+
+def _relative_velocity(res, b: str, i: int) -> np.ndarray:
+    """Velocity [m/s] of body ``b``'s centre relative to the car body (its rigid motion)."""
+    x = res[f"{b}.position"].values[i]
+    xb = res["body.position"].values[i]
+    vb = res["body.velocity"].values[i] + np.cross(res["body.angular_velocity"].values[i],
+                                                   x - xb)
+    return res[f"{b}.velocity"].values[i] - vb
+
+
+def _driveline_kinetic(res, lay: Layout, i: int) -> float:
+    """Kinetic energy [J] of the driveline bodies at sample ``i``, relative to the car body
+    in translation (the car body's bearings do the work of carrying them along)."""
+    k = 0.0
+    for b, m in lay.driveline.items():
+        v = _relative_velocity(res, b, i)
+        w = res[f"{b}.angular_velocity"].values[i]
+        h = res[f"{b}.angular_momentum"].values[i]
+        k += 0.5 * m * float(v @ v) + 0.5 * float(w @ h)
+    return k
+
+
+def _axial_momentum(res, lay: Layout, pos: str, i: int) -> float:
+    """Angular momentum [kg m^2/s] of the bodies of differential ``pos`` about its axis
+    through its housing centre, relative to the car body in translation."""
+    hb = lay.housings[pos]
+    o = res[f"{hb}.position"].values[i]
+    a = res[f"{hb}.rotation"].values[i][:, 2]
+    total = 0.0
+    for b, m in lay.driveline.items():
+        if not b.startswith(pos + "_"):
+            continue
+        r = res[f"{b}.position"].values[i] - o
+        total += float(res[f"{b}.angular_momentum"].values[i] @ a) + m * float(
+            np.cross(r, _relative_velocity(res, b, i)) @ a)
+    return total
+
+
+def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[str, float,
+                                                                                float, bool]]:
+    """The acceptance checks of a summary: (name, value, limit, passed)."""
+    out: list[tuple[str, float, float, bool]] = []
+    W = s.wheels
+    kind = s.name
+    if kind == "open":
+        T = np.array([W[w].torque for w in WHEELS])
+        dev = float(np.max(np.abs(T - T.mean())) / T.mean())
+        out.append(("open: wheel torques equal (max deviation)", dev, tol, dev <= tol))
+        low = min(WHEELS, key=lambda w: W[w].mu_road)
+        out.append((f"open: lowest-friction wheel {low} spins (slip)", W[low].kappa, 0.05,
+                    W[low].kappa > 0.05))
+    if kind == "locked":
+        worst = max(abs(W[w].fx) / W[w].limit for w in WHEELS)
+        out.append(("locked: tyre force / friction limit (largest)", worst, 1 + tol,
+                    worst <= 1 + tol))
+    for axle in ("front", "rear"):
+        l_, r_ = (W["fl"], W["fr"]) if axle == "front" else (W["rl"], W["rr"])
+        if abs(l_.mu_road - r_.mu_road) > 1e-12 and kind in ("locked", "torsen", "clutch"):
+            hi, lo = (l_, r_) if l_.mu_road > r_.mu_road else (r_, l_)
+            out.append((f"{kind}: {axle} higher-friction wheel gets more torque",
+                        hi.torque / lo.torque, 1.0, hi.torque > lo.torque))
+        tdr = s.tdr.get(axle)
+        if kind == "torsen" and tdr:
+            lim = tdr[1] * (1 + tol)
+            out.append((f"torsen: {axle} torque ratio within the TDR", s.axle_ratio[axle], lim,
+                        s.axle_ratio[axle] <= lim))
+    for pos, e in s.torque_balance.items():
+        out.append((f"{kind}: torque balance of the {pos} differential", e, balance,
+                    e <= balance))
+    out.append((f"{kind}: driveline power balance", s.power_balance, balance,
+                s.power_balance <= balance))
+    out.append((f"{kind}: energy audit (balance error / work in)", s.energy_error, 1e-2,
+                s.energy_error <= 1e-2))
+    return out
+
+
+def compare(p: Vehicle4WDFile, torsen: dict, configs: list[str], base_dir: str | Path = ".",
+            t_end: float | None = None, progress=None) -> list[tuple[Summary, Any]]:
+    """Run the same vehicle with each configuration: [(summary, results)]."""
+    out = []
+    for c in configs:
+        q = configure(p, c)
+        t0 = time.perf_counter()
+        res, lay = run(q, torsen, base_dir, t_end=t_end, progress=progress)
+        s = summarize(res, lay, q.run.window)
+        s.wall = time.perf_counter() - t0
+        out.append((s, res))
+    return out
+
+
+def table(summaries: list[Summary]) -> str:
+    """Markdown table of the wheel torques, splits and balances."""
+    head = ("| configuration | T_fl | T_fr | T_rl | T_rr | front share | ratio front | ratio "
+            "rear | traction [N] | speed [m/s] | wall [s] |")
+    lines = [head, "|" + "---|" * 11]
+    for s in summaries:
+        W = s.wheels
+        lines.append(
+            f"| {s.name} | {W['fl'].torque:.2f} | {W['fr'].torque:.2f} | {W['rl'].torque:.2f} "
+            f"| {W['rr'].torque:.2f} | {s.front_share:.3f} | {s.axle_ratio['front']:.3f} | "
+            f"{s.axle_ratio['rear']:.3f} | {s.traction:.1f} | {s.speed:.3f} | {s.wall:.1f} |")
+    return "\n".join(lines)
