@@ -206,7 +206,29 @@ def test_dense_lu_refuses_a_singular_matrix() -> None:
 
 
 def test_default_linear_solver_by_size() -> None:
-    from drivedyn.solver.linear import DENSE_MAX, DenseLU, SparseLU, default_linear_solver
+    from drivedyn.solver.linear import DENSE_MAX, AutoLU, DenseLU, default_linear_solver
 
     assert isinstance(default_linear_solver(113), DenseLU)      # the TORSEN Type B bench
-    assert isinstance(default_linear_solver(DENSE_MAX + 1), SparseLU)
+    assert isinstance(default_linear_solver(DENSE_MAX + 1), AutoLU)
+
+
+def test_auto_lu_keeps_sparse_for_a_banded_matrix_and_goes_dense_when_it_fills() -> None:
+    """A tridiagonal matrix stays with SuperLU; a matrix with a random 5 % pattern (no order
+    keeps its factors sparse, like the saddle-point matrix of the 4WD vehicle) fills and goes
+    dense; both solve exactly."""
+    import scipy.sparse as sps
+
+    from drivedyn.solver.linear import AutoLU, DenseLU, SparseLU
+
+    n = 200
+    rng = np.random.default_rng(3)
+    band = sps.diags([np.full(n - 1, -1.0), np.full(n, 4.0), np.full(n - 1, -1.0)],
+                     [-1, 0, 1]).tocsc()
+    scattered = (sps.random(n, n, density=0.05, random_state=4)
+                 + sps.diags(np.full(n, 10.0))).tocsc()
+    for A, kind in ((band, SparseLU), (scattered, DenseLU)):
+        lin = AutoLU()
+        lin.factor(A)
+        assert isinstance(lin.active, kind)
+        b = rng.standard_normal(n)
+        assert np.allclose(A @ lin.solve(b), b, rtol=1e-12, atol=1e-12)

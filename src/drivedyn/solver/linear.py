@@ -138,8 +138,48 @@ _getrf = sla.lapack.get_lapack_funcs("getrf", (np.zeros(1),))
 #: faster with it than with SuperLU (benchmarks/README.md); LAPACK's getrf grows as n^3 and
 #: loses to the sparse LU of the long chains (hundreds to thousands of unknowns)
 DENSE_MAX = 150
+#: above DENSE_MAX, the dense LU still wins when SuperLU's factors fill more than this share
+#: of the dense matrix (a body that every joint hangs on couples all unknowns: the 387 of the
+#: 4WD vehicle fill 87 % with COLAMD, 3.7 ms per factorisation against 1.5 ms dense), up to
+#: DENSE_FILL_MAX unknowns; a banded chain of 330-396 unknowns fills a few % and SuperLU takes
+#: 0.5 ms against 1.2-1.9 ms dense (measured 2026-11-26)
+DENSE_FILL = 0.3
+DENSE_FILL_MAX = 1500
+
+
+class AutoLU(LinearSolver):
+    """SuperLU, switching for good to the dense LU after the first factorisation if its
+    factors fill more than :data:`DENSE_FILL` of the dense matrix (the choice depends on the
+    model's pattern and first matrix only, so it is the same in every run of a model)."""
+
+    def __init__(self) -> None:
+        self.sparse: SparseLU | None = SparseLU()
+        self.dense: DenseLU | None = None
+
+    @property
+    def active(self) -> LinearSolver:
+        return self.dense if self.dense is not None else self.sparse
+
+    def factor(self, A: sp.csc_matrix) -> None:
+        A = sp.csc_matrix(A)
+        self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
+
+    def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
+                   n: int) -> None:
+        if self.dense is not None:
+            self.dense.factor_csc(data, indices, indptr, n)
+            return
+        self.sparse.factor_csc(data, indices, indptr, n)
+        fill = self.sparse._f[1].size + self.sparse._f[4].size
+        if n <= DENSE_FILL_MAX and fill > DENSE_FILL * n * n:
+            self.dense = DenseLU()
+            self.sparse = None
+            self.dense.factor_csc(data, indices, indptr, n)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.active.solve(b)
 
 
 def default_linear_solver(neq: int) -> LinearSolver:
-    """Dense LU up to :data:`DENSE_MAX` unknowns, sparse LU above."""
-    return DenseLU() if neq <= DENSE_MAX else SparseLU()
+    """Dense LU up to :data:`DENSE_MAX` unknowns, :class:`AutoLU` above."""
+    return DenseLU() if neq <= DENSE_MAX else AutoLU()
