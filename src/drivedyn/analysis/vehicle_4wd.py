@@ -42,8 +42,8 @@ CONFIGS = {
 
 @dataclass
 class WheelWindow:
-    """Window means of one wheel: drive torque [N m], tyre forces [N], spin [rad/s], slip (at
-    the window's end), road friction factor and the tyre's friction limit ``mu_x Fz`` [N]."""
+    """Window means of one wheel: drive torque [N m], tyre forces [N], spin [rad/s], slip,
+    road friction factor and the tyre's friction limit ``mu_x Fz`` [N]."""
 
     torque: float
     fx: float
@@ -96,10 +96,20 @@ class Summary:
 
     @property
     def name(self) -> str:
-        for k, v in CONFIGS.items():
-            if tuple(self.types[p] for p in ("central", "front", "rear")) == v:
-                return k
-        return "/".join(self.types[p] for p in ("central", "front", "rear"))
+        return config_name(self.types)
+
+
+def config_name(types: dict[str, str] | Vehicle4WDFile) -> str:
+    """The :data:`CONFIGS` key of a set of position types (a dict or the parameters), or
+    ``"central/front/rear"`` types when it is none of them."""
+    if isinstance(types, Vehicle4WDFile):
+        d = types.differentials
+        types = {"central": d.central, "front": d.front, "rear": d.rear}
+    key = tuple(types[p] for p in ("central", "front", "rear"))
+    for k, v in CONFIGS.items():
+        if key == v:
+            return k
+    return "/".join(key)
 
 
 def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
@@ -145,7 +155,7 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
         fx = _mean(res, f"{lay.tyres[w]}.fx", sel)
         fz = _mean(res, f"{lay.tyres[w]}.fz", sel)
         spin = _mean(res, f"{lay.wheels[w]}.angular_velocity", sel, 1)
-        kap = float(res[f"{lay.tyres[w]}.kappa"].values[i1])
+        kap = _mean(res, f"{lay.tyres[w]}.kappa", sel)
         mu = _mean(res, f"{lay.tyres[w]}.road_mu", sel)
         lim = _mean(res, f"{lay.tyres[w]}.friction_limit", sel)
         wheels[w] = WheelWindow(tq, fx, fz, spin, kap, mu, lim)

@@ -21,6 +21,7 @@ from drivedyn.cli.common import EXIT_BAD_INPUT, EXIT_FAILED
 from drivedyn.cli.differential import COMMANDS as DIFFERENTIAL_COMMANDS
 from drivedyn.cli.files import COMMANDS as FILE_COMMANDS
 from drivedyn.cli.validate import validate
+from drivedyn.cli.vehicle import vehicle
 
 HELP = """drivedyn: flexible multibody simulation of automotive drivelines.
 
@@ -38,6 +39,7 @@ Examples:
     drivedyn models --show pendulum > my_pendulum.toml
     drivedyn run my_pendulum.toml --set solver.t_end=10 --out pendulum.nc
     drivedyn plot pendulum.nc --out figures
+    drivedyn vehicle --compare open,torsen --t-end 2 --out split-mu
 """
 
 
@@ -86,7 +88,7 @@ def main(ctx: click.Context, debug: bool) -> None:
     ctx.meta["drivedyn.debug"] = debug
 
 
-for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS):
+for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle):
     main.add_command(_cmd)
 
 __all__ = ["main"]

@@ -1,0 +1,134 @@
+"""``drivedyn vehicle``: the 4WD vehicle on split-mu with one or several differential
+configurations, a wheel-torque table, the acceptance checks and the figures.
+
+Exit codes: 0 success (every check passed), 1 a run failed or a check did not pass, 2 bad
+input (file, key, value, configuration name).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import click
+
+from drivedyn.cli.common import (
+    COMPILE_NOTE,
+    EXIT_FAILED,
+    FiniteFloat,
+    bad_input,
+    check_output_path,
+    console,
+    err,
+    jsonable,
+)
+
+
+@click.command()
+@click.argument("model_file", metavar="FILE", default="vehicle-4wd")
+@click.option("--compare", "configs", default=None, metavar="LIST",
+              help="Comma-separated configurations to run on the same vehicle: open, locked, "
+                   "clutch, torsen (all three positions of that type; torsen = Type C "
+                   "central, Type B front and rear). Default: the file's differentials.")
+@click.option("--t-end", type=FiniteFloat(0.0, low_open=True, unit="s"), default=None,
+              metavar="S", help="Final time [s] (default: the file's run.t_end).")
+@click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
+              help="Override a value of the file by dotted key, e.g. --set road.mu.fl=0.01 "
+                   "--set 'load.torque=\"150 N m\"'. Repeatable.")
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Folder for the results (one .nc per configuration) and the figures "
+                   "(wheel_torques.png, comparison.png).")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tuple[str, ...],
+            out: Path | None, as_json: bool) -> None:
+    """Simulate a vehicle model FILE (default: the shipped vehicle-4wd) on its road and print
+    the wheel torques, torque splits and checks over the file's steady window.
+
+    \b
+    Examples:
+        drivedyn vehicle --compare open,locked,clutch,torsen --t-end 2.5 --out split-mu
+        drivedyn vehicle --set body.speed=2 --set run.window=[0.5,0.8] --t-end 0.8
+    """
+    import drivedyn.analysis.vehicle_4wd as V  # noqa: N812 - short name for the analysis
+    from drivedyn.cli.progress import kernels_cached, progress_bar
+    from drivedyn.config import ModelFileError, UnitError, read_library_file
+    from drivedyn.config.loader import read_vehicle_differentials, resolve_path
+    from drivedyn.library import vehicles
+    from drivedyn.model.spec import ModelError
+    from drivedyn.results.results import write_netcdf_atomic
+
+    check_output_path(out, "--out", directory=True)
+    try:
+        p, _, source = read_library_file(model_file, list(sets))
+        if p.model.library not in vehicles.TYPES:
+            bad_input(f"{source}: model.library = {p.model.library!r} is not a vehicle "
+                      f"(vehicles: {', '.join(vehicles.TYPES)})")
+        names = [c.strip() for c in configs.split(",")] if configs else []
+        for c in names:
+            if c not in V.CONFIGS:
+                bad_input(f"--compare: unknown configuration {c!r} (expected a comma-separated "
+                          f"list of {', '.join(V.CONFIGS)})")
+        base = resolve_path(model_file).parent
+        variants = [V.configure(p, c) for c in names] or [p]
+        torsen = {}
+        for q in variants:
+            torsen.update(read_vehicle_differentials(q, source, base))
+            vehicles.get(q.model.library).check_parameters(q)
+    except (ModelFileError, ModelError, UnitError) as exc:
+        bad_input(str(exc))
+    t_final = p.run.t_end if t_end is None else t_end
+    if p.run.window[1] > t_final + 1e-12:
+        bad_input(f"run.window = {list(p.run.window)} s ends after the final time "
+                  f"{t_final:g} s; set --t-end or run.window")
+    if not as_json and not kernels_cached():
+        err(COMPILE_NOTE)
+    summaries, runs, failed = [], [], False
+    for q in variants:
+        label = V.config_name(q)
+        err(f"simulating {p.model.name} [{label}] to t = {t_final:g} s")
+        try:
+            with progress_bar(t_final) as cb:
+                res, lay = V.run(q, torsen, base, t_end=t_final, progress=cb)
+        except ModelError as exc:
+            bad_input(f"{source}: {exc}")
+        if out is not None:
+            target = out / f"{p.model.name}-{label}.nc"
+            if not res.success:
+                target = target.with_name(target.stem + ".partial.nc")
+            write_netcdf_atomic(res.dataset, target)
+        if not res.success:
+            err(f"[{label}] FAILED: {res.message}")
+            failed = True
+            continue
+        s = V.summarize(res, lay, q.run.window)
+        summaries.append(s)
+        runs.append((label, res))
+    results = [{"configuration": s.name, "wheels": {w: vars(x) for w, x in s.wheels.items()},
+                "front_share": s.front_share, "axle_ratio": s.axle_ratio,
+                "central_ratio": s.central_ratio, "traction": s.traction, "speed": s.speed,
+                "torque_balance": s.torque_balance, "power_balance": s.power_balance,
+                "energy_error": s.energy_error, "wall": s.wall, "steps": s.steps,
+                "checks": [dict(zip(("check", "value", "limit", "passed"), c, strict=True))
+                           for c in V.checks(s)]} for s in summaries]
+    ok = not failed and all(c["passed"] for r in results for c in r["checks"])
+    if out is not None and runs:
+        from drivedyn.plots.vehicle_4wd import comparison_figure, save, wheel_torques_figure
+
+        save(wheel_torques_figure(runs, p.run.window), out / "wheel_torques.png")
+        save(comparison_figure(summaries), out / "comparison.png")
+    if as_json:
+        click.echo(json.dumps(jsonable({"model": p.model.name, "window": p.run.window,
+                                        "runs": results, "passed": ok})))
+    else:
+        con = console()
+        con.print(f"window {p.run.window[0]:g}-{p.run.window[1]:g} s (means)\n")
+        con.print(V.table(summaries))
+        for s in summaries:
+            for name, value, limit, passed in V.checks(s):
+                mark = "ok  " if passed else "FAIL"
+                con.print(f"  {mark} {name}: {value:.4g} (limit {limit:.4g})")
+        if out is not None:
+            con.print(f"\nresults and figures: {out}")
+    if not ok:
+        sys.exit(EXIT_FAILED)
