@@ -74,7 +74,9 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         torsen = {}
         for q in variants:
             torsen.update(read_vehicle_differentials(q, source, base))
-            vehicles.get(q.model.library).check_parameters(q)
+            mod = vehicles.get(q.model.library)
+            mod.check_parameters(q)
+            mod.load_tyre(q, base)
     except (ModelFileError, ModelError, UnitError) as exc:
         bad_input(str(exc))
     t_final = p.run.t_end if t_end is None else t_end

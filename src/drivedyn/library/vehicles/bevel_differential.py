@@ -19,8 +19,7 @@ turning on a hinge to the ground (``housing_bearing``), two side gears (``a`` at
   axially (cylindrical joints); a preload spring pushes them apart onto both packs; the bevel
   meshes add their separating thrust. Each pack is a
   :class:`~drivedyn.elements.ThrustWasherContact` with ``faces`` friction faces of coefficient
-  ``mu``; the inner faces have one. The locking torque is then about
-  ``mu r_m (n (2 F0 + F_r + 2 F_g)) + mu r_i F_r`` (:func:`clutch_locking_torque`).
+  ``mu``; the inner faces have one. The quasi-static split is :func:`clutch_split`.
 """
 
 from __future__ import annotations
@@ -58,17 +57,42 @@ def bevel_geometry(teeth_side: int, teeth_spider: int, module: float) -> dict[st
             "r_side": r_side, "r_spider": teeth_spider * module / 2}
 
 
-def clutch_locking_torque(p, torque: float) -> float:
-    """Quasi-static locking torque [N m] of the clutch differential ``p`` at input torque
-    ``torque`` [N m] (module docstring): packs, inner face and the bevel separating thrust
-    ``F_g = (T/2) / r_side tan(alpha) sin(gamma_side)`` per side gear."""
+def clutch_split(p, torque: float, ramp_on_fast: bool = True) -> tuple[float, float]:
+    """Quasi-static output torques (fast side, slow side) [N m] of the clutch differential
+    ``p`` (a :class:`BevelDifferential` section) at input torque ``torque`` [N m] > 0 with
+    the outputs slipping.
+
+    The spiders turn freely, so both meshes carry the same torque ``T_m``; the packs act
+    between the side gears and the housing, the inner face between the cross and the side gear
+    the ramp pushes (``ramp_on_fast``: the faster one)::
+
+        fast:  T_f = T_m - f_pf - s f_i        slow:  T_s = T_m + f_ps + (1 - s) f_i
+        cross: T_x = 2 T_m - (2 s - 1) f_i     ramp:  F_r = T_x / (r_r tan phi)
+        f_pf = mu n r_m (F0 + F_r s' + F_g),   F_g = T_m tan(alpha) sin(gamma_side) / r_side
+
+    (``s = 1`` if the ramp pushes the fast side, else 0; the pushed side's pack carries F_r),
+    ``f_i = mu r_m F_r``; ``T_f + T_s`` is the input torque. Linear in ``T_m``: solved in
+    closed form.
+    """
     c = p.clutch
     geo = bevel_geometry(p.teeth_side, p.teeth_spider, p.module)
-    T = abs(torque)
-    fr = T / (c.ramp_radius * math.tan(c.ramp_angle))
-    fg = (T / 2) / geo["r_side"] * math.tan(p.pressure_angle) * math.sin(geo["cone_side"])
     rm = 2.0 / 3.0 * (c.r_ext**3 - c.r_int**3) / (c.r_ext**2 - c.r_int**2)
-    return c.mu * rm * c.faces * (2 * c.preload + fr + 2 * fg) + c.mu * rm * fr
+    mp, mi = c.mu * c.faces * rm, c.mu * rm
+    kr = 1.0 / (c.ramp_radius * math.tan(c.ramp_angle))
+    g = math.tan(p.pressure_angle) * math.sin(geo["cone_side"]) / geo["r_side"]
+    s = 1.0 if ramp_on_fast else 0.0
+    sig = 2 * s - 1  # the inner face drives (+) or brakes (-) the cross
+    # F_r = kr T_x = kr (2 T_m - sig mi F_r)  ->  F_r = a T_m
+    a = 2 * kr / (1 + kr * sig * mi)
+    def split(tm: float) -> tuple[float, float]:
+        f_pf = mp * (c.preload + s * a * tm + g * tm)
+        f_ps = mp * (c.preload + (1 - s) * a * tm + g * tm)
+        f_i = mi * a * tm
+        return tm - f_pf - s * f_i, tm + f_ps + (1 - s) * f_i
+
+    # T_f + T_s is affine in T_m: solve T_f + T_s = torque
+    t0, t1 = sum(split(0.0)), sum(split(1.0))
+    return split((torque - t0) / (t1 - t0))
 
 
 def build_bevel(p, kind: str, omega: float = 0.0) -> Spec:

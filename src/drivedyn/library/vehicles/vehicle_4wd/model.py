@@ -301,7 +301,7 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         sp.add(TorsionalSpringDamper(f"halfshaft_{w}", out, f"hub_{w}",
                                      stiffness=sh.halfshaft_stiffness,
                                      damping=sh.halfshaft_damping))
-        sp.add(TyreContact(f"tyre_{w}", f"hub_{w}", tyre, mu=p.road.mu[w],
+        sp.add(TyreContact(f"tyre_{w}", f"hub_{w}", tyre, mu=getattr(p.road.mu, w),
                            patches=patches[w], transition=p.road.transition,
                            relaxation=p.wheels.relaxation,
                            low_speed_damping=p.wheels.low_speed_damping,
