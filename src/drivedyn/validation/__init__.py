@@ -18,6 +18,7 @@ from drivedyn.validation import beams  # noqa: F401
 from drivedyn.validation import fe  # noqa: F401
 from drivedyn.validation import torsen  # noqa: F401
 from drivedyn.validation import torsen_b  # noqa: F401
+from drivedyn.validation import vehicles  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case
 
