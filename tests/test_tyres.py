@@ -298,3 +298,10 @@ def test_missing_section_and_file(tmp_path):
         read_tir(p)
     with pytest.raises(ModelError, match="cannot be read"):
         read_tir(tmp_path / "absent.tir")
+
+
+def test_tyre_mf_validation_case():
+    from drivedyn.validation import base
+
+    results = base.CASES["tyre_mf"](quick=True, figure_dir=None)
+    assert results and all(r.passed for r in results), [r for r in results if not r.passed]

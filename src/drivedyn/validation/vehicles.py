@@ -63,7 +63,7 @@ def tyre_mf(quick: bool = False, figure_dir: str | None = None) -> list[CaseResu
     ky = tyre.value("PKY1") * fz * math.sin(2 * math.atan(1 / tyre.value("PKY2")))
     out.append(compare(case, "cornering stiffness K_y = PKY1 Fz0 sin(2 atan(1/PKY2))", ky,
                        float(r["kya"]), "N/rad", 1e-12, "eq. 4.E25 (MF 5.2) at Fz = Fz0"))
-    B, C, D, E = SURFACES["dry"]
+    D = SURFACES["dry"][2]
     simple = simple_tyre("dry")
     sp = simple.forces(3000.0, np.linspace(0, 1, 100001), 0.0)[0]
     out.append(compare(case, "simple dry set: peak = D Fz", D * 3000.0, float(sp.max()), "N",
