@@ -177,3 +177,8 @@ def test_vehicle_command_open_json(tmp_path):
     assert (tmp_path / "wheel_torques.png").stat().st_size > 10_000
     assert (tmp_path / "vehicle-4wd-open.nc").exists()
     assert math.isfinite(out["runs"][0]["wheels"]["fl"]["torque"])
+
+
+def test_differential_commands_refuse_a_vehicle_file():
+    r = CliRunner().invoke(main, ["tdr", "vehicle-4wd"])
+    assert r.exit_code == 2 and "is not a differential" in r.output

@@ -36,6 +36,10 @@ def _params(model_file: str, sets: tuple[str, ...]):
 
     try:
         p, _, source = read_library_file(model_file, list(sets))
+        if p.model.library not in differentials.TYPES:
+            bad_input(f"{source}: model.library = {p.model.library!r} is not a differential "
+                      f"(differentials: {', '.join(differentials.TYPES)}); vehicles run with "
+                      "`drivedyn vehicle` or `drivedyn run`")
         differentials.of(p).check(p)
     except (ModelFileError, ModelError) as exc:
         bad_input(str(exc))
