@@ -50,7 +50,7 @@ from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.checks import check_number
 from drivedyn.errors import ModelError
 from drivedyn.rotations import exp_so3
-from drivedyn.tyres import Tyre
+from drivedyn.tyres import Tyre, resolve_tyre
 from drivedyn.tyres.magic_formula import NOUT, NPAR, effective_radius, evaluate
 
 MAX_PATCHES = 8
@@ -78,9 +78,12 @@ class TyreContact(ElementSpec):
     Attributes:
         name: unique element name.
         marker: marker on the wheel: origin at the centre, z = spin axis (tyre's +y).
-        tyre: the :class:`~drivedyn.tyres.Tyre` (``read_tir``, ``simple_tyre``).
+        tyre: the :class:`~drivedyn.tyres.Tyre` (``read_tir``, ``simple_tyre``), or a
+            string: a shipped tyre name, ``simple-<dry|wet|snow|ice>`` or a ``.tir`` path
+            (model files).
         mu: road friction factor (on LMUX, LMUY; on D for simple tyres) outside the patches.
-        patches: :class:`RoadPatch` (at most 8) overriding ``mu`` on x-intervals.
+        patches: :class:`RoadPatch` (or ``{x_start, x_end, mu}`` tables, at most 8)
+            overriding ``mu`` on x-intervals.
         transition: blend length [m] > 0 of the friction at patch edges.
         road_height: z of the road [m].
         pressure: inflation pressure [Pa]; 0 = the file's INFLPRES (MF 6.x only).
@@ -91,7 +94,7 @@ class TyreContact(ElementSpec):
 
     name: str
     marker: str
-    tyre: Tyre
+    tyre: Tyre | str
     mu: float = 1.0
     patches: tuple[RoadPatch, ...] = ()
     transition: float = 0.05
@@ -107,11 +110,30 @@ class TyreContact(ElementSpec):
     def markers(self) -> tuple[str, ...]:
         return (self.marker,)
 
+    def resolved(self) -> tuple[Tyre, tuple[RoadPatch, ...]]:
+        """The tyre and the patches as objects (strings and tables of model files read)."""
+        what = what_of(self)
+        try:
+            tyre = resolve_tyre(self.tyre)
+        except ModelError as exc:
+            raise ModelError(f"{what}.{exc}") from None
+        patches = []
+        for i, p in enumerate(self.patches):
+            if isinstance(p, dict):
+                try:
+                    p = RoadPatch(**p)
+                except TypeError:
+                    raise ModelError(f"{what}.patches[{i}]: expected the keys x_start, x_end, "
+                                     f"mu, got {sorted(p)}") from None
+            elif not isinstance(p, RoadPatch):
+                raise ModelError(f"{what}.patches[{i}]: expected a RoadPatch or a table, got "
+                                 f"{p!r}")
+            patches.append(p)
+        return tyre, tuple(patches)
+
     def validate(self) -> None:
         what = what_of(self)
-        if not isinstance(self.tyre, Tyre):
-            raise ModelError(f"{what}.tyre: expected a Tyre (drivedyn.tyres.read_tir or "
-                             f"simple_tyre), got {type(self.tyre).__name__}")
+        _, patches = self.resolved()
         check_number(what, "mu", self.mu, 0.0)
         check_number(what, "transition", self.transition, 0.0)
         if self.transition <= 0.0:
@@ -125,7 +147,7 @@ class TyreContact(ElementSpec):
                              f"{self.road_height!r}")
         if len(self.patches) > MAX_PATCHES:
             raise ModelError(f"{what}.patches: at most {MAX_PATCHES}, got {len(self.patches)}")
-        for i, p in enumerate(self.patches):
+        for i, p in enumerate(patches):
             check_number(f"{what}.patches[{i}]", "mu", p.mu, 0.0)
             if not (math.isfinite(p.x_start) and math.isfinite(p.x_end)
                     and p.x_end > p.x_start):
@@ -390,12 +412,13 @@ class TyreFamily(Family):
             if lnodes[e, 0] == ctx.nn:
                 raise ModelError(f"{what}: marker {s.marker!r} is on the ground; a tyre must "
                                  "be on a wheel body")
-            params[e] = s.tyre.params
-            kz = s.tyre.vertical_damping if s.vertical_damping is None else s.vertical_damping
+            tyre, pts = s.resolved()
+            params[e] = tyre.params
+            kz = tyre.vertical_damping if s.vertical_damping is None else s.vertical_damping
             opts[e] = (s.mu, s.transition, s.road_height, s.pressure, float(s.relaxation),
                        s.low_speed_damping, kz, 0.0)
-            npatch[e] = len(s.patches)
-            for k, p in enumerate(s.patches):
+            npatch[e] = len(pts)
+            for k, p in enumerate(pts):
                 patches[e, k] = (p.x_start, p.x_end, p.mu)
             eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0])  # models start at t = 0
         return make_group(

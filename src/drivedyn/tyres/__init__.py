@@ -24,7 +24,8 @@ from drivedyn.tyres.magic_formula import INDEX, KIND_SIMPLE, NOUT, OUT_NAMES, ev
 from drivedyn.tyres.magic_formula import effective_radius as _effective_radius
 from drivedyn.tyres.tir import VERSIONS, coefficients, parse_tir
 
-__all__ = ["SURFACES", "Tyre", "read_tir", "shipped", "shipped_files", "simple_tyre"]
+__all__ = ["SURFACES", "Tyre", "read_tir", "resolve_tyre", "shipped", "shipped_files",
+           "simple_tyre"]
 
 DATA = Path(__file__).parent / "data"
 
@@ -169,3 +170,22 @@ def shipped(name: str) -> Path:
         raise ModelError(f"tyre {name!r}: no such shipped file (shipped: "
                          f"{', '.join(shipped_files())})")
     return p
+
+
+def resolve_tyre(value: Tyre | str) -> Tyre:
+    """A :class:`Tyre` as given, or from a string: ``simple-<dry|wet|snow|ice>``, the name of
+    a shipped property file, or the path of a ``.tir`` file."""
+    if isinstance(value, Tyre):
+        return value
+    if not isinstance(value, str):
+        raise ModelError(f"tyre: expected a Tyre, a shipped tyre name, simple-<surface> or a "
+                         f".tir path, got {type(value).__name__}")
+    if value.startswith("simple-"):
+        return simple_tyre(value.removeprefix("simple-"))
+    if value in shipped_files():
+        return read_tir(shipped(value))
+    if not Path(value).exists():
+        known = ", ".join(shipped_files())
+        raise ModelError(f"tyre: {value!r} is neither a shipped tyre ({known}), "
+                         "simple-<dry|wet|snow|ice> nor an existing .tir file")
+    return read_tir(value)
