@@ -208,6 +208,32 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
         newton=res.stats.newton_iterations, tdr=dict(lay.tdr))
 
 
+def time_histories(res, wheels=WHEELS) -> dict[str, np.ndarray]:
+    """Per-sample outputs of a vehicle run: ``torque_<w>`` (drive torques [N m]),
+    ``spin_<w>`` [rad/s], ``slip_<w>`` [-], ``speed`` [m/s] and the splits ``front_share``,
+    ``left_share_front``, ``left_share_rear`` (NaN while the total torque is below 5 % of its
+    largest value, where a share means nothing)."""
+    out: dict[str, np.ndarray] = {}
+    for w in wheels:
+        out[f"torque_{w}"] = -res[f"halfshaft_{w}.torque"].values
+        out[f"spin_{w}"] = res[f"wheel_{w}.angular_velocity"].values[:, 1]
+        out[f"slip_{w}"] = res[f"tyre_{w}.kappa"].values
+    out["speed"] = res["body.velocity"].values[:, 0]
+    front = out["torque_fl"] + out["torque_fr"]
+    rear = out["torque_rl"] + out["torque_rr"]
+    total = front + rear
+    ok = np.abs(total) >= 0.05 * np.max(np.abs(total)) if total.size else total
+
+    def share(a, b):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(ok & (np.abs(b) > 0), a / b, np.nan)
+
+    out["front_share"] = share(front, total)
+    out["left_share_front"] = share(out["torque_fl"], front)
+    out["left_share_rear"] = share(out["torque_rl"], rear)
+    return out
+
+
 def _vec_mean(res, name: str, sel) -> np.ndarray:
     cols = [f"{name}_{c}" for c in "xyz"]
     return np.array([float(np.mean(res[c].values[sel])) for c in cols])

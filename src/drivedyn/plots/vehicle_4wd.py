@@ -1,7 +1,7 @@
 """Figures of the four-wheel-drive vehicle on split-mu (seed 003, Figure 15).
 
-* :func:`wheel_torques_figure`: the drive torque of each wheel over time (Figure 15), one
-  panel per configuration, with the wheel speeds below;
+* :func:`wheel_torques_figure`: the drive torque of each wheel over time (Figure 15), the
+  wheel spins with the vehicle speed, and the torque splits, one row per configuration;
 * :func:`comparison_figure`: the window-mean wheel torques of each configuration side by side,
   the tyres' friction limits marked.
 
@@ -23,35 +23,47 @@ LABELS = {"fl": "front left", "fr": "front right", "rl": "rear left", "rr": "rea
 
 def wheel_torques_figure(runs: list[tuple[str, Any]], window: tuple[float, float] | None = None
                          ) -> Figure:
-    """Drive torque [N m] and spin [rad/s] of each wheel against time for each
-    ``(name, results)`` (the half-shaft torque; forward positive)."""
-    fig = Figure(figsize=(7.5, 3.2 * len(runs) + 0.6), layout="constrained")
+    """For each ``(name, results)``: the drive torque [N m] of each wheel against time (the
+    half-shaft torque, forward positive: Figure 15), the wheel spins [rad/s] with the vehicle
+    speed, and the torque splits (front share, left share of each axle)."""
+    from drivedyn.analysis.vehicle_4wd import time_histories
+
+    fig = Figure(figsize=(11.0, 3.0 * len(runs) + 0.6), layout="constrained")
     FigureCanvasAgg(fig)
-    axes = fig.subplots(len(runs), 2, squeeze=False)
-    for (name, res), (ax_t, ax_w) in zip(runs, axes, strict=True):
+    axes = fig.subplots(len(runs), 3, squeeze=False)
+    for (name, res), (ax_t, ax_w, ax_s) in zip(runs, axes, strict=True):
         t = res.time
+        h = time_histories(res)
         for w in WHEELS:
             mu = float(res[f"tyre_{w}.road_mu"].values[-1])
-            ax_t.plot(t, -res[f"halfshaft_{w}.torque"].values, lw=0.9,
-                      label=f"{LABELS[w]} (road {mu:g})")
-            ax_w.plot(t, res[f"wheel_{w}.angular_velocity"].values[:, 1], lw=0.9)
+            ax_t.plot(t, h[f"torque_{w}"], lw=0.9, label=f"{LABELS[w]} (road {mu:g})")
+            ax_w.plot(t, h[f"spin_{w}"], lw=0.9)
+        ax_w2 = ax_w.twinx()
+        ax_w2.plot(t, h["speed"], "k--", lw=0.8)
+        ax_w2.set_ylabel("vehicle speed [m/s] (dashed)")
+        ax_s.plot(t, h["front_share"], label="front / total")
+        ax_s.plot(t, h["left_share_front"], label="left / front axle")
+        ax_s.plot(t, h["left_share_rear"], label="left / rear axle")
         ax_t.set_title(f"{name}: wheel drive torques", fontsize=10)
         ax_t.set_ylabel("torque [N m]")
         ax_w.set_title(f"{name}: wheel spin", fontsize=10)
         ax_w.set_ylabel("spin [rad/s]")
-        for ax in (ax_t, ax_w):
+        ax_s.set_title(f"{name}: torque splits", fontsize=10)
+        ax_s.set_ylabel("share [-]")
+        ax_s.set_ylim(0.0, 1.0)
+        for ax in (ax_t, ax_w, ax_s):
             ax.set_xlabel("time [s]")
             ax.grid(True, alpha=0.3)
             if window is not None:
                 ax.axvspan(*window, color="0.9", zorder=0)
         ax_t.legend(fontsize=7, loc="best")
+        ax_s.legend(fontsize=7, loc="best")
     return fig
 
 
 def comparison_figure(summaries: list[Any]) -> Figure:
-    """Window-mean drive torque of each wheel for each configuration (bars), with the torque
-    that saturates each tyre (friction limit times rolling radius plus rolling resistance is
-    not drawn: the limit force is printed under the bars)."""
+    """Window-mean drive torque of each wheel for each configuration (bars), each wheel
+    labelled with its road friction factor."""
     fig = Figure(figsize=(7.5, 4.0), layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.subplots()
