@@ -168,7 +168,10 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
     # momentum of its bodies about its axis, relative to the car body)
     tb = {}
     prop = {a: -_mean(res, f"{lay.propshafts[a]}.torque", sel) for a in ("front", "rear")}
-    eng = float(np.linalg.norm(_vec_mean(res, f"{lay.engine}.torque", sel)))
+    # engine torque about the central housing's axis (its sign kept: coast is negative)
+    axis = res[f"{lay.housings['central']}.rotation"].values[:, :, 2]
+    tq = np.stack([res[f"{lay.engine}.torque_{c}"].values for c in "xyz"], axis=1)
+    eng = float(np.mean(np.einsum("ij,ij->i", tq, axis)[sel]))
     inputs = {"central": eng,
               "front": _mean(res, f"{lay.bevels['front']}.torque_b", sel),
               "rear": _mean(res, f"{lay.bevels['rear']}.torque_b", sel)}
@@ -232,11 +235,6 @@ def time_histories(res, wheels=WHEELS) -> dict[str, np.ndarray]:
     out["left_share_front"] = share(out["torque_fl"], front)
     out["left_share_rear"] = share(out["torque_rl"], rear)
     return out
-
-
-def _vec_mean(res, name: str, sel) -> np.ndarray:
-    cols = [f"{name}_{c}" for c in "xyz"]
-    return np.array([float(np.mean(res[c].values[sel])) for c in cols])
 
 
 def _integral(res, name: str, i0: int, i1: int) -> float:

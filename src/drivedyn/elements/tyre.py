@@ -170,33 +170,45 @@ def _road_mu(x, mu0, patches, npatch, blend):
     return mu
 
 
+@njit(cache=True, inline="always")
+def _rot(R, x, y, z, k):
+    """Component ``k`` of ``R @ (x, y, z)``."""
+    return R[k, 0] * x + R[k, 1] * y + R[k, 2] * z
+
+
 @njit(cache=True)
 def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, aux, rq):
     """The residual ``rq`` (6,) of one tyre at node position ``xn`` (3,), rotation ``Rn``
     (3, 3), velocity ``vn`` (3,) and body angular velocity ``Om`` (3,); ``aux`` (NAUX,) the
-    outputs, returns (potential energy, dissipated power)."""
+    outputs, returns (potential energy, dissipated power). Scalar arithmetic only: it runs
+    25 times per tangent evaluation (the central differences)."""
     mu0, blend, zroad, pres, relax, dlow, kz, _ = opt
     for i in range(6):
         rq[i] = 0.0
     for i in range(NAUX):
         aux[i] = 0.0
-    # wheel centre, spin axis, road axes
-    c = xn + Rn @ pm
-    a = Rn @ np.array([Rm[0, 2], Rm[1, 2], Rm[2, 2]])
-    an = a[2]  # a . n with n = +z
-    ex = np.array([a[1], -a[0], 0.0])  # a x n
-    cg = math.sqrt(ex[0] * ex[0] + ex[1] * ex[1])  # cos(camber)
-    ex /= cg
-    ey = np.array([-ex[1], ex[0], 0.0])  # n x e_x
-    gamma = math.asin(min(max(-an, -1.0), 1.0))
-    h = c[2] - zroad
+    # arm of the wheel centre, spin axis a, road axes e_x = a x n / |.|, e_y = n x e_x
+    arx = _rot(Rn, pm[0], pm[1], pm[2], 0)
+    ary = _rot(Rn, pm[0], pm[1], pm[2], 1)
+    arz = _rot(Rn, pm[0], pm[1], pm[2], 2)
+    ax = _rot(Rn, Rm[0, 2], Rm[1, 2], Rm[2, 2], 0)
+    ay = _rot(Rn, Rm[0, 2], Rm[1, 2], Rm[2, 2], 1)
+    az = _rot(Rn, Rm[0, 2], Rm[1, 2], Rm[2, 2], 2)
+    cg = math.sqrt(ax * ax + ay * ay)  # cos(camber)
+    exx, exy = ay / cg, -ax / cg
+    eyx, eyy = -exy, exx
+    gamma = math.asin(min(max(-az, -1.0), 1.0))
+    cx = xn[0] + arx
+    h = xn[2] + arz - zroad
     r0 = P[4]
     rho = r0 - h / cg
-    w = Rn @ Om  # angular velocity, global
-    arm = Rn @ pm
-    vc = vn + np.array([w[1] * arm[2] - w[2] * arm[1], w[2] * arm[0] - w[0] * arm[2],
-                        w[0] * arm[1] - w[1] * arm[0]])
-    vx = ex[0] * vc[0] + ex[1] * vc[1]
+    wx = _rot(Rn, Om[0], Om[1], Om[2], 0)  # angular velocity, global
+    wy = _rot(Rn, Om[0], Om[1], Om[2], 1)
+    wz = _rot(Rn, Om[0], Om[1], Om[2], 2)
+    vcx = vn[0] + wy * arz - wz * ary
+    vcy = vn[1] + wz * arx - wx * arz
+    vcz = vn[2] + wx * ary - wy * arx
+    vx = exx * vcx + exy * vcy
     # state
     kap_n = es0[0]
     alp_n = es0[1]
@@ -205,25 +217,26 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     if dt < 0.0:
         dt = 0.0
     re = effective_radius(P, max(rho, 0.0))
-    # contact-point slip velocities: v_c + w x (-R_e n)
-    vpx = vc[0] - re * w[1]
-    vpy = vc[1] + re * w[0]
-    vsx = ex[0] * vpx + ex[1] * vpy
-    vsy = ey[0] * vpx + ey[1] * vpy
-    spin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2]
-    mu = _road_mu(c[0], mu0, patches, npatch, blend)
+    # contact-point slip velocities: v_c + w x (-R_e n), w x n = (wy, -wx, 0)
+    vpx = vcx - re * wy
+    vpy = vcy + re * wx
+    vsx = exx * vpx + exy * vpy
+    vsy = eyx * vpx + eyy * vpy
+    spin = ax * wx + ay * wy + az * wz
+    mu = _road_mu(cx, mu0, patches, npatch, blend)
+    aux[6] = kap_n
+    aux[7] = alp_n
+    aux[10] = rho
+    aux[13] = mu
+    aux[14] = h
+    aux[15] = spin
+    aux[16] = vx
     if rho <= 0.0:
-        aux[6] = kap_n
-        aux[7] = alp_n
-        aux[13] = mu
-        aux[14] = h
-        aux[15] = spin
-        aux[16] = vx
         return 0.0, 0.0
-    rhod = -vc[2] / cg
+    rhod = -vcz / cg
     fz = P[6] * rho + kz * rhod
-    if fz < 0.0:
-        fz = 0.0
+    if fz <= 0.0:  # leaving the road faster than the tyre springs back: no load, no force
+        return 0.5 * P[6] * rho * rho, -P[6] * rho * rhod
     # relaxation lengths at this load (the formula at zero slip)
     evaluate(P, fz, 0.0, 0.0, gamma, vx, pres, mu, 1.0, out)
     sig_k = out[6]
@@ -251,24 +264,23 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     rr = abs(out[3])
     vroll = spin * re
     my = -rr * vroll / math.sqrt(vroll * vroll + V_ROLL * V_ROLL)
-    F = fx * ex + fy * ey
-    F[2] += fz
-    # moment about the node origin: arm to the contact point below the centre
-    rc = arm.copy()
-    rc[2] -= h
-    M = np.array([rc[1] * F[2] - rc[2] * F[1], rc[2] * F[0] - rc[0] * F[2],
-                  rc[0] * F[1] - rc[1] * F[0]])
-    M[2] += mz
-    M += my * ey
-    Mb = Rn.T @ M
-    for i in range(3):
-        rq[i] = -F[i]
-        rq[3 + i] = -Mb[i]
-    # power of the tyre on the wheel (contact-point velocity), stored vertical energy
-    # contact point velocity v_c + w x (-h n), with w x n = (w1, -w0, 0)
-    vcp = vc + np.array([-h * w[1], h * w[0], 0.0])
-    pw = F[0] * vcp[0] + F[1] * vcp[1] + F[2] * vcp[2] + mz * w[2] + my * (
-        ey[0] * w[0] + ey[1] * w[1])
+    Fx = fx * exx + fy * eyx
+    Fy = fx * exy + fy * eyy
+    Fz = fz
+    # moment about the node origin: arm to the contact point below the centre, plus Mz about
+    # the road normal and My about the tyre's y axis
+    rcz = arz - h
+    Mx = ary * Fz - rcz * Fy + my * eyx
+    My = rcz * Fx - arx * Fz + my * eyy
+    Mz = arx * Fy - ary * Fx + mz
+    rq[0] = -Fx
+    rq[1] = -Fy
+    rq[2] = -Fz
+    for k in range(3):  # body components
+        rq[3 + k] = -(Rn[0, k] * Mx + Rn[1, k] * My + Rn[2, k] * Mz)
+    # power on the wheel at the contact point v_c + w x (-h n) = v_c + (-h wy, h wx, 0)
+    pw = (Fx * (vcx - h * wy) + Fy * (vcy + h * wx) + Fz * vcz + mz * wz
+          + my * (eyx * wx + eyy * wy))
     pot = 0.5 * P[6] * rho * rho
     dis = -pw - P[6] * rho * rhod
     aux[0] = fx
@@ -281,13 +293,8 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     aux[7] = alp
     aux[8] = math.atan(alp_f)
     aux[9] = gamma
-    aux[10] = rho
     aux[11] = sig_k
     aux[12] = sig_a
-    aux[13] = mu
-    aux[14] = h
-    aux[15] = spin
-    aux[16] = vx
     aux[17] = vsx
     aux[18] = dis
     aux[19] = out[8] * fz
@@ -297,7 +304,7 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
 @njit(cache=True, inline="always")
 def _tyres(P, C, W, full):
     params, opts, patches, npatch, pm, Rm = P
-    L, (out, ax, axd, rp, rm, Rp, vp, Op) = W
+    L, (out, ax, axd, rp, rm, Rp, vp, Op, xp, ph) = W
     rq, _, _, Cd, K, _ = L
     x, R, v, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -319,12 +326,14 @@ def _tyres(P, C, W, full):
                         Rp[i, :] = R[n, i, :]
                         vp[i] = vn[i]
                         Op[i] = Om[i]
-                    xp = x[n].copy()
+                    for i in range(3):
+                        xp[i] = x[n, i]
                     # positions: translation j < 3, right rotation j >= 3
                     if j < 3:
                         xp[j] += sgn * FD_POS
                     else:
-                        ph = np.zeros(3)
+                        for i in range(3):
+                            ph[i] = 0.0
                         ph[j - 3] = sgn * FD_POS
                         Rp[:, :] = R[n] @ exp_so3(ph)
                     _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], xp,
@@ -354,7 +363,8 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux),
            (local_arrays(6, 0), (np.zeros(NOUT), np.zeros(NAUX), np.zeros(NAUX), np.zeros(6),
-                                 np.zeros(6), np.zeros((3, 3)), np.zeros(3), np.zeros(3))))
+                                 np.zeros(6), np.zeros((3, 3)), np.zeros(3), np.zeros(3),
+                                 np.zeros(3), np.zeros(3))))
 
 
 OUTPUTS = (
@@ -407,7 +417,6 @@ class TyreFamily(Family):
         eoff = np.zeros(nel, np.int64)
         for e, s in enumerate(specs):
             what = what_of(s)
-            s.validate()
             lnodes[e, 0], pm[e], Rm[e] = ctx.marker(s.marker, what)
             if lnodes[e, 0] == ctx.nn:
                 raise ModelError(f"{what}: marker {s.marker!r} is on the ground; a tyre must "

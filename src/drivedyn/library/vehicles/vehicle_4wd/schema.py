@@ -211,7 +211,7 @@ class Run(Strict):
     """What ``drivedyn run`` simulates and the steady window the checks use."""
 
     t_end: PositiveTime = 3.0
-    h_max: PositiveTime = 2e-4
+    h_max: PositiveTime = 1e-3
     window: tuple[Time, Time] = (2.0, 3.0)
 
     @model_validator(mode="after")
