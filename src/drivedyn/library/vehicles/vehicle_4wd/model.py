@@ -50,7 +50,7 @@ from drivedyn.model.assembly import include
 from drivedyn.model.spec import Spec
 from drivedyn.rotations import frame_from_axis
 from drivedyn.timefunctions import SmoothStep
-from drivedyn.tyres import Tyre, read_tir, shipped, shipped_files, simple_tyre
+from drivedyn.tyres import Tyre, resolve_tyre, simple_tyre
 
 X = np.array([1.0, 0.0, 0.0])
 Y = np.array([0.0, 1.0, 0.0])
@@ -107,20 +107,17 @@ class Layout:
 
 
 def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".") -> Tyre:
-    """The tyre of ``wheels.tyre`` (shipped name, path or ``simple-<surface>``)."""
+    """The tyre of ``wheels.tyre`` (shipped name, ``simple-<surface>`` with
+    ``wheels.simple_radius``, or a path relative to ``base_dir``)."""
     name = p.wheels.tyre
     if name.startswith("simple-"):
         return simple_tyre(name.removeprefix("simple-"), unloaded_radius=p.wheels.simple_radius)
-    if name in shipped_files():
-        return read_tir(shipped(name))
-    path = Path(name)
-    if not path.is_absolute():
-        path = Path(base_dir) / path
-    if not path.exists():
-        raise ModelError(f"wheels.tyre: {name!r} is neither a shipped tyre "
-                         f"({', '.join(shipped_files())}), simple-<dry|wet|snow|ice> nor an "
-                         "existing .tir file")
-    return read_tir(path)
+    path = Path(base_dir) / name
+    try:
+        return resolve_tyre(str(path) if path.exists() and not Path(name).is_absolute()
+                            else name)
+    except ModelError as exc:
+        raise ModelError(f"wheels.{exc}") from None
 
 
 def check_parameters(p: Vehicle4WDFile) -> None:
