@@ -38,7 +38,7 @@ SURFACES: dict[str, tuple[float, float, float, float]] = {
 }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # compared and hashed by identity (it holds an array)
 class Tyre:
     """A tyre: its coefficient array and where it came from.
 
