@@ -136,3 +136,44 @@ t_end = 2.0
     assert res["tyre.fz"].values[-1] == pytest.approx(400 * 9.81, rel=1e-7)
     assert res["tyre.road_mu"].values[-1] == pytest.approx(0.5)
     assert res["tyre.deflection"].values[-1] == pytest.approx(400 * 9.81 / CZ, rel=1e-7)
+
+
+def test_side_slip_gives_the_formula_side_force_with_lateral_relaxation():
+    """A wheel rolling at 10 m/s while drifting sideways at 0.5 m/s: the slip angle is
+    atan(V_y / V_x) (ISO-W: positive, the file's negative PKY1 gives a force against the
+    drift), the transient slip relaxes with sigma_alpha / V (1 %), and the side force is the
+    formula's at the slip angle the element used (1e-9)."""
+    from drivedyn.elements import Planar
+
+    height = R0 - 0.02
+    fz = CZ * 0.02
+    re = TYRE.effective_radius(0.02)
+    v, vy = 10.0, 0.5
+    spec = Spec()
+    spec.add_rigid_body("carrier", 1e7, np.diag([1e6, 1e6, 1e6]), position=(0, 0, height),
+                        velocity=(v, vy, 0))
+    spec.add_rigid_body("wheel", 20.0, np.diag([0.6, 1.0, 0.6]), position=(0, 0, height),
+                        velocity=(v, vy, 0), angular_velocity=(0, v / re, 0))
+    spec.add_marker("g", "ground", position=(0, 0, height), axis=(0, 0, 1))
+    spec.add_marker("c", "carrier", axis=(0, 0, 1))
+    spec.add(Planar("plane", "g", "c"))  # the carrier slides in the road plane
+    spec.add_marker("c_hub", "carrier", axis=(0, 1, 0))
+    spec.add_marker("w_hub", "wheel", axis=(0, 1, 0))
+    spec.add(Hinge("axle", "c_hub", "w_hub"))
+    spec.add(JointDriver("spin", "axle", function=v / re, quantity="speed"))
+    spec.add(TyreContact("tyre", "w_hub", TYRE))
+    res = simulate(compile_model(spec), 0.4, step=FixedStep(2e-4), output_dt=2e-4)
+    assert res.success, res.message
+    t = res["time"].values
+    a = res["tyre.tan_alpha_transient"].values
+    tau = TYRE.relaxation_lengths(fz)[1] / v
+    sel = t > 1e-3
+    (amp, tau_fit), _ = curve_fit(lambda tt, c, ta: c * (1 - np.exp(-tt / ta)), t[sel], a[sel],
+                                  p0=(vy / v, 0.05))
+    assert amp == pytest.approx(vy / v, rel=2e-3)
+    assert tau_fit == pytest.approx(tau, rel=0.01)
+    alpha = res["tyre.alpha"].values[-1]
+    kappa = res["tyre.kappa"].values[-1]
+    fy = res["tyre.fy"].values[-1]
+    assert fy == pytest.approx(TYRE.forces(fz, kappa, alpha, vx=v)[1], rel=1e-9)
+    assert fy < -1000.0  # against the drift
