@@ -13,7 +13,14 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
-from drivedyn.library.differentials.common import Body, Provenance, Solver
+from drivedyn.library.differentials.common import (
+    Body,
+    PositiveTime,
+    PositiveVelocity,
+    Provenance,
+    Solver,
+    TorqueValue,
+)
 from drivedyn.schema_base import (
     Angle,
     Damping,
@@ -28,11 +35,9 @@ from drivedyn.schema_base import (
     scalar,
 )
 
-Velocity = Annotated[float, scalar(U.VELOCITY)]
-TorqueValue = Annotated[float, scalar(U.TORQUE)]
+Velocity = Annotated[float, scalar(U.VELOCITY)]  # signed (initial speed)
 ForceValue = Annotated[float, scalar(U.FORCE, nonneg=True)]
-Time = Annotated[float, scalar(U.TIME, nonneg=True)]
-PositiveTime = Annotated[float, scalar(U.TIME, positive=True)]
+Time = Annotated[float, scalar(U.TIME, nonneg=True)]  # may be 0 (a start time)
 
 #: the differential types a position accepts
 DIFF_TYPES = ("open", "locked", "clutch", "torsen-c", "torsen-b")
@@ -155,7 +160,7 @@ class ClutchPack(Strict):
     r_ext: PositiveLength = 0.04
     stiffness: Stiffness = 5.0e8
     damping: Damping = 2.0e4
-    eps_v: Annotated[float, scalar(U.VELOCITY, positive=True)] = 1e-3
+    eps_v: PositiveVelocity = 1e-3
     back_offset: PositiveLength = 0.01
     inner_offset: PositiveLength = 0.008
     cross: Body = Field(default_factory=lambda: Body(mass=0.5, inertia=(5e-4, 5e-4, 8e-4)))
