@@ -182,3 +182,21 @@ def test_vehicle_command_open_json(tmp_path):
 def test_differential_commands_refuse_a_vehicle_file():
     r = CliRunner().invoke(main, ["tdr", "vehicle-4wd"])
     assert r.exit_code == 2 and "is not a differential" in r.output
+
+
+def test_engine_braking_biases_at_the_coast_tdr(torsen_params):
+    """Coasting at 3 m/s with -100 N m on the central housing (engine braking): the TORSEN
+    axles bias at the Type B coast TDR (analytic 1.6780; measured 1.6786, 4e-4), the wheel
+    with more grip takes the larger braking torque, and every check passes."""
+    import drivedyn.analysis.vehicle_4wd as V  # noqa: N812
+    from drivedyn.library.differentials.torsen_b import analytic as ab
+
+    p = Vehicle4WDFile.model_validate({**ROLLING, "body": {"speed": 3.0},
+                                       "load": {"torque": -100.0, "start": 0.0, "ramp": 0.1}})
+    (s, _), = V.compare(p, torsen_params, ["torsen"])
+    coast = ab.bench_tdr(torsen_params["torsen-b"], 2)
+    assert s.axle_ratio["front"] == pytest.approx(coast, rel=1e-3)
+    assert s.axle_ratio["rear"] == pytest.approx(coast, rel=1e-3)
+    assert s.wheels["fr"].torque < s.wheels["fl"].torque < 0  # braking: negative
+    failed = [c for c in V.checks(s) if not c[3]]
+    assert not failed, failed

@@ -65,7 +65,8 @@ class Summary:
         engine: mean engine torque [N m].
         front_share: front axle's share of the four drive torques.
         left_share: axle -> left wheel's share of that axle's torque.
-        axle_ratio: axle -> higher / lower wheel torque of that axle.
+        axle_ratio: axle -> higher / lower wheel torque magnitude of that axle (drive or
+            coast).
         central_ratio: rear / front axle torque.
         traction: sum of the four tyre forces [N].
         torque_balance: position -> |input - outputs| / |input| of that differential.
@@ -203,12 +204,16 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
         acceleration=float((v[i1] - v[i0]) / dt), engine=eng,
         front_share=front / (front + rear),
         left_share={"front": T["fl"] / front, "rear": T["rl"] / rear},
-        axle_ratio={"front": max(T["fl"], T["fr"]) / min(T["fl"], T["fr"]),
-                    "rear": max(T["rl"], T["rr"]) / min(T["rl"], T["rr"])},
+        axle_ratio={"front": _ratio(T["fl"], T["fr"]), "rear": _ratio(T["rl"], T["rr"])},
         central_ratio=rear / front, traction=sum(wh.fx for wh in wheels.values()),
         torque_balance=tb, power_balance=pb, energy_error=ee,
         wall=res.stats.wall_s, steps=res.stats.steps, rejected=res.stats.rejected,
         newton=res.stats.newton_iterations, tdr=dict(lay.tdr))
+
+
+def _ratio(a: float, b: float) -> float:
+    """Larger over smaller magnitude of two torques (drive or coast)."""
+    return max(abs(a), abs(b)) / min(abs(a), abs(b))
 
 
 def time_histories(res, wheels=WHEELS) -> dict[str, np.ndarray]:
@@ -290,8 +295,8 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
         dev = float(np.max(np.abs(T - T.mean())) / T.mean())
         out.append(("open: wheel torques equal (max deviation)", dev, tol, dev <= tol))
         low = min(WHEELS, key=lambda w: W[w].mu_road)
-        out.append((f"open: lowest-friction wheel {low} spins (slip)", W[low].kappa, 0.05,
-                    W[low].kappa > 0.05))
+        out.append((f"open: lowest-friction wheel {low} slips (|slip|)", abs(W[low].kappa),
+                    0.05, abs(W[low].kappa) > 0.05))
     if kind == "locked":
         worst = max(abs(W[w].fx) / W[w].limit for w in WHEELS)
         out.append(("locked: tyre force / friction limit (largest)", worst, 1 + tol,
@@ -301,7 +306,7 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
         if abs(l_.mu_road - r_.mu_road) > 1e-12 and kind in ("locked", "torsen", "clutch"):
             hi, lo = (l_, r_) if l_.mu_road > r_.mu_road else (r_, l_)
             out.append((f"{kind}: {axle} higher-friction wheel gets more torque",
-                        hi.torque / lo.torque, 1.0, hi.torque > lo.torque))
+                        abs(hi.torque) / abs(lo.torque), 1.0, abs(hi.torque) > abs(lo.torque)))
         tdr = s.tdr.get(axle)
         if kind == "torsen" and tdr:
             lim = tdr[1] * (1 + tol)

@@ -120,7 +120,8 @@ def vehicle_4wd_split_mu(quick: bool = False, figure_dir: str | None = None
     """The 4WD vehicle of seed 003 on split-mu (rolling start at 2 m/s, 100 N m on the
     central housing, road friction 0.002 / 0.05 / 0.01 / 0.8 under FL / FR / RL / RR) with
     open, locked, clutch and TORSEN differentials (quick: open and TORSEN): the TORSEN axles
-    bias at the Type B bench TDR of the drive modes (0.5 %), open differentials split evenly
+    bias at the Type B bench TDR of the drive modes (0.5 %) and, braking with -100 N m at
+    3 m/s (full run), of the coast modes; open differentials split evenly
     (2 %), locked and limited-slip vehicles pull harder than the open one, and the torque
     balance of every differential and the driveline power balance hold (5e-5 and 5e-4; the
     issue's tolerance is 0.5 %, measured 1.2e-5 and 1.2e-4)."""
@@ -148,8 +149,19 @@ def vehicle_4wd_split_mu(quick: bool = False, figure_dir: str | None = None
                            "torsen_b analytic model"))
         hi, lo = ("fr", "fl") if axle == "front" else ("rr", "rl")
         out.append(_at_least(case, f"TORSEN {axle}: higher-friction wheel torque / other's",
-                             s.wheels[hi].torque / s.wheels[lo].torque, 1.0, "1",
+                             abs(s.wheels[hi].torque / s.wheels[lo].torque), 1.0, "1",
                              "seed 003 Fig. 15: the wheel with more grip gets more torque"))
+    if not quick:  # engine braking: the coast modes
+        pc, _, _ = read_library_file("vehicle-4wd", [
+            "body.speed=3", "load.torque=-100", "load.ramp=0.1", "run.t_end=0.8",
+            "run.window=[0.5,0.8]"])
+        (sc, _), = V.compare(pc, {"torsen-c": tc, "torsen-b": tb}, ["torsen"])
+        tdr_coast = ab.bench_tdr(tb, 2)
+        for axle in ("front", "rear"):
+            out.append(compare(case, f"TORSEN {axle} axle torque ratio in engine braking vs "
+                               "Type B bench TDR (coast, analytic)", tdr_coast,
+                               sc.axle_ratio[axle], "1", 5e-3,
+                               "the coast modes of the differential (seed 003)"))
     so = runs["open"][0]
     T = np.array([so.wheels[w].torque for w in ("fl", "fr", "rl", "rr")])
     out.append(_at_most(case, "open: largest deviation of a wheel torque from the mean",
