@@ -274,6 +274,8 @@ BAD = [
     ("QCZ1                     = 1.2", "QCZ1 = 1.2\nQCZ1 = 1.3", r"QCZ1.*given twice"),
     ("PCY1                     = 1.3507", "PCY1 = 'x'", r"\[LATERAL_COEFFICIENTS\] PCY1.*"
      "expected a number"),
+    ("LENGTH                   = 'meter'", "LENGTH = 'mm'", r"\[UNITS\] LENGTH \(line \d+\): "
+     "expected SI"),
 ]
 
 

@@ -45,7 +45,7 @@ POSITIVE = ("UNLOADED_RADIUS", "FNOMIN", "VERTICAL_STIFFNESS", "PCX1", "PDX1", "
 #: FITTYP values and the version they stand for
 VERSIONS = {6: "5.2", 21: "5.2", 52: "5.2", 61: "6.1", 62: "6.2"}
 #: sections read strictly (the others may hold tables or vendor data)
-STRICT = {"MODEL", "DIMENSION", "OPERATING_CONDITIONS", "VERTICAL", "STRUCTURAL",
+STRICT = {"UNITS", "MODEL", "DIMENSION", "OPERATING_CONDITIONS", "VERTICAL", "STRUCTURAL",
           "SCALING_COEFFICIENTS", "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS",
           "ALIGNING_COEFFICIENTS", "ROLLING_COEFFICIENTS", "OVERTURNING_COEFFICIENTS",
           "TURNSLIP_COEFFICIENTS"}
@@ -135,9 +135,21 @@ def parse_tir(path: str | Path) -> TirFile:
     return tf
 
 
+#: accepted spellings of the SI units in ``[UNITS]`` (the formula reads SI numbers)
+SI_UNITS = {"LENGTH": ("meter", "metre", "m"), "FORCE": ("newton", "n"),
+            "ANGLE": ("radians", "radian", "rad"), "MASS": ("kg", "kilogram"),
+            "TIME": ("second", "sec", "s"), "PRESSURE": ("pascal", "pa")}
+
+
 def coefficients(tf: TirFile) -> tuple[np.ndarray, int]:
     """The coefficient array ``P`` and FITTYP of a parsed file; refuses a missing required
-    key, an unsupported FITTYP and impossible values, naming section and key."""
+    key, an unsupported FITTYP, units other than SI and impossible values, naming section
+    and key."""
+    for key, unit in tf.sections.get("UNITS", {}).items():
+        ok = SI_UNITS.get(key)
+        if ok is not None and str(unit).strip().lower() not in ok:
+            raise ModelError(f"{tf.where('UNITS', key)}: expected SI ({ok[0]}), got "
+                             f"{unit!r}; convert the file to SI units")
     values: dict[str, float] = {}
     for key, section in SECTION_OF.items():
         sec = tf.sections.get(section, {})
