@@ -307,3 +307,15 @@ def test_tyre_mf_validation_case():
 
     results = base.CASES["tyre_mf"](quick=True, figure_dir=None)
     assert results and all(r.passed for r in results), [r for r in results if not r.passed]
+
+
+def test_relaxation_lengths_alone_equal_the_full_evaluation(tmp_path):
+    """The element's shortcut (relaxation lengths without the forces) gives what the full
+    formula reports, for MF 5.2, MF 6.1 with carcass stiffnesses and the simple set."""
+    from drivedyn.tyres.magic_formula import relaxation_lengths
+
+    for tyre in (read_tir(TIR), read_tir(_write_61(tmp_path)), simple_tyre("snow")):
+        for fz, gamma in ((2500.0, 0.0), (5200.0, 0.03)):
+            r = tyre.evaluate(fz, 0.07, 0.05, gamma, pressure=2.1e5)
+            sk, sa = relaxation_lengths(tyre.params, fz, gamma, 2.1e5)
+            assert (sk, sa) == (r["sigma_kappa"], r["sigma_alpha"])

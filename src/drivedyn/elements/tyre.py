@@ -51,7 +51,13 @@ from drivedyn.elements.checks import check_number
 from drivedyn.errors import ModelError
 from drivedyn.rotations import exp_so3
 from drivedyn.tyres import Tyre, resolve_tyre
-from drivedyn.tyres.magic_formula import NOUT, NPAR, effective_radius, evaluate
+from drivedyn.tyres.magic_formula import (
+    NOUT,
+    NPAR,
+    effective_radius,
+    evaluate,
+    relaxation_lengths,
+)
 
 MAX_PATCHES = 8
 NSTATE = 3  # kappa', alpha' (tan), time of the committed values
@@ -237,10 +243,7 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     fz = P[6] * rho + kz * rhod
     if fz <= 0.0:  # leaving the road faster than the tyre springs back: no load, no force
         return 0.5 * P[6] * rho * rho, -P[6] * rho * rhod
-    # relaxation lengths at this load (the formula at zero slip)
-    evaluate(P, fz, 0.0, 0.0, gamma, vx, pres, mu, 1.0, out)
-    sig_k = out[6]
-    sig_a = out[7]
+    sig_k, sig_a = relaxation_lengths(P, fz, gamma, pres)
     avx = abs(vx)
     vxlow = P[2]
     if relax:

@@ -54,6 +54,14 @@ NPAR = len(KEYS)
 KIND = INDEX["KIND"]
 KIND_MF = 0.0
 KIND_SIMPLE = 1.0
+# positions the short helpers read directly (compile-time constants for numba)
+_FITTYP, _FNOMIN, _R0 = INDEX["FITTYP"], INDEX["FNOMIN"], INDEX["UNLOADED_RADIUS"]
+_NOMPRES, _INFLPRES = INDEX["NOMPRES"], INDEX["INFLPRES"]
+_CX, _CY = INDEX["LONGITUDINAL_STIFFNESS"], INDEX["LATERAL_STIFFNESS"]
+_LFZO, _LKX, _LMUY = INDEX["LFZO"], INDEX["LKX"], INDEX["LMUY"]
+_LSGKP, _LSGAL = INDEX["LSGKP"], INDEX["LSGAL"]
+_PKX1, _PPX1, _PKY3 = INDEX["PKX1"], INDEX["PPX1"], INDEX["PKY3"]
+_PTX1, _PTY1, _SIGMA = INDEX["PTX1"], INDEX["PTY1"], INDEX["SIMPLE_SIGMA"]
 
 #: values of keys a file may omit (the others default to 0, as in MF-Tyre and Adams)
 DEFAULTS: dict[str, float] = {
@@ -142,6 +150,46 @@ def _lateral(P, v6, fz, dfz, dpi, ta, gamma, lmuy_s, lmuy_p, shift):
     by = kya / (cy * dy + EPS)
     fy0 = _mf(by, cy, dy, ey, ay) + svy
     return fy0, muy, by, cy, kya, shy, svy, gy
+
+
+@njit(cache=True, inline="always")
+def _relaxation(P, v6, fz, dfz, gy, kxk, kya):
+    """Relaxation lengths (sigma_kappa, sigma_alpha) [m], at least 0.1 mm: MF 5.2 from
+    PTX1-3 and PTY1-2; MF 6.x the slip stiffness over the carcass stiffness when
+    ``[STRUCTURAL]`` gives it."""
+    r0, fz0, cxs, cys = P[_R0], P[_FNOMIN] * P[_LFZO], P[_CX], P[_CY]
+    ptx1, ptx2, ptx3 = P[_PTX1:_PTX1 + 3]
+    pty1, pty2 = P[_PTY1:_PTY1 + 2]
+    sig_k = fz * (ptx1 + ptx2 * dfz) * math.exp(-ptx3 * dfz) * (r0 / fz0) * P[_LSGKP]
+    sig_a = pty1 * math.sin(2.0 * math.atan(fz / (pty2 * fz0))) * (
+        1.0 - P[_PKY3] * abs(gy)) * r0 * P[_LFZO] * P[_LSGAL]
+    if v6 and cxs > 0.0:
+        sig_k = kxk / cxs
+    if v6 and cys > 0.0:
+        sig_a = kya / cys
+    return max(sig_k, 1e-4), max(abs(sig_a), 1e-4)
+
+
+@njit(cache=True)
+def relaxation_lengths(P, fz, gamma, pressure):
+    """(sigma_kappa, sigma_alpha) [m] at load ``fz`` [N] > 0, camber ``gamma`` [rad] and
+    inflation ``pressure`` [Pa] (<= 0: INFLPRES): what :func:`evaluate` reports, without the
+    forces (the tyre element needs them before it knows the slips)."""
+    if P[KIND] == KIND_SIMPLE:
+        return P[_SIGMA], P[_SIGMA]
+    v6 = P[_FITTYP] >= 60.0
+    fz0 = P[_FNOMIN] * P[_LFZO]
+    dfz = (fz - fz0) / fz0
+    dpi = 0.0
+    p = pressure if pressure > 0.0 else P[_INFLPRES]
+    if v6 and P[_NOMPRES] > 0.0 and p > 0.0:
+        dpi = (p - P[_NOMPRES]) / P[_NOMPRES]
+    pkx1, pkx2, pkx3 = P[_PKX1:_PKX1 + 3]
+    ppx1, ppx2 = P[_PPX1:_PPX1 + 2]
+    kxk = fz * (pkx1 + pkx2 * dfz) * math.exp(pkx3 * dfz) * (
+        1.0 + ppx1 * dpi + ppx2 * dpi * dpi) * P[_LKX]
+    lat = _lateral(P, v6, fz, dfz, dpi, 0.0, gamma, P[_LMUY], P[_LMUY], 1.0)
+    return _relaxation(P, v6, fz, dfz, lat[7], kxk, lat[4])
 
 
 @njit(cache=True)
@@ -314,22 +362,15 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
         my = -r0 * fz0 * lmy * base * fac * sv
     else:
         my = -r0 * fz * lmy * base * sv
-    # --- relaxation lengths
-    sig_k = fz * (ptx1 + ptx2 * dfz) * math.exp(-ptx3 * dfz) * (r0 / fz0) * lsgkp
-    sig_a = pty1 * math.sin(2.0 * math.atan(fz / (pty2 * fz0))) * (
-        1.0 - pky3 * abs(gy)) * r0 * lfzo * lsgal
-    if v6 and cxs > 0.0:
-        sig_k = kxk / cxs
-    if v6 and cys > 0.0:
-        sig_a = abs(kya) / cys
+    sig_k, sig_a = _relaxation(P, v6, fz, dfz, gy, kxk, kya)
     out[0] = fx
     out[1] = fy
     out[2] = mz
     out[3] = my
     out[4] = kxk
     out[5] = kya
-    out[6] = max(sig_k, 1e-4)
-    out[7] = max(abs(sig_a), 1e-4)
+    out[6] = sig_k
+    out[7] = sig_a
     out[8] = mux
     out[9] = muy
 
