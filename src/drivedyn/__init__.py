@@ -75,6 +75,7 @@ _EXPORTS: dict[str, str] = {
     "load_results": "drivedyn.results",
     "simulate": "drivedyn.solver",
     "solve_static": "drivedyn.solver",
+    "sweep": "drivedyn.sweeps",
 }
 
 __version__ = "0.1.0"
@@ -137,6 +138,7 @@ __all__ = [
     "load_results",
     "simulate",
     "solve_static",
+    "sweep",
 ]
 
 

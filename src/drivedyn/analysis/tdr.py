@@ -146,3 +146,124 @@ def experimental(p) -> dict[int, float]:
 def seeds_simulation(p) -> dict[int, float]:
     """The seeds' simulated TDR of each mode (``[experiment] seeds``)."""
     return {int(k.removeprefix("mode")): float(v) for k, v in p.experiment.seeds.items()}
+
+
+def run_metrics(results) -> dict:
+    """Scalar outputs of a simulation, shared by ``drivedyn run``/``tdr`` and sweeps.
+
+    Returns a dict: ``t_final`` [s], ``dissipated_energy`` [J] (``energy.dissipated`` at the
+    end), ``energy_balance_error`` [J], ``peak_pressure`` [Pa] (the largest contact pressure
+    of any element output named ``*.pressure`` over the run, NaN if none) and
+    ``peak_pressure_at`` (that output's element name), ``steps``, ``rejected_steps``,
+    ``newton_iterations``, ``factorizations``, ``wall_s``.
+    """
+    ds = results.dataset
+    n = len(results.time)
+
+    def last(name: str) -> float:
+        return float(ds[name].values[-1]) if n and name in ds else float("nan")
+
+    peak, where = float("nan"), ""
+    for name, var in ds.data_vars.items():
+        if str(name).endswith(".pressure") and var.attrs.get("units") == "Pa" and var.size:
+            value = float(np.nanmax(np.abs(var.values)))
+            if not peak >= value:
+                peak, where = value, str(name).rsplit(".", 1)[0]
+    st = results.stats
+    return {"t_final": float(results.time[-1]) if n else float("nan"),
+            "dissipated_energy": last("energy.dissipated"),
+            "energy_balance_error": last("energy.balance_error"),
+            "peak_pressure": peak, "peak_pressure_at": where,
+            "steps": int(st.steps), "rejected_steps": int(st.rejected),
+            "newton_iterations": int(st.newton_iterations),
+            "factorizations": int(st.factorizations), "wall_s": float(st.wall_s)}
+
+
+@dataclass
+class TdrEvaluation:
+    """The TDRs of a differential on the bench, as ``drivedyn tdr`` reports them.
+
+    Attributes:
+        rows: one dict per mode: ``mode``, ``name``, ``tdr`` (simulated, or analytic with
+            ``analytic_only``; NaN if its run failed), ``analytic``, ``experimental``
+            (None without a measurement), ``error_pct`` and ``sim_vs_analytic_pct``.
+        runs: one dict per bench run: ``side``, ``wall_s``, ``size``, ``steps``,
+            ``newton_iterations``, ``success``.
+        metrics: ``dissipated_energy`` [J] summed over the runs, ``peak_pressure`` [Pa] the
+            largest over the runs and ``peak_pressure_at``, ``steps``,
+            ``newton_iterations``, ``rejected_steps`` summed (NaN/0 with ``analytic_only``).
+        failed: empty, or what failed (the rows of the modes after it stay NaN).
+        torque: applied torque [N m]; speed_diff: output speed difference [rad/s].
+    """
+
+    rows: list[dict]
+    runs: list[dict]
+    metrics: dict
+    failed: str
+    torque: float
+    speed_diff: float
+
+
+def evaluate(p, modes: list[int], torque: float | None = None,
+             speed_diff: float | None = None, friction_scale: float = 1.0,
+             analytic_only: bool = False, on_run=None) -> TdrEvaluation:
+    """Simulate the bench runs that cover ``modes`` and give every mode's TDR with its
+    analytic and measured values (the computation behind ``drivedyn tdr`` and TDR sweeps).
+
+    Args:
+        p: parameters of a differential (its validated model file).
+        modes: locking modes 1-4 to evaluate.
+        torque: applied torque [N m] (default ``bench.torque``).
+        speed_diff: output speed difference [rad/s] (default ``bench.speed_diff``).
+        friction_scale: factor on every friction coefficient.
+        analytic_only: only the analytic quasi-static TDR (no simulation).
+        on_run: ``on_run(side, pair)`` called before each bench run, ``on_run(run)`` after
+            (a :class:`BenchRun`); for progress messages.
+    """
+    diff = differentials.of(p)
+    T0 = p.bench.torque if torque is None else torque
+    dw = p.bench.speed_diff if speed_diff is None else speed_diff
+    exp = experimental(p)
+    sim: dict[int, float] = {}
+    runs: list[dict] = []
+    failed = ""
+    metrics = {"dissipated_energy": float("nan"), "peak_pressure": float("nan"),
+               "peak_pressure_at": "", "steps": 0, "rejected_steps": 0,
+               "newton_iterations": 0}
+    if not analytic_only:
+        metrics["dissipated_energy"] = 0.0
+        for side, pair in side_modes(p).items():
+            if not set(pair) & set(modes):
+                continue
+            if on_run is not None:
+                on_run(side, pair)
+            run = run_bench(p, side, T0, dw, friction_scale)
+            if on_run is not None:
+                on_run(run)
+            m = run_metrics(run.results)
+            metrics["dissipated_energy"] += m["dissipated_energy"]
+            if not metrics["peak_pressure"] >= m["peak_pressure"]:
+                metrics["peak_pressure"] = m["peak_pressure"]
+                metrics["peak_pressure_at"] = f"{side}: {m['peak_pressure_at']}"
+            for k in ("steps", "rejected_steps", "newton_iterations"):
+                metrics[k] += m[k]
+            runs.append({"side": side, "wall_s": round(run.wall_s, 3), "size": run.size,
+                         "steps": int(run.results.stats.steps),
+                         "newton_iterations": int(run.results.stats.newton_iterations),
+                         "success": run.success})
+            sim.update(run.tdr)
+            if not run.success:
+                failed = f"{side} bench run failed: {run.message}"
+                break
+    rows = []
+    for m in modes:
+        ana = diff.analytic_bench(p, m, T0, dw, friction_scale)
+        val = sim.get(m, float("nan")) if not analytic_only else ana
+        e = exp.get(m)
+        rows.append({
+            "mode": m, "name": mode_name(diff, m), "tdr": val, "analytic": ana,
+            "experimental": e,
+            "error_pct": 100 * (val / e - 1) if e and np.isfinite(val) else None,
+            "sim_vs_analytic_pct": 100 * (val / ana - 1) if np.isfinite(val) else None,
+        })
+    return TdrEvaluation(rows, runs, metrics, failed, T0, dw)

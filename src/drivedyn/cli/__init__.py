@@ -1,7 +1,7 @@
 """Command line interface: the ``drivedyn`` group and its commands, one module per command
 group (:mod:`~drivedyn.cli.validate`, :mod:`~drivedyn.cli.files` for ``run``/``plot``/
 ``models``, :mod:`~drivedyn.cli.differential` for ``tdr``/``calibrate``,
-:mod:`~drivedyn.cli.bounce`), shared helpers in :mod:`~drivedyn.cli.common`.
+:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`), shared helpers in :mod:`~drivedyn.cli.common`.
 
 Exit codes: 0 success, 1 failure of a run (partial results are written), 2 bad input. Errors
 of the input (model files, keys, values, units, options) are reported in one message naming
@@ -20,6 +20,7 @@ from drivedyn.cli.bounce import bounce
 from drivedyn.cli.common import EXIT_BAD_INPUT, EXIT_FAILED
 from drivedyn.cli.differential import COMMANDS as DIFFERENTIAL_COMMANDS
 from drivedyn.cli.files import COMMANDS as FILE_COMMANDS
+from drivedyn.cli.sweep import sweep
 from drivedyn.cli.validate import validate
 from drivedyn.cli.vehicle import vehicle
 
@@ -40,6 +41,7 @@ Examples:
     drivedyn run my_pendulum.toml --set solver.t_end=10 --out pendulum.nc
     drivedyn plot pendulum.nc --out figures
     drivedyn vehicle --compare open,torsen --t-end 2 --out split-mu
+    drivedyn sweep torsen-c --tdr --vary pockets.mu=0.10:0.20:5 --workers 2
 """
 
 
@@ -88,7 +90,7 @@ def main(ctx: click.Context, debug: bool) -> None:
     ctx.meta["drivedyn.debug"] = debug
 
 
-for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle):
+for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep):
     main.add_command(_cmd)
 
 __all__ = ["main"]

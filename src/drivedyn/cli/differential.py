@@ -93,11 +93,9 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
         drivedyn tdr torsen-c --mode 1 --torque 250 --speed-diff 10
         drivedyn tdr torsen-c --friction-scale 0.8 --set pockets.mu=0.12 --json
     """
-    from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes, size_text
-    from drivedyn.library import differentials
+    from drivedyn.analysis.tdr import evaluate, size_text
 
     p, source = _params(model_file, sets)
-    diff = differentials.of(p)
     if torque is not None and not torque > 0:
         bad_input(f"--torque: expected a positive torque in N m, got {torque}")
     if speed_diff is not None and not speed_diff > 0:
@@ -105,50 +103,32 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
                    f"{speed_diff}")
     if not (friction_scale >= 0 and math.isfinite(friction_scale)):
         bad_input(f"--friction-scale: expected a factor >= 0, got {friction_scale}")
-    T0 = p.bench.torque if torque is None else torque
-    dw = p.bench.speed_diff if speed_diff is None else speed_diff * RPM
     modes = [1, 2, 3, 4] if mode == "all" else [int(mode)]
-    exp = experimental(p)
     t0 = time.perf_counter()
-    sim: dict[int, float] = {}
-    runs = []
-    failed = ""
     if not analytic_only:
         _progress_note(as_json)
-        for side, pair in side_modes(p).items():
-            if not set(pair) & set(modes):
-                continue
-            if not as_json:
-                click.echo(f"simulating the bench, torque on the {side} output "
-                           f"(modes {pair[0]} and {pair[1]}) ...", err=True)
-            run = run_bench(p, side, T0, dw, friction_scale)
-            if not as_json and not runs:
-                click.echo(size_text(run.size), err=True)
-            runs.append({"side": side, "wall_s": round(run.wall_s, 3), "size": run.size,
-                         "steps": int(run.results.stats.steps),
-                         "newton_iterations": int(run.results.stats.newton_iterations),
-                         "success": run.success})
-            sim.update(run.tdr)
-            if not run.success:
-                failed = f"{side} bench run failed: {run.message}"
-                break
-    rows = []
-    for m in modes:
-        ana = diff.analytic_bench(p, m, T0, dw, friction_scale)
-        val = sim.get(m, math.nan) if not analytic_only else ana
-        e = exp.get(m)
-        rows.append({
-            "mode": m, "name": mode_name(diff, m), "tdr": val, "analytic": ana,
-            "experimental": e,
-            "error_pct": 100 * (val / e - 1) if e and math.isfinite(val) else None,
-            "sim_vs_analytic_pct": 100 * (val / ana - 1) if math.isfinite(val) else None,
-        })
+    first = []
+
+    def on_run(*args) -> None:
+        if as_json:
+            return
+        if len(args) == 2:
+            side, pair = args
+            click.echo(f"simulating the bench, torque on the {side} output "
+                       f"(modes {pair[0]} and {pair[1]}) ...", err=True)
+        elif not first:
+            first.append(True)
+            click.echo(size_text(args[0].size), err=True)
+
+    ev = evaluate(p, modes, torque, None if speed_diff is None else speed_diff * RPM,
+                  friction_scale, analytic_only, on_run=on_run)
+    T0, dw, rows, runs, failed = ev.torque, ev.speed_diff, ev.rows, ev.runs, ev.failed
     wall = time.perf_counter() - t0
     if as_json:
         out = {"model": p.model.name, "source": source, "torque": T0,
                "speed_diff": dw / RPM, "friction_scale": friction_scale,
                "simulated": not analytic_only, "modes": rows, "runs": runs,
-               "wall_s": round(wall, 3)}
+               "metrics": ev.metrics, "wall_s": round(wall, 3)}
         if failed:
             out["error"] = failed
         click.echo(json.dumps(jsonable(out)))

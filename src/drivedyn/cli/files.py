@@ -34,7 +34,10 @@ def _summary(res, out: Path | None) -> dict:
             last = vals[-1]
             final[str(name)] = ([_finite(float(v)) for v in np.atleast_1d(last)]
                                 if np.ndim(last) else _finite(float(last)))
+    from drivedyn.analysis.tdr import run_metrics
+
     st = res.stats
+    metrics = run_metrics(res)
     return {
         "success": res.success,
         "message": res.message,
@@ -46,6 +49,9 @@ def _summary(res, out: Path | None) -> dict:
         "wall_s": st.wall_s,
         "energy_balance_error": _finite(float(ds["energy.balance_error"].values[-1]))
         if len(res.time) else None,
+        "dissipated_energy": _finite(metrics["dissipated_energy"]),
+        "peak_pressure": _finite(metrics["peak_pressure"]),
+        "peak_pressure_at": metrics["peak_pressure_at"] or None,
         "results_file": str(out) if out else None,
         "final": final,
     }
@@ -136,6 +142,19 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
         sys.exit(EXIT_FAILED)
 
 
+def _sweep_dataset(path: Path):
+    """The Dataset of a ``drivedyn sweep`` results file, or None for any other file."""
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(path) as ds:
+            if ds.attrs.get("drivedyn_kind") != "sweep":
+                return None
+            return ds.load()
+    except (OSError, ValueError):
+        return None
+
+
 def _groups(names: list[str]) -> dict[str, list[str]]:
     out: dict[str, list[str]] = {}
     for n in names:
@@ -173,7 +192,8 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
          stress_elements: tuple[str, ...], shape: bool, scale: float, snapshots: int,
          pressure_contacts: tuple[str, ...], parts: tuple[str, ...],
          vtu_parts: tuple[str, ...]) -> None:
-    """Write PNG time histories of a results file, one figure per body or element; for
+    """Write PNG time histories of a results file, one figure per body or element (for a
+    `drivedyn sweep` file: line plots, heat maps, histograms or a tornado chart); for
     beams, the stress history of chosen elements and snapshots of the deformed shape; for
     meshed flexible parts, pressure maps, stress snapshots and ParaView files.
 
@@ -191,6 +211,13 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
     from drivedyn.results.results import load_results
 
     check_output_path(out_dir, "--out", directory=True)
+    sweep_ds = _sweep_dataset(results_file)
+    if sweep_ds is not None:  # a `drivedyn sweep` file: lines, maps, histograms, tornado
+        from drivedyn.plots.sweeps import plot_sweep
+
+        for path in plot_sweep(sweep_ds, out_dir):
+            click.echo(f"figure: {path}")
+        return
     try:
         res = load_results(results_file)
     except (OSError, ValueError) as exc:

@@ -432,6 +432,89 @@ def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str
     return out
 
 
+def _schema_of(data: dict) -> type[BaseModel]:
+    lib = library_of(data)
+    return S.ModelFile if lib is None else _library_schemas().get(lib, S.ModelFile)
+
+
+def validate_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None
+                  ) -> tuple[Any, str | None]:
+    """Read and validate any model file: (schema object, its ``model.library`` or None for a
+    plain bodies-and-elements file). Raises :class:`ModelFileError`."""
+    data, _ = _read_data(path, overrides)
+    lib = library_of(data)
+    if lib is None:
+        return read_model_file(path, overrides)[0], None
+    return read_library_file(path, overrides)[0], lib
+
+
+def check_override_keys(path: str | Path, overrides: dict[str, Any],
+                        option: str = "--set") -> None:
+    """Refuse keys that the model file's schema does not know, naming the key and the closest
+    known one (values are not judged here: an impossible value of one point of a sweep is that
+    point's failure, not a bad command).
+
+    Raises :class:`ModelFileError` naming ``option`` and the key.
+    """
+    base, source = _read_data(path, None)
+    schema = _schema_of(base)
+    for key, value in overrides.items():
+        data = copy.deepcopy(base)
+        try:
+            apply_override(data, key, value)
+        except ModelFileError as exc:
+            raise ModelFileError(f"{option} {key}: {str(exc).split(': ', 1)[-1]}") from None
+        try:
+            schema.model_validate(data)
+        except ValidationError as exc:
+            for e in exc.errors():
+                if e["type"] == "extra_forbidden":
+                    loc = tuple(p for p in e["loc"] if not isinstance(p, int))
+                    hint = did_you_mean(str(loc[-1]), _allowed_keys(schema, e["loc"]))
+                    raise ModelFileError(f"{option} {key}: {source} has no key "
+                                         f"{'.'.join(map(str, loc))!r}{hint}") from None
+
+
+def read_value(path: str | Path, key: str, overrides: dict[str, Any] | None = None) -> Any:
+    """The value of a dotted key in a model file (list items by name): the file's own text
+    (``"28 deg"`` stays a string) or, for a key the file leaves at its default, the
+    validated value (SI).
+
+    Raises :class:`ModelFileError` for a key that names nothing.
+    """
+    data, source = _read_data(path, overrides)
+    node: Any = data
+    parts = key.split(".")
+    for i, part in enumerate(parts):
+        if isinstance(node, list):
+            try:
+                node = _list_item(node, part, ".".join(parts[: i + 1]))
+            except ModelFileError:
+                node = None
+                break
+        elif isinstance(node, dict) and part in node:
+            node = node[part]
+        else:
+            node = None
+            break
+    if node is not None and not isinstance(node, (dict, list)):
+        return node
+    if node is None:  # not in the file: the schema's default, if the key exists
+        schema = _schema_of(data)
+        try:
+            obj: Any = schema.model_validate(data)
+        except ValidationError as exc:
+            raise ModelFileError(format_validation_error(source, data, exc, schema)) from None
+        for part in parts:
+            if not hasattr(obj, part):
+                obj = None
+                break
+            obj = getattr(obj, part)
+        if obj is not None and not isinstance(obj, (BaseModel, dict, list, tuple)):
+            return obj
+    raise ModelFileError(f"{source}: {key!r} does not name a single value of the model file")
+
+
 def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = None) -> Model:
     """Compile the model of a TOML file (path or shipped name), with ``--set``-style
     overrides (``["solver.t_end=2", "bodies.rod.mass=2 kg"]`` or a dict).

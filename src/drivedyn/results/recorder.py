@@ -221,3 +221,13 @@ class Recorder:
             # the beams' topology, for the deformed-shape plots: element -> [node_a, node_b]
             attrs["beam_elements"] = json.dumps(beams)
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def variable_names(model: Model) -> dict[str, tuple[str, ...]]:
+    """Name -> dimensions of every variable a run of ``model`` records (from one snapshot of
+    its initial state; no time step is taken)."""
+    energy = EnergyAccount(model)
+    energy.start()
+    rec = Recorder(model, energy)
+    rec.record(model.initial_state())
+    return {str(k): tuple(v.dims) for k, v in rec.dataset().data_vars.items()}
