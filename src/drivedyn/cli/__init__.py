@@ -1,7 +1,8 @@
 """Command line interface: the ``drivedyn`` group and its commands, one module per command
 group (:mod:`~drivedyn.cli.validate`, :mod:`~drivedyn.cli.files` for ``run``/``plot``/
 ``models``, :mod:`~drivedyn.cli.differential` for ``tdr``/``calibrate``,
-:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`), shared helpers in :mod:`~drivedyn.cli.common`.
+:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`), shared helpers in
+:mod:`~drivedyn.cli.common`.
 
 Exit codes: 0 success, 1 failure of a run (partial results are written), 2 bad input. Errors
 of the input (model files, keys, values, units, options) are reported in one message naming

@@ -79,6 +79,9 @@ RPM = 2 * math.pi / 60
               help="A running Dask scheduler (tcp://host:8786 or a scheduler file); "
                    "'serial' runs the points one after another in this process. Default: a "
                    "local cluster of --workers processes.")
+@click.option("--connect-timeout", type=FiniteFloat(0.0, low_open=True, unit="s"),
+              default=10.0, show_default=True, metavar="S",
+              help="Seconds to wait for the --scheduler to answer.")
 @click.option("--workers", type=click.IntRange(1, 1024), default=None, metavar="N",
               help="Worker processes of the local cluster (default: the number of CPUs).")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
@@ -96,7 +99,8 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
           samples: int | None, seed: int, sensitivity: bool, rel_step: float, tdr: bool,
           mode: str, torque: float | None, speed_diff: float | None, friction_scale: float,
           analytic_only: bool, metrics: tuple[str, ...], t_end: float | None,
-          sets: tuple[str, ...], scheduler: str | None, workers: int | None,
+          sets: tuple[str, ...], scheduler: str | None, connect_timeout: float,
+          workers: int | None,
           out: Path | None, cache_dir: Path | None, no_cache: bool, fresh: bool,
           plots_dir: Path | None, as_json: bool) -> None:
     """Run a MODEL file (path or shipped name) over a grid of values, Monte Carlo samples or a
@@ -155,6 +159,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
             speed_diff=None if speed_diff is None else speed_diff * RPM,
             friction_scale=friction_scale, analytic_only=analytic_only, t_end=t_end,
             metrics=list(metrics), sets=list(sets), scheduler=scheduler, workers=workers,
+            timeout=connect_timeout,
             cache=cache, fresh=fresh, progress=bar.update,
             on_cluster=None if as_json else (lambda s: err(s)))
         interrupted = False

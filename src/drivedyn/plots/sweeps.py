@@ -68,7 +68,7 @@ def lines_figure(ds: Any) -> Figure:
             label = ", ".join(f"{d}={ds[d].values[i]:g}" if np.issubdtype(ds[d].dtype,
                               np.number) else f"{d}={ds[d].values[i]}"
                               for d, i in sel.items()) or None
-            line, = ax.plot(x, y, "o-", ms=4, lw=1.2, label=label)
+            _line, = ax.plot(x, y, "o-", ms=4, lw=1.2, label=label)
             if bad.any():
                 ax.plot(x[bad], np.where(np.isfinite(y[bad]), y[bad], np.nanmean(y)), "x",
                         color="red", ms=8, label="not ok" if combo == combos[0] else None)

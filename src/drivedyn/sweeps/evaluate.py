@@ -160,7 +160,7 @@ def evaluate_point(task: Task) -> dict:
             _tdr(task, rec)
         else:
             _run(task, rec)
-    except Exception as exc:  # noqa: BLE001 - a point's failure is a value of the sweep
+    except Exception as exc:
         from drivedyn.config import ModelFileError, UnitError
         from drivedyn.errors import ModelError
 

@@ -85,8 +85,10 @@ def run_tasks(tasks: list[Task], *, client: Any = None, scheduler: str | None = 
             from distributed import Client, LocalCluster
 
             n = workers or os.cpu_count() or 1
+            # dashboard on a free port (None would mean the default 8787, which a user's own
+            # cluster may hold); silence_logs keeps worker chatter off the terminal
             own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=logging.ERROR)
+                                       dashboard_address=":0", silence_logs=logging.ERROR)
             client = own_client = Client(own_cluster)
         if on_cluster:
             info = client.scheduler_info()
@@ -116,7 +118,7 @@ def _submit(client: Any, tasks: list[Task]) -> Iterator[tuple[int, dict]]:
             pending.discard(fut)
             try:
                 rec = fut.result()
-            except Exception as exc:  # noqa: BLE001 - KilledWorker, CancelledError, ...
+            except Exception as exc:
                 rec = lost_record(exc)
             yield futures[fut], rec
     finally:

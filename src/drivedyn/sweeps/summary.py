@@ -70,7 +70,7 @@ def tables(ds: Any) -> list[tuple[str, list[str], list[list[str]]]]:
     names = _outputs(ds)
     n = int(np.prod([ds.sizes[d] for d in dims])) if dims else 0
     if n <= MAX_POINT_ROWS:
-        cols = list(dims) + ["status"] + names + ["wall [s]"]
+        cols = [*list(dims), "status", *names, "wall [s]"]
         rows = []
         for idx in np.ndindex(*[ds.sizes[d] for d in dims]):
             sel = dict(zip(dims, idx, strict=True))
@@ -104,5 +104,5 @@ def problems(ds: Any, limit: int = 10) -> list[str]:
         where = ", ".join(f"{d}={_g(ds[d].values[i])}" for d, i in sel.items())
         lines.append(f"{where}: {status[idx]}: {ds['message'].values[idx]}")
     if len(lines) > limit:
-        lines = lines[:limit] + [f"... and {len(lines) - limit} more"]
+        lines = [*lines[:limit], f"... and {len(lines) - limit} more"]
     return lines

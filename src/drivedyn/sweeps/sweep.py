@@ -126,7 +126,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
           analytic_only: bool = False, t_end: float | None = None,
           metrics: Sequence[str] = (), sets: Any = None, client: Any = None,
           scheduler: str | None = None, workers: int | None = None,
-          cache: str | Path | None = None, fresh: bool = False,
+          timeout: float = 10.0, cache: str | Path | None = None, fresh: bool = False,
           progress: Callable[[int, int, dict, bool], None] | None = None,
           on_cluster: Callable[[str], None] | None = None) -> Any:
     """Compute a model file over a grid of values, Monte Carlo samples or a finite-difference
@@ -149,8 +149,8 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
             (``"VAR[:REDUCER][@T0:T1]"``).
         sets: fixed overrides of every point (``{"key": value}`` or ``["key=value"]``).
         client: a ``distributed.Client`` to run on; ``scheduler``: ``"serial"``, an address
-            or a scheduler file; default: the caller's Dask client if any, else a local
-            cluster of ``workers`` processes.
+            or a scheduler file (``timeout`` [s] to answer); default: the caller's Dask
+            client if any, else a local cluster of ``workers`` processes.
         cache: folder of cached points (None: no cache); ``fresh`` recomputes them.
         progress: ``progress(done, total, record, from_cache)`` after each point.
         on_cluster: called with a description of the cluster.
@@ -177,7 +177,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
         else str(path.resolve())
     fixed = _sets(sets)
     # the model as given must be valid: its errors are the command's, not every point's
-    _, library = validate_file(path, fixed)
+    _, library = validate_file(str(model), fixed)
     if tdr:
         from drivedyn.library import differentials
 
@@ -197,7 +197,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
             [parse_sensitivity(k)[:2] for k in sensitivity_keys]
         params_s = []
         for key, nominal in items:
-            check_override_keys(path, {key: nominal if nominal is not None else 1.0},
+            check_override_keys(str(model), {key: nominal if nominal is not None else 1.0},
                                 "--vary")
             x, unit = (float(nominal), "") if nominal is not None else \
                 _nominal(str(path), key, fixed)
@@ -208,9 +208,9 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
         design = grid(varies, samp, samples, seed)
         first = {v.key: v.model_value(v.values[0]) for v in varies}
         first.update({s.key: format_value(s.a, s.unit) for s in samp})
-        check_override_keys(path, first, "--vary")
+        check_override_keys(str(model), first, "--vary")
     if fixed:
-        check_override_keys(path, fixed, "--set")
+        check_override_keys(str(model), fixed, "--set")
 
     kind = "tdr" if tdr else "run"
     options: dict[str, Any] = (
@@ -239,7 +239,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
                 progress(done, n, rec, True)
         else:
             todo.append(i)
-    attrs = {"model": str(model), "model_path": str(path), "model_sha256": model_sha,
+    attrs = {"model": str(model), "model_path": str(path.resolve()), "model_sha256": model_sha,
              "kind": kind, "options": options, "sets": fixed,
              "drivedyn_version": __version__, "code_sha256": code_fingerprint(),
              "cache": str(cache) if cache is not None else None,
@@ -247,7 +247,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
     t0 = time.perf_counter()
     try:
         for j, rec in run_tasks([tasks[i] for i in todo], client=client,
-                                scheduler=scheduler, workers=workers,
+                                scheduler=scheduler, workers=workers, timeout=timeout,
                                 on_cluster=on_cluster):
             i = todo[j]
             records[i] = rec
