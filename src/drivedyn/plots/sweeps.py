@@ -22,18 +22,29 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-MAX_OUTPUTS = 12
+MAX_OUTPUTS = 15
 MAX_LINES = 12
 
 
 def _outputs(ds: Any) -> list[str]:
+    """The outputs drawn: the model's numeric outputs with a value somewhere; for TDR sweeps
+    the TDRs, their analytic values and the other outputs before the errors against the
+    measurements."""
+    names = _numeric_outputs(ds)
+    if ds.attrs.get("kind") == "tdr":
+        rank = {"tdr.": 0, "analytic.": 1, "error_pct.": 3}
+        names.sort(key=lambda n: next((r for p, r in rank.items() if n.startswith(p)), 2))
+    return names[:MAX_OUTPUTS]
+
+
+def _numeric_outputs(ds: Any) -> list[str]:
     return [str(n) for n, v in ds.data_vars.items()
             if v.attrs.get("role") == "output"
             and str(n) not in ("wall_s", "simulation_wall_s", "steps", "rejected_steps",
                                "newton_iterations", "factorizations", "t_final",
                                "energy_balance_error")
             and np.issubdtype(v.dtype, np.number)
-            and np.isfinite(v.values).any()][:MAX_OUTPUTS]
+            and np.isfinite(v.values).any()]
 
 
 def _label(ds: Any, name: str) -> str:
@@ -135,7 +146,7 @@ def histogram_figure(ds: Any) -> Figure:
 def tornado_figure(ds: Any) -> Figure:
     """For each output, the elasticity (relative change of the output per relative change of
     the parameter) of every parameter, largest first."""
-    names = _outputs(ds)
+    names = [n for n in _outputs(ds) if f"elasticity.{n}" in ds]
     fig, axes = _panels(len(names), 4.6, 0.5 + 0.45 * ds.sizes["parameter"])
     params = [str(p) for p in ds["parameter"].values]
     for ax, name in zip(axes, names, strict=True):

@@ -113,7 +113,9 @@ def _add_sensitivities(ds: Any) -> None:
     * nominal / O(nominal) (relative change of O per relative change of the parameter)."""
     step = ds["step"].values
     nominal = ds["nominal"].values
-    for name in physical_outputs(ds):
+    # not of the errors against measurements: the relative change of a percentage that is
+    # near zero says nothing (their derivative is 100/measured times the TDR's)
+    for name in [n for n in physical_outputs(ds) if not n.startswith("error_pct.")]:
         o = ds[name].values
         d = (o[:, 2] - o[:, 0]) / (2 * step)
         ds[f"sensitivity.{name}"] = (("parameter",), d, {

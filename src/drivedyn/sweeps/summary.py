@@ -42,7 +42,7 @@ def tables(ds: Any) -> list[tuple[str, list[str], list[list[str]]]]:
         cols = ["output", "parameter", "nominal output", "d output / d parameter",
                 "elasticity"]
         rows = []
-        for name in physical_outputs(ds):
+        for name in [n for n in physical_outputs(ds) if f"sensitivity.{n}" in ds]:
             for i, p in enumerate(ds["parameter"].values):
                 rows.append([name, str(p), _g(ds[name].values[i, 1]),
                              _g(ds[f"sensitivity.{name}"].values[i]),
