@@ -219,6 +219,13 @@ def test_grid_on_a_local_cluster_equals_separate_run_commands(cluster_client, tm
             assert int(point["steps"]) == s["steps"]
 
 
+def test_the_callers_dask_client_is_used(cluster_client):
+    """As in a notebook: with a Client made by the caller, `sweep` runs on it."""
+    ds = sweep("pendulum", ["bodies.rod.mass=1,2"], t_end=0.1)
+    workers = {f":{p}" for p in cluster_client.run(os.getpid).values()}
+    assert {h[h.rindex(":"):] for h in ds["host"].values} <= workers
+
+
 def test_tdr_sweep_equals_tdr_commands(cluster_client):
     """TDR sweeps: 2 x 3 analytic points and one simulated point equal `drivedyn tdr --json`
     with the same --set values, bit for bit."""
