@@ -86,8 +86,15 @@ def check_plausible(x: float, dim: Dim) -> None:
                         f"{dim_name(dim)}): a unit mistake?")
 
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*(.*?)\s*$")
+NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"  # a decimal number (regex)
+_QUANTITY = re.compile(rf"^\s*({NUMBER})\s*(.*?)\s*$")
+
+
+def split_quantity(text: str) -> tuple[float, str] | None:
+    """``"30 deg"`` -> (30.0, ``"deg"``); ``"2"`` -> (2.0, ``""``); None if ``text`` does
+    not start with a number. The unit is not parsed."""
+    m = _QUANTITY.match(text)
+    return (float(m.group(1)), m.group(2)) if m else None
 
 
 class UnitError(ValueError):

@@ -6,7 +6,8 @@
 * Monte Carlo samples: a histogram of each output with its 5/50/95 % quantiles;
 * a sensitivity study: a tornado chart of the elasticities of each output.
 
-Only the outputs that describe the model are drawn (not wall times or step counts), up to
+Only the outputs that describe the model are drawn (role ``output``, not the wall times or
+step counts of role ``computation``), up to
 :data:`MAX_OUTPUTS`, one panel each. PNG through the Agg canvas (no display needed).
 """
 
@@ -39,10 +40,7 @@ def _outputs(ds: Any) -> list[str]:
 
 def _numeric_outputs(ds: Any) -> list[str]:
     return [str(n) for n, v in ds.data_vars.items()
-            if v.attrs.get("role") == "output"
-            and str(n) not in ("wall_s", "simulation_wall_s", "steps", "rejected_steps",
-                               "newton_iterations", "factorizations", "t_final",
-                               "energy_balance_error")
+            if v.attrs.get("role") == "output"  # not "computation" (wall times, counts)
             and np.issubdtype(v.dtype, np.number)
             and np.isfinite(v.values).any()]
 

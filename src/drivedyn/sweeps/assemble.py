@@ -27,7 +27,7 @@ def physical_outputs(ds: Any) -> list[str]:
     """The numeric outputs of a sweep Dataset that describe the model (not the computation,
     not derived statistics, not NaN at every point), in order."""
     return [str(n) for n, v in ds.data_vars.items()
-            if v.attrs.get("role") == "output" and str(n) not in BOOKKEEPING
+            if v.attrs.get("role") == "output"
             and np.issubdtype(v.dtype, np.number) and np.isfinite(v.values).any()]
 
 
@@ -82,7 +82,10 @@ def assemble(design: Design, records: list[dict | None], cached: list[bool],
     variables: dict[str, Any] = {}
     for k in names:
         arr = data[k].astype(str) if k in strings else data[k]
-        variables[k] = (dims, arr, {"units": units[k] or "1", "role": "output"})
+        # role: "output" describes the model, "computation" the run (plots and statistics
+        # take the outputs only)
+        variables[k] = (dims, arr, {"units": units[k] or "1",
+                                    "role": "computation" if k in BOOKKEEPING else "output"})
     variables["status"] = (dims, status.astype(str), {
         "description": "ok; failed (the solver stopped; outputs of the run so far); invalid "
         "(the point's model is refused, see message); error (unexpected, retried on rerun); "

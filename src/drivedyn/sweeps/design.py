@@ -23,7 +23,8 @@ from typing import Any
 
 import numpy as np
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+from drivedyn.units import NUMBER
+
 _KEY = re.compile(r"^[A-Za-z_][\w\-]*(\.[\w\-]+)*$")
 
 
@@ -151,7 +152,7 @@ def parse_vary(text: str, option: str = "--vary") -> Vary:
         items = [s.strip() for s in values_txt.split(",")]
         if any(not s for s in items):
             raise SweepInputError(f"{what}={values_txt!r}: an empty value in the list")
-        if all(re.fullmatch(_NUMBER, s) for s in items):
+        if all(re.fullmatch(NUMBER, s) for s in items):
             values = tuple(_number(s, what) for s in items)
         else:
             if unit:

@@ -97,7 +97,7 @@ def tables(ds: Any) -> list[tuple[str, list[str], list[list[str]]]]:
 def problems(ds: Any, limit: int = 10) -> list[str]:
     """One line per point that is not ok: its coordinates, status and message."""
     lines = []
-    dims = [d for d in json.loads(ds.attrs.get("dims", "[]"))]
+    dims = json.loads(ds.attrs.get("dims", "[]"))
     status = ds["status"].values
     for idx in zip(*np.nonzero(status != "ok"), strict=False):
         sel = dict(zip(dims, idx, strict=True))

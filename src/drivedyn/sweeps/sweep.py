@@ -4,7 +4,6 @@ one xarray Dataset (see :mod:`drivedyn.sweeps.assemble`)."""
 
 from __future__ import annotations
 
-import re
 import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
@@ -26,6 +25,7 @@ from drivedyn.sweeps.design import (
 )
 from drivedyn.sweeps.evaluate import CACHED_STATUSES, Task, file_sha256, parse_metric
 from drivedyn.sweeps.execute import run_tasks
+from drivedyn.units import split_quantity
 
 
 class SweepInterrupted(KeyboardInterrupt):
@@ -64,9 +64,6 @@ def _samples(sample: Any) -> list[Sample]:
     return [s if isinstance(s, Sample) else parse_sample(s) for s in sample]
 
 
-_QUANTITY = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
-
-
 def _nominal(model: str, key: str, sets: dict) -> tuple[float, str]:
     """(number, unit) of a key's value in the model file (``"30 deg"`` -> (30, "deg"))."""
     from drivedyn.config.loader import read_value
@@ -75,11 +72,11 @@ def _nominal(model: str, key: str, sets: dict) -> tuple[float, str]:
     if isinstance(v, bool) or not isinstance(v, (int, float, str)):
         raise SweepInputError(f"--sensitivity {key}: its value {v!r} is not a number")
     if isinstance(v, str):
-        m = _QUANTITY.match(v)
-        if m is None:
+        q = split_quantity(v)
+        if q is None:
             raise SweepInputError(f"--sensitivity {key}: its value {v!r} is not a number "
                                   "or a quantity")
-        return float(m.group(1)), m.group(2)
+        return q
     return float(v), ""
 
 
