@@ -232,3 +232,80 @@ def test_auto_lu_keeps_sparse_for_a_banded_matrix_and_goes_dense_when_it_fills()
         assert isinstance(lin.active, kind)
         b = rng.standard_normal(n)
         assert np.allclose(A @ lin.solve(b), b, rtol=1e-12, atol=1e-12)
+
+
+class _StalledSolver:
+    """A linear solver whose corrections are zero: Newton stalls with the residual where
+    the predictor left it (the situation the old round-off acceptance let through)."""
+
+    def __init__(self) -> None:
+        from drivedyn.solver.linear import DenseLU
+
+        self.inner = DenseLU()
+
+    def factor_csc(self, data, indices, indptr, n) -> None:
+        self.inner.factor_csc(data, indices, indptr, n)
+
+    def solve(self, b):
+        return np.zeros_like(b)
+
+
+def test_newton_accepts_a_step_only_when_the_residual_criterion_holds():
+    """A zero correction is 'at round-off' of the positions, but the residual of the
+    predictor is far above the tolerance: the step must not be accepted."""
+    from drivedyn.solver.settings import StepStatus
+    from drivedyn.solver.stepper import Stepper
+
+    model = dd.compile_model(oscillator(c=1.0))
+    st = model.initial_state()
+    stepper = Stepper(model, dd.GeneralizedAlpha(0.8), dd.Newton(), _StalledSolver())
+    consistent_initial_state(model, st, stepper.sys, stepper.lin.inner)
+    out = stepper.step(st, 1e-3)
+    assert out.status is StepStatus.NEWTON_MAX_ITER
+    res = dd.simulate(model, 0.01, linear_solver=_StalledSolver(), step=dd.FixedStep(1e-3))
+    assert not res.success
+
+
+def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre():
+    """A slider-crank started from rest at a dead centre: the residual of the stiff
+    constraint forces stalls at the round-off of the positions (|A| eps |x|). Each accepted
+    step's residual, evaluated afresh, is within the tolerance beyond that level, computed
+    here independently from the dense iteration matrix."""
+    from drivedyn.elements.base import MODE_DYN
+    from drivedyn.solver.stepper import FLOOR_REL, ROUNDOFF_ULPS, Stepper
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)),
+                               guide_spring=(2000.0, 5.0))
+    nd = model.nd
+    newton = dd.Newton()
+    checked = []
+    original = Stepper.step
+
+    def step(self, sn, h):
+        out = original(self, sn, h)
+        if out.ok and self.lu_h is not None:
+            tr = self.trial
+            self.sys.evaluate(tr, 1.0 / (self.bp * h * h), self.gp / (self.bp * h), 1.0,
+                              MODE_DYN, True)
+            A = np.abs(self.sys.matrix().toarray())
+            eps = np.finfo(float).eps * ROUNDOFF_ULPS
+            e = np.concatenate([np.full(nd, eps * max(1.0, np.abs(tr.x).max())),
+                                eps * np.abs(tr.lam)])
+            r, ra = self.sys.r, self.sys.rabs
+            floor = FLOOR_REL * ra[:nd].max()
+            # the matrix at the converged state, not at the factorisation: 2 x the level
+            beyond = np.maximum(np.abs(r) - 2.0 * (A @ e), 0.0)
+            checked.append(max((beyond[:nd] / (ra[:nd] + floor)).max() / newton.tol,
+                               (beyond[nd:] / self.sys.kscale[nd:]).max() / newton.phi_tol))
+        return out
+
+    Stepper.step = step
+    try:
+        res = dd.simulate(model, 0.05, step=dd.FixedStep(1e-3), newton=newton,
+                          integrator=dd.GeneralizedAlpha(0.9))
+    finally:
+        Stepper.step = original
+    assert res.success, res.message
+    assert checked and max(checked) <= 1.0

@@ -82,7 +82,8 @@ def _settle_active_set(model: Model, st: State, sys: System, lin: LinearSolver,
     nd = model.nd
     for _ in range(max_iter):
         sys.evaluate(st, 1.0, 0.0, 0.0, MODE_ACC, True)
-        rq, ph, finite = residual_norms(sys.r, sys.rabs, sys.kscale, nd, FLOOR_REL)
+        rq, ph, finite = residual_norms(sys.r, sys.rabs, sys.kscale, nd, FLOOR_REL,
+                                        np.zeros_like(sys.r))
         if not finite or (rq <= 1e-12 and ph <= 1e-14):
             return
         try:

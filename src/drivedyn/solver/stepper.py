@@ -50,10 +50,19 @@ def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarr
     return sq, sys.constraint_violation()
 
 
+# Round-off of the unknowns, in units of the machine epsilon: the Lie update and the solve
+# leave each coordinate (and multiplier) uncertain by a few ulps of its magnitude.
+ROUNDOFF_ULPS = 16.0
+# Newton stagnates when its correction is below this many ulps of the largest coordinate
+STALL_ULPS = 64.0
+
+
 @njit(cache=True)
-def residual_norms(r, rabs, kscale, nd, floor_rel):
-    """Largest scaled node residual and constraint violation (see :func:`scaled_residual`);
-    returns (rq_max, phi_max, finite)."""
+def residual_norms(r, rabs, kscale, nd, floor_rel, roff):
+    """Largest scaled node residual and constraint violation beyond the round-off level
+    ``roff`` of each equation (see :func:`roundoff_levels`; zeros for none); returns
+    (rq_max, phi_max, finite). Node equations are scaled as in :func:`scaled_residual`,
+    constraint rows are violations [m or rad]."""
     amax = 1e-300
     for i in range(nd):
         if rabs[i] > amax:
@@ -62,19 +71,36 @@ def residual_norms(r, rabs, kscale, nd, floor_rel):
     rq = 0.0
     finite = True
     for i in range(nd):
-        v = abs(r[i]) / (rabs[i] + floor)
-        if not np.isfinite(v):
+        v = max(abs(r[i]) - roff[i], 0.0) / (rabs[i] + floor)
+        if not np.isfinite(r[i]):
             finite = False
         if v > rq:
             rq = v
     ph = 0.0
     for i in range(nd, r.shape[0]):
-        v = abs(r[i]) / kscale[i]
-        if not np.isfinite(v):
+        v = max(abs(r[i]) - roff[i], 0.0) / kscale[i]
+        if not np.isfinite(r[i]):
             finite = False
         if v > ph:
             ph = v
     return rq, ph, finite
+
+
+@njit(cache=True)
+def roundoff_levels(data, indices, indptr, nd, xmax, lam, ulps, out):
+    """Residual each equation shows when every unknown is off by its round-off, the row sums
+    ``sum_j |A_ij| eps_j`` of the iteration matrix ``A`` (CSC arrays) with
+    ``eps_j = ulps eps max(1, xmax)`` for the position increments and ``ulps eps |lam_j|``
+    for the multipliers. A residual below it cannot be reduced in floating point (a stiff
+    constraint or contact turns the last bit of a position into a large force), so it is not
+    counted against the tolerance. ``out`` (neq,) receives the levels."""
+    eps = 2.220446049250313e-16
+    ex = ulps * eps * max(1.0, xmax)
+    out[:] = 0.0
+    for j in range(indptr.shape[0] - 1):
+        ej = ex if j < nd else ulps * eps * abs(lam[j - nd])
+        for k in range(indptr[j], indptr[j + 1]):
+            out[indices[k]] += abs(data[k]) * ej
 
 
 @njit(cache=True)
@@ -122,6 +148,9 @@ class Stepper:
         self.bp = b * (1.0 - af) / (1.0 - am)
         self.gp = g * (1.0 - af) / (1.0 - am)
         self.hdq = np.zeros(model.nd)
+        # round-off levels of the residual for the factorised matrix (zero: none yet)
+        self.roff = np.zeros(model.neq)
+        self._no_roff = np.zeros(model.neq)
         self._prev_t: float | None = None  # time and accelerations of the state before sn
         self._prev_vd = np.zeros(model.nd)
 
@@ -136,7 +165,12 @@ class Stepper:
 
     def invalidate(self) -> None:
         """Forget the factorisation (after an event that changes the matrix a lot)."""
+        self._forget()
+
+    def _forget(self) -> None:
+        # the round-off levels describe the factorised matrix only
         self.lu_h = None
+        self.roff[:] = 0.0
 
     def _factor(self, st: State, h: float) -> StepOutcome | None:
         sys = self.sys
@@ -145,10 +179,14 @@ class Stepper:
         try:
             sys.factor(self.lin)
         except (np.linalg.LinAlgError, ValueError) as exc:
-            self.lu_h = None
+            self._forget()
             return StepOutcome(StepStatus.SINGULAR, message=str(exc))
         self.lu_h = h
         self.factorizations += 1
+        m = self.model
+        roundoff_levels(sys.data, m.indices, m.indptr, m.nd,
+                        float(np.abs(st.x).max()) if st.x.size else 1.0, st.lam,
+                        ROUNDOFF_ULPS, self.roff)
         return None
 
     def step(self, sn: State, h: float) -> StepOutcome:
@@ -177,7 +215,7 @@ class Stepper:
         # a factorisation for a slightly different h (output-time clipping) still converges
         # well; the contraction monitor below refactors if it does not
         if self.lu_h is not None and abs(self.lu_h - h) > 1e-2 * h:
-            self.lu_h = None
+            self._forget()
         full = nw.strategy == "full"
         cM = 1.0 / (self.bp * h * h)
         cC = self.gp / (self.bp * h)
@@ -189,21 +227,27 @@ class Stepper:
         since_factor = 0
         worst, wval = -1, 0.0
         kscale = sys.kscale
-        stall = 64.0 * np.finfo(float).eps * max(1.0, float(np.abs(st.x).max()))
+        stall = STALL_ULPS * np.finfo(float).eps * max(1.0, float(np.abs(st.x).max()))
         last = np.inf
         for it in range(nw.max_iter + 1):
-            rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL)
+            rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
+                                                    self._no_roff)
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
+            if (rq_max > nw.tol or ph_max > nw.phi_tol) and last <= stall:
+                # Newton stagnates at the round-off of the positions: the part of the
+                # residual that a round-off change of the unknowns produces (a stiff
+                # constraint or contact turning the last bit of a position into a force)
+                # cannot be reduced; the rest must still meet the criteria. A step is never
+                # accepted on the size of the correction alone.
+                rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
+                                                   self.roff)
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
                 if it >= 3 and self.factorizations == nfac0:
                     # converged, but slowly, on a factorisation from an earlier step: it is
                     # stale (contacts or gear flanks changed since); refresh it next step
-                    self.lu_h = None
-                return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
-            if it > 0 and last <= stall:
-                # the correction is at round-off of the positions: nothing left to gain
+                    self._forget()
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break
@@ -230,7 +274,7 @@ class Stepper:
                     return StepOutcome(StepStatus.NEWTON_DIVERGED, it + 1,
                                        self.factorizations - nfac0, worst_eq=worst,
                                        residual=wval, message="corrections grow")
-                self.lu_h = None  # refactor at the next iteration
+                self._forget()  # refactor at the next iteration
             prev = nrm if nrm > 0 else prev
             last = nrm
             fresh = False
