@@ -17,6 +17,7 @@ import numpy as np
 
 from drivedyn.library import differentials
 from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.results.metrics import run_metrics
 
 
 def side_modes(p) -> dict[str, tuple[int, int]]:
@@ -146,37 +147,6 @@ def experimental(p) -> dict[int, float]:
 def seeds_simulation(p) -> dict[int, float]:
     """The seeds' simulated TDR of each mode (``[experiment] seeds``)."""
     return {int(k.removeprefix("mode")): float(v) for k, v in p.experiment.seeds.items()}
-
-
-def run_metrics(results) -> dict:
-    """Scalar outputs of a simulation, shared by ``drivedyn run``/``tdr`` and sweeps.
-
-    Returns a dict: ``t_final`` [s], ``dissipated_energy`` [J] (``energy.dissipated`` at the
-    end), ``energy_balance_error`` [J], ``peak_pressure`` [Pa] (the largest contact pressure
-    of any element output named ``*.pressure`` over the run, NaN if none) and
-    ``peak_pressure_at`` (that output's element name), ``steps``, ``rejected_steps``,
-    ``newton_iterations``, ``factorizations``, ``wall_s``.
-    """
-    ds = results.dataset
-    n = len(results.time)
-
-    def last(name: str) -> float:
-        return float(ds[name].values[-1]) if n and name in ds else float("nan")
-
-    peak, where = float("nan"), ""
-    for name, var in ds.data_vars.items():
-        if str(name).endswith(".pressure") and var.attrs.get("units") == "Pa" and var.size:
-            value = float(np.nanmax(np.abs(var.values)))
-            if not peak >= value:
-                peak, where = value, str(name).rsplit(".", 1)[0]
-    st = results.stats
-    return {"t_final": float(results.time[-1]) if n else float("nan"),
-            "dissipated_energy": last("energy.dissipated"),
-            "energy_balance_error": last("energy.balance_error"),
-            "peak_pressure": peak, "peak_pressure_at": where,
-            "steps": int(st.steps), "rejected_steps": int(st.rejected),
-            "newton_iterations": int(st.newton_iterations),
-            "factorizations": int(st.factorizations), "wall_s": float(st.wall_s)}
 
 
 @dataclass

@@ -34,7 +34,7 @@ def _summary(res, out: Path | None) -> dict:
             last = vals[-1]
             final[str(name)] = ([_finite(float(v)) for v in np.atleast_1d(last)]
                                 if np.ndim(last) else _finite(float(last)))
-    from drivedyn.analysis.tdr import run_metrics
+    from drivedyn.results.metrics import run_metrics
 
     st = res.stats
     metrics = run_metrics(res)

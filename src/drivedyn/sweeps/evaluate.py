@@ -183,8 +183,8 @@ _RUN_UNITS = {"t_final": "s", "dissipated_energy": "J", "energy_balance_error": 
 
 
 def _run(task: Task, rec: dict) -> None:
-    from drivedyn.analysis.tdr import run_metrics
     from drivedyn.config import load_model
+    from drivedyn.results.metrics import run_metrics
     from drivedyn.solver.simulate import InitializationError, simulate
 
     model = load_model(task.model, dict(task.overrides))
