@@ -105,6 +105,33 @@ def _check_metrics(path: Path, fixed: dict, metrics: list) -> None:
                                   "(0-2)")
 
 
+def _design(model: str, vary: Any, sample: Any, samples: int, seed: int,
+            sensitivity_keys: Any, rel_step: float, fixed: dict) -> Design:
+    """The sweep's points, after checking that every key names a value of the model file."""
+    from drivedyn.config.loader import check_override_keys
+
+    if sensitivity_keys:
+        if vary or sample:
+            raise SweepInputError("--sensitivity takes its keys from --vary KEY or "
+                                  "KEY=NOMINAL, without ranges or --sample")
+        items = sensitivity_keys.items() if isinstance(sensitivity_keys, Mapping) else \
+            [parse_sensitivity(k)[:2] for k in sensitivity_keys]
+        params = []
+        for key, nominal in items:
+            check_override_keys(model, {key: nominal if nominal is not None else 1.0},
+                                "--vary")
+            x, unit = (float(nominal), "") if nominal is not None else \
+                _nominal(model, key, fixed)
+            params.append((key, x, unit))
+        return sensitivity(params, rel_step)
+    varies, samp = _varies(vary), _samples(sample)
+    design = grid(varies, samp, samples, seed)
+    first = {v.key: v.model_value(v.values[0]) for v in varies}
+    first.update({s.key: format_value(s.a, s.unit) for s in samp})
+    check_override_keys(model, first, "--vary")
+    return design
+
+
 def _sets(sets: Any) -> dict[str, Any]:
     from drivedyn.config.loader import parse_override
 
@@ -186,26 +213,8 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
             raise SweepInputError(f"--mode {bad or list(modes)}: expected modes 1-4")
     if metrics:
         _check_metrics(path, fixed, [parse_metric(m) for m in metrics])
-    if sensitivity_keys:
-        if vary or sample:
-            raise SweepInputError("--sensitivity takes its keys from --vary KEY or "
-                                  "KEY=NOMINAL, without ranges or --sample")
-        items = sensitivity_keys.items() if isinstance(sensitivity_keys, Mapping) else \
-            [parse_sensitivity(k)[:2] for k in sensitivity_keys]
-        params_s = []
-        for key, nominal in items:
-            check_override_keys(str(model), {key: nominal if nominal is not None else 1.0},
-                                "--vary")
-            x, unit = (float(nominal), "") if nominal is not None else \
-                _nominal(str(path), key, fixed)
-            params_s.append((key, x, unit))
-        design: Design = sensitivity(params_s, rel_step)
-    else:
-        varies, samp = _varies(vary), _samples(sample)
-        design = grid(varies, samp, samples, seed)
-        first = {v.key: v.model_value(v.values[0]) for v in varies}
-        first.update({s.key: format_value(s.a, s.unit) for s in samp})
-        check_override_keys(str(model), first, "--vary")
+    design = _design(str(model), vary, sample, samples, seed, sensitivity_keys, rel_step,
+                     fixed)
     if fixed:
         check_override_keys(str(model), fixed, "--set")
 
