@@ -150,6 +150,7 @@ class Stepper:
         self.hdq = np.zeros(model.nd)
         # round-off levels of the residual for the factorised matrix (zero: none yet)
         self.roff = np.zeros(model.neq)
+        self._roff_at: float | None = None
         self._no_roff = np.zeros(model.neq)
         self._prev_t: float | None = None  # time and accelerations of the state before sn
         self._prev_vd = np.zeros(model.nd)
@@ -171,6 +172,19 @@ class Stepper:
         # the round-off levels describe the factorised matrix only
         self.lu_h = None
         self.roff[:] = 0.0
+        self._roff_at = None
+
+    def _roundoff(self, st: State) -> np.ndarray:
+        """Round-off levels of the residual for the factorised matrix (``sys.data`` holds
+        it until the next factorisation), computed once per factorisation, when needed;
+        zeros without a factorisation."""
+        if self.lu_h is not None and self._roff_at is None:
+            m = self.model
+            roundoff_levels(self.sys.data, m.indices, m.indptr, m.nd,
+                            float(np.abs(st.x).max()) if st.x.size else 1.0, st.lam,
+                            ROUNDOFF_ULPS, self.roff)
+            self._roff_at = self.lu_h
+        return self.roff
 
     def _factor(self, st: State, h: float) -> StepOutcome | None:
         sys = self.sys
@@ -183,10 +197,7 @@ class Stepper:
             return StepOutcome(StepStatus.SINGULAR, message=str(exc))
         self.lu_h = h
         self.factorizations += 1
-        m = self.model
-        roundoff_levels(sys.data, m.indices, m.indptr, m.nd,
-                        float(np.abs(st.x).max()) if st.x.size else 1.0, st.lam,
-                        ROUNDOFF_ULPS, self.roff)
+        self._roff_at = None  # computed from this matrix when Newton first stagnates on it
         return None
 
     def step(self, sn: State, h: float) -> StepOutcome:
@@ -242,7 +253,7 @@ class Stepper:
                 # cannot be reduced; the rest must still meet the criteria. A step is never
                 # accepted on the size of the correction alone.
                 rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                   self.roff)
+                                                   self._roundoff(st))
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
                 if it >= 3 and self.factorizations == nfac0:
                     # converged, but slowly, on a factorisation from an earlier step: it is
