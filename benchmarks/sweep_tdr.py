@@ -5,7 +5,7 @@ Eight simulated TDR evaluations (all four locking modes each: two bench runs per
 process, then of two, each started fresh (its start-up is timed apart; the first point on
 each worker also loads the numba kernels from the cache). The cache is off, so both runs
 compute every point. Then the per-point overhead of the scheduler is measured with points
-that cost almost nothing (200 analytic-only TDRs, about 2 ms each): (sweep wall time - the
+that cost almost nothing (200 analytic-only TDRs, about 3 ms each): (sweep wall time - the
 sum of the points' own wall times) / points, on one worker.
 
 Prints a table and JSON lines: wall time, speed-up (the issue aims at 1.8 on two cores),
