@@ -24,8 +24,9 @@ from drivedyn.cli.common import (
     err,
     jsonable,
 )
+from drivedyn.units import UNITS
 
-RPM = 2 * math.pi / 60
+RPM = UNITS["rpm"][0]  # rad/s per rpm
 
 
 def _params(model_file: str, sets: tuple[str, ...]):

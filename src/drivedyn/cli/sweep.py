@@ -12,7 +12,6 @@ scheduler), refused before any point runs.
 from __future__ import annotations
 
 import json
-import math
 import sys
 import time
 from pathlib import Path
@@ -28,8 +27,9 @@ from drivedyn.cli.common import (
     err,
     jsonable,
 )
+from drivedyn.units import UNITS
 
-RPM = 2 * math.pi / 60
+RPM = UNITS["rpm"][0]  # rad/s per rpm
 
 
 @click.command()
