@@ -1,8 +1,8 @@
 """Command line interface: the ``drivedyn`` group and its commands, one module per command
 group (:mod:`~drivedyn.cli.validate`, :mod:`~drivedyn.cli.files` for ``run``/``plot``/
 ``models``, :mod:`~drivedyn.cli.differential` for ``tdr``/``calibrate``,
-:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`), shared helpers in
-:mod:`~drivedyn.cli.common`.
+:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`, :mod:`~drivedyn.cli.view`), shared
+helpers in :mod:`~drivedyn.cli.common`.
 
 Exit codes: 0 success, 1 failure of a run (partial results are written), 2 bad input. Errors
 of the input (model files, keys, values, units, options) are reported in one message naming
@@ -24,6 +24,7 @@ from drivedyn.cli.files import COMMANDS as FILE_COMMANDS
 from drivedyn.cli.sweep import sweep
 from drivedyn.cli.validate import validate
 from drivedyn.cli.vehicle import vehicle
+from drivedyn.cli.view import view
 
 HELP = """drivedyn: flexible multibody simulation of automotive drivelines.
 
@@ -41,6 +42,7 @@ Examples:
     drivedyn models --show pendulum > my_pendulum.toml
     drivedyn run my_pendulum.toml --set solver.t_end=10 --out pendulum.nc
     drivedyn plot pendulum.nc --out figures
+    drivedyn view pendulum.nc --out pendulum.html
     drivedyn vehicle --compare open,torsen --t-end 2 --out split-mu
     drivedyn sweep torsen-c --tdr --vary pockets.mu=0.10:0.20:5 --workers 2
 """
@@ -91,7 +93,7 @@ def main(ctx: click.Context, debug: bool) -> None:
     ctx.meta["drivedyn.debug"] = debug
 
 
-for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep):
+for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep, view):
     main.add_command(_cmd)
 
 __all__ = ["main"]

@@ -247,6 +247,11 @@ class ElementSpec:
     def validate(self) -> None:  # pragma: no cover - default accepts
         return None
 
+    def visuals(self) -> tuple:
+        """The shapes the 3-D viewer draws for this element
+        (:class:`drivedyn.elements.visuals.Visual` records on its markers); none by default."""
+        return ()
+
 
 @dataclass(frozen=True)
 class TwoMarkerSpec(ElementSpec):

@@ -390,6 +390,16 @@ class ThrustWasherContact(TwoMarkerSpec):
             raise ModelError(f"{what}: r_int = {self.r_int!r} must be < r_ext = {self.r_ext!r}")
         check_laws(self, what)
 
+    def visuals(self) -> tuple:
+        """The washer as an annulus behind face A (thickness a tenth of its radial width)
+        and its normal force as an arrow along the washer normal."""
+        from drivedyn.elements.visuals import arrow, cylinder
+
+        t = 0.1 * (self.r_ext - self.r_int)
+        return (cylinder(self.marker_a, self.r_ext, t, inner_radius=self.r_int, z0=-t,
+                         role="washer", label=self.name),
+                arrow(self.marker_a, f"{self.name}.normal_force", label=self.name))
+
     @property
     def area(self) -> float:
         """Face area S = pi (r_ext^2 - r_int^2) [m^2]."""

@@ -235,6 +235,13 @@ class Joint(TwoMarkerSpec):
         check_optional(what_of(self), "k", self.k, 0.0, strict=True)
         check_optional(what_of(self), "p", self.p, 0.0, strict=True)
 
+    def visuals(self) -> tuple:
+        """The joint frame (z = joint axis) at ``marker_a``, drawn on request; length 0 lets
+        the viewer size it to the scene."""
+        from drivedyn.elements.visuals import axes
+
+        return (axes(self.marker_a, 0.0, label=self.name),)
+
 
 _A, _D, _S = ROW_AXIAL, ROW_DOT, ROW_SCREW
 

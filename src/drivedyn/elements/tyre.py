@@ -137,6 +137,18 @@ class TyreContact(ElementSpec):
             patches.append(p)
         return tyre, tuple(patches)
 
+    def visuals(self) -> tuple:
+        """The wheel as a tyre (a tube of the unloaded radius, section width 0.35 R0, a rim
+        of 0.65 R0) on the wheel marker, z = spin axis."""
+        from drivedyn.elements.visuals import cylinder
+
+        try:
+            r0 = self.resolved()[0].unloaded_radius
+        except Exception:  # an unreadable tyre is reported by validate(), not here
+            return ()
+        return (cylinder(self.marker, r0, 0.35 * r0, inner_radius=0.65 * r0, role="wheel",
+                         label=self.name),)
+
     def validate(self) -> None:
         what = what_of(self)
         _, patches = self.resolved()

@@ -90,4 +90,6 @@ def include(host: Spec, sub: Spec, prefix: str, *, position: Any = (0.0, 0.0, 0.
     for e in sub.elements:
         changes = {f.name: _rename(getattr(e, f.name), names) for f in dataclasses.fields(e)}
         host.add(dataclasses.replace(e, **changes))
+    for v in sub.visuals:
+        host.add_visual(v.renamed(names))
     return names

@@ -172,6 +172,7 @@ class Spec:
         self.bodies: dict[str, RigidBody] = {}
         self.markers: dict[str, Marker] = {}
         self.elements: list[Any] = []
+        self.visuals: list[Any] = []
         self._names: set[str] = {GROUND}
 
     # -- bodies and nodes ------------------------------------------------------------------
@@ -262,6 +263,20 @@ class Spec:
             name, body, _vec3(position, what + ".position"), _frame(rotation, axis, what)
         )
         return name
+
+    def add_visual(self, visual: Any) -> Any:
+        """Add a shape for the 3-D viewer (:class:`drivedyn.elements.visuals.Visual`, e.g.
+        ``cylinder("case_axis", 0.06, 0.1, role="case")``) on an existing marker; returns it.
+        Elements declare their own shapes; this is for what only the assembly knows (cases,
+        housings, shafts)."""
+        from drivedyn.elements.visuals import Visual
+
+        if not isinstance(visual, Visual):
+            raise ModelError(f"add_visual: expected a Visual, got {type(visual).__name__}")
+        if visual.marker not in self.markers:
+            raise ModelError(f"add_visual: marker {visual.marker!r} does not exist")
+        self.visuals.append(visual)
+        return visual
 
     # -- elements --------------------------------------------------------------------------
     def add(self, element: Any) -> Any:

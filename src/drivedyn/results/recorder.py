@@ -220,7 +220,22 @@ class Recorder:
 
             # the beams' topology, for the deformed-shape plots: element -> [node_a, node_b]
             attrs["beam_elements"] = json.dumps(beams)
+        attrs["scene"] = _scene_json(m)
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _scene_json(model: Model) -> str:
+    """The model's visual scene as JSON (:mod:`drivedyn.results.scene`); a shape that cannot
+    be resolved must not cost the user the results of the run, so a failure is recorded in
+    the scene instead of raised."""
+    import json
+
+    from drivedyn.results.scene import scene_description
+
+    try:
+        return json.dumps(scene_description(model))
+    except Exception as exc:  # reported in the file: the run is kept
+        return json.dumps({"version": 1, "error": f"{type(exc).__name__}: {exc}"})
 
 
 def variable_names(model: Model) -> dict[str, tuple[str, ...]]:

@@ -114,6 +114,28 @@ class GearPair(TwoMarkerSpec):
         "max_misalignment": "rad",
     }
 
+    def visuals(self) -> tuple:
+        """The two wheels as toothed wheels on their markers: pitch radius z m_n / (2 cos
+        beta) (bevel: z m_n / 2 at the mean cone, with its cone angle), the tooth count, face
+        width and helix of each; the profile shift is not drawn."""
+        from drivedyn.elements.visuals import gear
+
+        beta_a = float(self.helix_angle)
+        if self.helix_angle_b is not None:
+            beta_b = float(self.helix_angle_b)
+        else:  # an external pair has opposite hands, an internal pair the same hand
+            beta_b = beta_a if self.internal else -beta_a
+        out = []
+        for marker, z, beta, cone, internal in (
+                (self.marker_a, self.teeth_a, beta_a, self.cone_angle_a, self.internal == "a"),
+                (self.marker_b, self.teeth_b, beta_b, self.cone_angle_b, self.internal == "b")):
+            bevel = self.kind == "bevel"
+            r = 0.5 * z * self.module / (1.0 if bevel else np.cos(beta))
+            out.append(gear(marker, int(z), r, self.face_width, self.module,
+                            helix_angle=0.0 if bevel else beta, internal=internal,
+                            cone_angle=float(cone or 0.0) if bevel else 0.0, label=self.name))
+        return tuple(out)
+
     def _fail(self, label: str, msg: str, value) -> None:
         raise ModelError(f"GearPair {self.name!r}.{label}: {msg}, got {value!r}")
 

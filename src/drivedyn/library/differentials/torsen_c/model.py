@@ -57,6 +57,7 @@ from drivedyn.elements import (
     Screw,
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.elements.visuals import cylinder
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
 
@@ -296,7 +297,38 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
                                    law=p.contact.washer_law(wd.r_int, wd.r_ext),
                                    r_int=wd.r_int, r_ext=wd.r_ext,
                                    friction=_friction(wd.mu, p, friction_scale)))
+    _visuals(sp, p, geo, zc, flexible_case=p.flexible.case)
     return sp, geo
+
+
+def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: bool) -> None:
+    """Shapes of the bodies that no element draws, for the 3-D viewer: the housing (planet
+    carrier) and the case as semi-transparent shells around the ring gear, the coupling hub,
+    and stubs of the front (sun) and rear (coupling) output shafts. Wall thicknesses and shaft
+    lengths are illustrative (the model carries no such data)."""
+    g = p.gears
+    m, b = g.module, g.face_width
+    r_in = geo.r_ring + 1.5 * m  # outside the ring gear's root
+    wall = max(2.0 * m, 0.05 * geo.r_ring)
+    front = b / 2 + p.washers.sun_housing.gap + wall
+    sp.add_visual(cylinder("b_housing", r_in + wall, front + b / 2, inner_radius=r_in,
+                           z0=-front, role="housing", label="housing"))
+    sp.add_visual(cylinder("b_housing", r_in + wall, wall, z0=-front, role="housing",
+                           inner_radius=0.6 * geo.r_sun, label="housing"))
+    if not flexible_case:
+        back = COUPLING_LENGTH / 2 + p.washers.coupling_case.gap  # case's rear face, from zc
+        sp.add_visual(cylinder("c_case", r_in + wall, back + wall + zc - b / 2,
+                               inner_radius=r_in, z0=-(zc - b / 2), role="case",
+                               label="case"))
+        sp.add_visual(cylinder("c_case", r_in + wall, wall, inner_radius=0.6 * geo.r_sun,
+                               z0=back, role="case", label="case"))
+    sp.add_visual(cylinder("b_coupling", 0.8 * geo.r_ring, COUPLING_LENGTH,
+                           inner_radius=0.3 * geo.r_sun, role="pin", label="coupling"))
+    shaft = 1.5 * geo.r_ring
+    sp.add_visual(cylinder("m_sun", 0.3 * geo.r_sun, shaft, z0=-b / 2 - shaft, role="shaft",
+                           label="front output (sun)"))
+    sp.add_visual(cylinder("b_coupling", 0.3 * geo.r_sun, shaft, z0=COUPLING_LENGTH / 2,
+                           role="shaft", label="rear output (coupling)"))
 
 
 def washer_part(p: TorsenCFile, name: str):

@@ -1,0 +1,347 @@
+"""A run's animated 3-D scene, built from its results file alone.
+
+:func:`build_scene` combines the scene description that the run stored
+(:mod:`drivedyn.results.scene`: shapes on nodes) with the nodes' position and rotation
+histories, the beams' node histories and the meshed flexible parts' fields. The HTML viewer,
+the glTF and the VTK exports all write this one :class:`Scene`.
+
+Frames: every node's pose at each frame is ``x`` [m] (global) and the unit quaternion
+``(x, y, z, w)`` of its rotation (body to global). Deformable bodies carry their own
+per-frame vertex data: a beam chain its nodes' positions and the positions of the rigid
+motion that fits them best (so that a deformation scale factor magnifies the deformation
+only), a flexible part the elastic displacement of its surface nodes in its host frame.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from drivedyn.viewer.meshes import shape_mesh, transformed
+
+#: default colours by role (RGB 0..1) and opacities
+COLOURS = {"gear": (0.80, 0.62, 0.25), "shaft": (0.55, 0.57, 0.62), "washer": (0.30, 0.55, 0.85),
+           "case": (0.62, 0.66, 0.72), "housing": (0.55, 0.62, 0.70),
+           "body": (0.60, 0.60, 0.66), "wheel": (0.15, 0.15, 0.17), "pin": (0.50, 0.52, 0.58),
+           "chassis": (0.70, 0.20, 0.20), "part": (0.65, 0.65, 0.70), "joint": (0.1, 0.1, 0.1),
+           "force": (0.85, 0.15, 0.15)}
+OPACITY = {"case": 0.3, "housing": 0.3}
+
+
+@dataclass
+class Mesh:
+    """A rigid triangle mesh on one node: vertices (n, 3) [m] in the node frame."""
+
+    name: str
+    node: int  # index into Scene.nodes; -1: ground (global frame)
+    role: str
+    vertices: np.ndarray
+    triangles: np.ndarray
+    colour: tuple[float, float, float]
+    opacity: float
+    equivalent: bool = False  # an inertia box standing in for an undeclared shape
+
+
+@dataclass
+class Arrow:
+    """A force arrow on a node: origin (3,) and unit direction (3,) in the node frame, its
+    value per frame (nf,) in ``unit``."""
+
+    name: str
+    node: int
+    origin: np.ndarray
+    direction: np.ndarray
+    values: np.ndarray
+    unit: str
+
+
+@dataclass
+class Beam:
+    """A chain of beam nodes: node indices (nb,), tube radius [m], the per-frame positions
+    of the rigid motion fitting the chain (nf, nb, 3) and a per-frame von Mises stress at the
+    nodes (nf, nb) [Pa] (NaN: not recorded)."""
+
+    name: str
+    nodes: np.ndarray
+    radius: float
+    rigid: np.ndarray
+    stress: np.ndarray
+
+
+@dataclass
+class Part:
+    """A meshed flexible part on its host node: the surface triangles (m, 3) over its
+    surface nodes, their undeformed positions (ns, 3) and elastic displacements
+    (nf, ns, 3) [m] in the host frame, and the von Mises stress (nf, ns) [Pa]."""
+
+    name: str
+    node: int
+    triangles: np.ndarray
+    points: np.ndarray
+    displacement: np.ndarray
+    stress: np.ndarray
+
+
+@dataclass
+class Scene:
+    """Everything the viewer draws, over ``nf`` frames.
+
+    Attributes:
+        title: what the page shows as its title.
+        time: (nf,) [s].
+        nodes: node names (nn).
+        position: (nf, nn, 3) [m], global frame.
+        quaternion: (nf, nn, 4) rotation of each node, (x, y, z, w), body to global.
+        meshes, arrows, beams, parts: see the classes.
+        markers: (name, node, position (3,), rotation (3, 3) in the node frame).
+        joints: joint frames (same layout as markers), drawn on request.
+        length: characteristic size of the mechanism [m] (camera distance, arrow sizes).
+        warnings: what could not be drawn, and why.
+    """
+
+    title: str
+    time: np.ndarray
+    nodes: list[str]
+    position: np.ndarray
+    quaternion: np.ndarray
+    meshes: list[Mesh] = field(default_factory=list)
+    arrows: list[Arrow] = field(default_factory=list)
+    beams: list[Beam] = field(default_factory=list)
+    parts: list[Part] = field(default_factory=list)
+    markers: list[tuple[str, int, np.ndarray, np.ndarray]] = field(default_factory=list)
+    joints: list[tuple[str, int, np.ndarray, np.ndarray]] = field(default_factory=list)
+    length: float = 1.0
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def frames(self) -> int:
+        return len(self.time)
+
+
+def quaternions(R: np.ndarray) -> np.ndarray:
+    """Unit quaternions (..., 4) as (x, y, z, w) of rotation matrices (..., 3, 3), by the
+    largest-diagonal branch (Shepperd), continuous in sign along the first axis."""
+    R = np.asarray(R, dtype=float)
+    shp = R.shape[:-2]
+    M = R.reshape(-1, 3, 3)
+    q = np.empty((len(M), 4))
+    tr = np.trace(M, axis1=1, axis2=2)
+    d = np.stack([M[:, 0, 0], M[:, 1, 1], M[:, 2, 2], tr], axis=1)
+    k = np.argmax(d, axis=1)
+    for i in range(len(M)):
+        m = M[i]
+        if k[i] == 3:
+            s = 2.0 * np.sqrt(1.0 + tr[i])
+            q[i] = ((m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s,
+                    0.25 * s)
+        elif k[i] == 0:
+            s = 2.0 * np.sqrt(1.0 + m[0, 0] - m[1, 1] - m[2, 2])
+            q[i] = (0.25 * s, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s,
+                    (m[2, 1] - m[1, 2]) / s)
+        elif k[i] == 1:
+            s = 2.0 * np.sqrt(1.0 + m[1, 1] - m[0, 0] - m[2, 2])
+            q[i] = ((m[0, 1] + m[1, 0]) / s, 0.25 * s, (m[1, 2] + m[2, 1]) / s,
+                    (m[0, 2] - m[2, 0]) / s)
+        else:
+            s = 2.0 * np.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
+            q[i] = ((m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s,
+                    (m[1, 0] - m[0, 1]) / s)
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q = q.reshape(*shp, 4)
+    if q.ndim == 3:  # (nf, nn, 4): keep each node's sign continuous for interpolation
+        for f in range(1, q.shape[0]):
+            flip = np.einsum("nk,nk->n", q[f], q[f - 1]) < 0
+            q[f, flip] *= -1.0
+    return q
+
+
+def frame_indices(nt: int, frames: int) -> np.ndarray:
+    """At most ``frames`` output indices spread evenly over ``nt`` outputs, the first and the
+    last included."""
+    if nt <= frames:
+        return np.arange(nt)
+    return np.unique(np.round(np.linspace(0, nt - 1, frames)).astype(int))
+
+
+def _rigid_fit(P: np.ndarray, P0: np.ndarray) -> np.ndarray:
+    """Per frame, the positions of the rigid motion of ``P0`` (nb, 3) that best fits ``P``
+    (nf, nb, 3) in least squares (Kabsch)."""
+    c0 = P0.mean(axis=0)
+    out = np.empty_like(P)
+    for f in range(len(P)):
+        c = P[f].mean(axis=0)
+        H = (P0 - c0).T @ (P[f] - c)
+        U, _, Vt = np.linalg.svd(H)
+        D = np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0])
+        R = Vt.T @ D @ U.T
+        out[f] = (P0 - c0) @ R.T + c
+    return out
+
+
+def _chains(elements: dict[str, list[str]]) -> list[tuple[list[str], list[str]]]:
+    """Beam elements joined into chains of nodes: [(node names, element names)]."""
+    left = dict(elements)
+    chains = []
+    while left:
+        e, (a, b) = next(iter(left.items()))
+        del left[e]
+        nodes, elems = [a, b], [e]
+        grown = True
+        while grown:
+            grown = False
+            for k, (p, q) in list(left.items()):
+                if p == nodes[-1]:
+                    nodes.append(q)
+                elif q == nodes[0]:
+                    nodes.insert(0, p)
+                else:
+                    continue
+                elems.append(k)
+                del left[k]
+                grown = True
+        chains.append((nodes, elems))
+    return chains
+
+
+def _surface(cells: np.ndarray) -> np.ndarray:
+    """Boundary triangles (m, 3) of a linear hexahedral (8) or tetrahedral (4) mesh, outward
+    for the usual node orders (faces used by one cell only)."""
+    if cells.shape[1] == 8:
+        faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6),
+                 (3, 0, 4, 7)]
+    else:
+        faces = [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)]
+    allf = [cells[:, list(f)] for f in faces]
+    F = np.concatenate(allf)
+    key = np.sort(F, axis=1)
+    _, idx, cnt = np.unique(key, axis=0, return_index=True, return_counts=True)
+    outer = F[idx[cnt == 1]]
+    if outer.shape[1] == 4:
+        outer = np.concatenate([outer[:, [0, 1, 2]], outer[:, [0, 2, 3]]])
+    return outer
+
+
+def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
+    """The :class:`Scene` of a results Dataset ``ds`` with at most ``frames`` frames.
+
+    Raises:
+        ValueError: the file holds no scene (written before drivedyn recorded one) or no
+            node histories.
+    """
+    raw = ds.attrs.get("scene")
+    if raw is None:
+        raise ValueError("this results file holds no scene description (written by an older "
+                         "drivedyn); run the model again to view it")
+    desc = json.loads(raw)
+    if "error" in desc:
+        raise ValueError(f"the run could not record its scene: {desc['error']}")
+    nodes = sorted({str(v)[:-len(".rotation")] for v in ds.data_vars
+                    if str(v).endswith(".rotation") and ds[v].dims[1:] == ("row", "col")},
+                   key=lambda n: list(ds.data_vars).index(n + ".rotation"))
+    if not nodes:
+        raise ValueError("this results file records no node positions and rotations")
+    nt = ds.sizes["time"]
+    idx = frame_indices(nt, frames)
+    t = np.asarray(ds["time"].values, dtype=float)[idx]
+    X = np.stack([np.asarray(ds[f"{n}.position"].values)[idx] for n in nodes], axis=1)
+    Rm = np.stack([np.asarray(ds[f"{n}.rotation"].values)[idx] for n in nodes], axis=1)
+    index = {n: i for i, n in enumerate(nodes)}
+    index["ground"] = -1
+    scene = Scene(title or str(ds.attrs.get("model_source", "drivedyn run")), t, nodes, X,
+                  quaternions(Rm))
+    for s in desc.get("shapes", []):
+        node = index.get(s["node"])
+        if node is None:
+            scene.warnings.append(f"{s['label']}: node {s['node']!r} not recorded")
+            continue
+        if s["kind"] == "axes":
+            scene.joints.append((s["label"], node, np.asarray(s["position"]),
+                                 np.asarray(s["rotation"]).reshape(3, 3)))
+            continue
+        if s["kind"] == "arrow":
+            var = s.get("variable", "")
+            if var not in ds:
+                continue
+            Rs = np.asarray(s["rotation"]).reshape(3, 3)
+            scene.arrows.append(Arrow(s["label"], node, np.asarray(s["position"]), Rs[:, 2],
+                                      np.asarray(ds[var].values, dtype=float)[idx],
+                                      ds[var].attrs.get("units", "")))
+            continue
+        mesh = shape_mesh(s)
+        if mesh is None:
+            continue
+        V = transformed(mesh[0], s["position"], s["rotation"])
+        role = s["role"]
+        scene.meshes.append(Mesh(s["label"], node, role, V, mesh[1], COLOURS[role],
+                                 float(s.get("opacity", OPACITY.get(role, 1.0))),
+                                 bool(s.get("equivalent", False))))
+    for name, node, pos, rot in ((m["name"], index.get(m["node"]), m["position"],
+                                  m["rotation"]) for m in desc.get("markers", [])):
+        if node is not None:
+            scene.markers.append((name, node, np.asarray(pos), np.asarray(rot).reshape(3, 3)))
+    _add_beams(scene, ds, desc, idx, index)
+    _add_parts(scene, ds, idx, index)
+    spread = float(np.ptp(X[0], axis=0).max()) if len(nodes) > 1 else 0.0
+    scene.length = max(spread, float(desc.get("length", 0.0)), 1e-3)
+    return scene
+
+
+def _add_beams(scene: Scene, ds: Any, desc: dict, idx: np.ndarray,
+               index: dict[str, int]) -> None:
+    topo = json.loads(ds.attrs.get("beam_elements", "{}"))
+    if not topo:
+        return
+    radius = {b["element"]: b["radius"] for b in desc.get("beams", [])}
+    X = scene.position
+    for k, (names, elems) in enumerate(_chains(topo)):
+        if any(n not in index for n in names):
+            scene.warnings.append(f"beam chain {elems[0]}: nodes not recorded")
+            continue
+        ni = np.array([index[n] for n in names])
+        P = X[:, ni]
+        rigid = _rigid_fit(P, P[0]) if len(ni) > 2 else P.copy()
+        # nodal stress: mean of the adjacent elements' von Mises stress
+        stress = np.full((len(idx), len(ni)), np.nan)
+        acc = np.zeros((len(idx), len(ni)))
+        cnt = np.zeros(len(ni))
+        for e in elems:
+            a, b = topo[e]
+            var = f"{e}.von_mises"
+            if var not in ds:
+                continue
+            v = np.asarray(ds[var].values, dtype=float)[idx]
+            for n in (a, b):
+                j = names.index(n)
+                acc[:, j] += v
+                cnt[j] += 1
+        ok = cnt > 0
+        stress[:, ok] = acc[:, ok] / cnt[ok]
+        r = max(radius.get(e, 0.0) for e in elems) or 0.01 * scene.length
+        scene.beams.append(Beam(f"beam {k + 1} ({elems[0]}...)", ni, r, rigid, stress))
+
+
+def _add_parts(scene: Scene, ds: Any, idx: np.ndarray, index: dict[str, int]) -> None:
+    for v in ds.data_vars:
+        name = str(v)
+        if not name.endswith(".mesh_points"):
+            continue
+        part = name[:-len(".mesh_points")]
+        host = ds[name].attrs.get("host")
+        if host not in index or f"{part}.q" not in ds:
+            scene.warnings.append(f"{part}: host node or elastic coordinates not recorded")
+            continue
+        cells = np.asarray(ds[f"{part}.mesh_cells"].values, dtype=np.int64)
+        tri = _surface(cells)
+        used = np.unique(tri)
+        remap = -np.ones(int(cells.max()) + 1, dtype=np.int64)
+        remap[used] = np.arange(len(used))
+        basis = np.asarray(ds[f"{part}.basis"].values)[used]          # (ns, 3, nq)
+        q = np.asarray(ds[f"{part}.q"].values)[idx]                    # (nf, nq)
+        u = np.einsum("ndk,tk->tnd", basis, q)
+        vm = (np.asarray(ds[f"{part}.von_mises"].values)[idx][:, used]
+              if f"{part}.von_mises" in ds else np.full(u.shape[:2], np.nan))
+        scene.parts.append(Part(part, index[host], remap[tri].astype(np.int32),
+                                np.asarray(ds[name].values)[used], u, vm))
