@@ -1,8 +1,8 @@
 """Command line interface: the ``drivedyn`` group and its commands, one module per command
 group (:mod:`~drivedyn.cli.validate`, :mod:`~drivedyn.cli.files` for ``run``/``plot``/
 ``models``, :mod:`~drivedyn.cli.differential` for ``tdr``/``calibrate``,
-:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`, :mod:`~drivedyn.cli.view`), shared
-helpers in :mod:`~drivedyn.cli.common`.
+:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`, :mod:`~drivedyn.cli.view`,
+:mod:`~drivedyn.cli.report`), shared helpers in :mod:`~drivedyn.cli.common`.
 
 Exit codes: 0 success, 1 failure of a run (partial results are written), 2 bad input. Errors
 of the input (model files, keys, values, units, options) are reported in one message naming
@@ -21,6 +21,7 @@ from drivedyn.cli.bounce import bounce
 from drivedyn.cli.common import EXIT_BAD_INPUT, EXIT_FAILED
 from drivedyn.cli.differential import COMMANDS as DIFFERENTIAL_COMMANDS
 from drivedyn.cli.files import COMMANDS as FILE_COMMANDS
+from drivedyn.cli.report import report
 from drivedyn.cli.sweep import sweep
 from drivedyn.cli.validate import validate
 from drivedyn.cli.vehicle import vehicle
@@ -43,6 +44,7 @@ Examples:
     drivedyn run my_pendulum.toml --set solver.t_end=10 --out pendulum.nc
     drivedyn plot pendulum.nc --out figures
     drivedyn view pendulum.nc --out pendulum.html
+    drivedyn report pendulum.nc --out pendulum-report.html
     drivedyn vehicle --compare open,torsen --t-end 2 --out split-mu
     drivedyn sweep torsen-c --tdr --vary pockets.mu=0.10:0.20:5 --workers 2
 """
@@ -93,7 +95,8 @@ def main(ctx: click.Context, debug: bool) -> None:
     ctx.meta["drivedyn.debug"] = debug
 
 
-for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep, view):
+for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep, view,
+             report):
     main.add_command(_cmd)
 
 __all__ = ["main"]

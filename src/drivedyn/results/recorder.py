@@ -5,6 +5,8 @@ The solver hands this module plain arrays only (the state and each group's per-e
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 from numba import njit
 
@@ -216,20 +218,31 @@ class Recorder:
         beams = {en: [m.nodes[int(n)].name for n in g.lnodes[ei]]
                  for g in m.groups if g.family == "beam" for ei, en in enumerate(g.names)}
         if beams:
-            import json
-
             # the beams' topology, for the deformed-shape plots: element -> [node_a, node_b]
             attrs["beam_elements"] = json.dumps(beams)
         attrs["scene"] = _scene_json(m)
+        attrs["model_summary"] = json.dumps(model_summary(m))
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def model_summary(model: Model) -> dict:
+    """Size of a compiled model, kept in its results for the run report: rigid bodies,
+    nodes without mass of their own, coordinates (6 per node), constraint multipliers,
+    equations, and the elements by family (count and names)."""
+    families: dict[str, list[str]] = {}
+    for g in model.groups:
+        families.setdefault(g.family, []).extend(g.names)
+    return {"bodies": sum(1 for n in model.nodes if n.body is not None),
+            "nodes": sum(1 for n in model.nodes if n.body is None),
+            "coordinates": int(model.nd), "multipliers": int(model.nm),
+            "equations": int(model.neq), "internal_states": int(model.nstate),
+            "elements": {f: {"count": len(n), "names": n} for f, n in families.items()}}
 
 
 def _scene_json(model: Model) -> str:
     """The model's visual scene as JSON (:mod:`drivedyn.results.scene`); a shape that cannot
     be resolved must not cost the user the results of the run, so a failure is recorded in
     the scene instead of raised."""
-    import json
-
     from drivedyn.results.scene import scene_description
 
     try:

@@ -29,8 +29,11 @@ import numpy as np
 
 from drivedyn.model.model import Model
 
-#: roles that do not count as a body's own shape (a body with only these gets a box)
-_NOT_SOLID = ("joint", "force")
+#: roles that do not count as a body's own shape (a body with only these gets a box): a
+#: washer on a housing's face is not the housing
+_NOT_SOLID = ("joint", "force", "washer")
+#: opacity of the inertia boxes: stand-ins, they must not hide the declared shapes
+EQUIVALENT_OPACITY = 0.35
 
 
 def _node_name(model: Model, i: int) -> str:
@@ -102,7 +105,8 @@ def scene_description(model: Model) -> dict[str, Any]:
                        "params": {"sx": float(size[0]), "sy": float(size[1]),
                                   "sz": float(size[2])},
                        "node": info.name, "position": [0.0, 0.0, 0.0],
-                       "rotation": [float(r) for r in V.ravel()], "equivalent": True})
+                       "rotation": [float(r) for r in V.ravel()], "equivalent": True,
+                       "opacity": EQUIVALENT_OPACITY})
     markers = [{"name": name, "node": _node_name(model, n),
                 "position": [float(p) for p in pos],
                 "rotation": [float(r) for r in np.asarray(rot).ravel()]}

@@ -28,7 +28,7 @@ COLOURS = {"gear": (0.80, 0.62, 0.25), "shaft": (0.55, 0.57, 0.62), "washer": (0
            "body": (0.60, 0.60, 0.66), "wheel": (0.15, 0.15, 0.17), "pin": (0.50, 0.52, 0.58),
            "chassis": (0.70, 0.20, 0.20), "part": (0.65, 0.65, 0.70), "joint": (0.1, 0.1, 0.1),
            "force": (0.85, 0.15, 0.15)}
-OPACITY = {"case": 0.3, "housing": 0.3}
+OPACITY = {"case": 0.3, "housing": 0.3, "chassis": 0.25}
 
 
 @dataclass

@@ -45,6 +45,7 @@ from drivedyn.elements import Cylindrical, GearPair, Hinge, ParallelAxes
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
 from drivedyn.elements.gears.geometry import CylindricalPair, undercut_limits
 from drivedyn.elements.squeeze_film import SqueezeFilm
+from drivedyn.elements.visuals import cylinder
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 from drivedyn.model.spec import ModelError, Spec
 
@@ -302,4 +303,28 @@ def build_spec(p: TorsenBFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     for name in WASHERS:
         f = getattr(w, name)
         _washer(sp, p, name, f"w_{name}", f"f_{name}", f.r_int, f.r_ext, fw)
+    _visuals(sp, p, geo)
     return sp, geo
+
+
+def _visuals(sp: Spec, p: TorsenBFile, geo: Geometry) -> None:
+    """Shapes of the bodies that no element draws, for the 3-D viewer: the housing as a
+    semi-transparent shell around the element gears with end walls, and stubs of the two
+    output shafts. Wall thickness and shaft lengths are illustrative (the model carries no
+    such data)."""
+    g, w = p.gears, p.washers
+    hb = g.face_width / 2
+    r_in = geo.centre + geo.r_tip_element + p.pockets.clearance + 0.5 * g.module
+    wall = max(2.0 * g.module, 0.08 * geo.centre)
+    z0 = geo.z_side + hb + max(w.left.gap, w.right.gap)
+    sp.add_visual(cylinder("b_housing", r_in + wall, 2 * z0, inner_radius=r_in,
+                           role="housing", label="housing"))
+    for z in (-z0 - wall, z0):
+        sp.add_visual(cylinder("b_housing", r_in + wall, wall, z0=z,
+                               inner_radius=0.35 * geo.r_side, role="housing",
+                               label="housing"))
+    shaft = 1.0 * r_in
+    sp.add_visual(cylinder("b_left", 0.3 * geo.r_side, shaft, z0=-hb - shaft, role="shaft",
+                           label="left output"))
+    sp.add_visual(cylinder("b_right", 0.3 * geo.r_side, shaft, z0=hb, role="shaft",
+                           label="right output"))

@@ -42,6 +42,7 @@ from drivedyn.elements import (
     TorsionalSpringDamper,
     TyreContact,
 )
+from drivedyn.elements.visuals import box
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
 from drivedyn.library.vehicles.bevel_differential import build_bevel
@@ -227,6 +228,11 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
 
     def on_body(name: str, pos, axis) -> str:
         return sp.add_marker(name, "body", position=np.asarray(pos) - body_pos, axis=axis)
+
+    # the car body for the 3-D viewer: a semi-transparent box over the wheels (0.6 m
+    # overhangs, as narrow as the track so that the wheels show; illustrative sizes)
+    sp.add_marker("b_shell", "body", position=np.array([0.0, 0.0, r0 + 0.35]) - body_pos)
+    sp.add_visual(box("b_shell", L + 1.2, T - 0.3, 0.7, role="chassis", label="body"))
 
     # differentials
     placement = {"central": (np.array([0.0, 0.0, h]), R_CENTRAL),
