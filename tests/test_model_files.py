@@ -179,7 +179,7 @@ def test_run_plot_round_trip(tmp_path):
     assert (tmp_path / "r.csv").read_text().startswith("time [s],")
     proc = _cli("plot", str(tmp_path / "r.nc"), "--out", str(tmp_path / "figs"))
     assert proc.returncode == 0, proc.stderr
-    assert (tmp_path / "figs" / "block.png").stat().st_size > 5000
+    assert (tmp_path / "figs" / "bodies.png").stat().st_size > 5000
     assert (tmp_path / "figs" / "energy.png").exists()
 
 

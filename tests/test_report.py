@@ -41,7 +41,7 @@ def test_report_has_every_section_with_the_run_figures(pendulum_run, tmp_path) -
         balance = float(ds["energy.balance_error"].values[-1])
     model = _section(text, "model")
     assert summary == {"bodies": 1, "nodes": 0, "coordinates": 6, "multipliers": 5,
-                       "equations": 11, "internal_states": 0,
+                       "equations": 11, "internal_states": 1,  # the hinge's turn count
                        "elements": {"rigid_body": {"count": 1, "names": ["rod"]},
                                     "hinge": {"count": 1, "names": ["hinge"]}}}
     assert "<td>hinge</td><td>1</td>" in model and "<td>rigid bodies</td><td>1</td>" in model
@@ -60,11 +60,11 @@ def test_report_has_every_section_with_the_run_figures(pendulum_run, tmp_path) -
 
 
 def test_report_without_view_and_bad_input(pendulum_run, tmp_path) -> None:
-    out = tmp_path / "r.html"
+    out = tmp_path / "new" / "r.html"  # folders are made
     r = CliRunner().invoke(main, ["report", pendulum_run, "--out", str(out), "--no-view"])
     assert r.exit_code == 0, r.output
     assert "No 3-D view was written" in _section(out.read_text(), "view")
-    assert not list(tmp_path.glob("*view.html"))
+    assert not list(tmp_path.glob("**/*view.html"))
     bad = tmp_path / "bad.nc"
     bad.write_text("no")
     r = CliRunner().invoke(main, ["report", str(bad)])

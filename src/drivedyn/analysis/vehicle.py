@@ -36,10 +36,8 @@ from typing import Any
 import numpy as np
 
 from drivedyn.library import differentials
-from drivedyn.library.differentials.protocol import level_times, vehicle_spec
+from drivedyn.library.differentials.protocol import WINDOW_FRACTION, level_windows, vehicle_spec
 
-#: fraction of each hold (its end) over which a level is averaged
-WINDOW_FRACTION = 0.6
 #: default sampling: at least this many output samples per analysis window
 WINDOW_SAMPLES = 50
 #: housing torques below this [N m] count as zero (no locking mode)
@@ -66,16 +64,6 @@ class VehicleRun:
     message: str = ""
     levels: list[dict] = field(default_factory=list)
     params: Any = None
-
-
-def level_windows(p: Any) -> list[tuple[float, float, float, int, bool]]:
-    """(hold start, window start, window end, level index, backward?) [s] of each held level
-    of the profile, in time order (:func:`~drivedyn.library.differentials.protocol.level_times`);
-    the window is the last :data:`WINDOW_FRACTION` of the hold."""
-    out = []
-    for t0, t1, i, back in level_times(p):
-        out.append((t0, t1 - WINDOW_FRACTION * (t1 - t0), t1, i, back))
-    return out
 
 
 def mode_of(diff, torque: float, w_first: float, w_second: float, w_housing: float

@@ -155,22 +155,16 @@ def _sweep_dataset(path: Path):
         return None
 
 
-def _groups(names: list[str]) -> dict[str, list[str]]:
-    out: dict[str, list[str]] = {}
-    for n in names:
-        prefix = n.rsplit(".", 1)[0] if "." in n else n
-        out.setdefault(prefix, []).append(n)
-    return out
-
-
 @click.command()
 @click.argument("results_file", type=click.Path(exists=True, dir_okay=False, path_type=Path),
                 metavar="RESULTS.nc")
 @click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
               default=Path("plots"), show_default=True, help="Folder for the PNG files.")
 @click.option("--vars", "patterns", multiple=True, metavar="PATTERN",
-              help="Variables to plot (glob patterns, e.g. 'crank.*' or '*.torque'); "
-                   "default: the energy terms and every body/element, up to 20 figures.")
+              help="Variables to plot (glob patterns, e.g. 'crank.*' or '*.torque'), drawn "
+                   "with the same quantity and unit rules; default: the engineering figures "
+                   "(energy budget, bodies, joints, contacts, gears...) and the dashboard of "
+                   "the library model the run comes from.")
 @click.option("--stress", "stress_elements", multiple=True, metavar="ELEMENT",
               help="Beam element whose outer-fibre stresses and section forces to draw "
                    "(repeatable; 'list' lists the beam elements).")
@@ -192,13 +186,18 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
          stress_elements: tuple[str, ...], shape: bool, scale: float, snapshots: int,
          pressure_contacts: tuple[str, ...], parts: tuple[str, ...],
          vtu_parts: tuple[str, ...]) -> None:
-    """Write PNG time histories of a results file, one figure per body or element (for a
-    `drivedyn sweep` file: line plots, heat maps, histograms or a tornado chart); for
-    beams, the stress history of chosen elements and snapshots of the deformed shape; for
-    meshed flexible parts, pressure maps, stress snapshots and ParaView files.
+    """Write PNG figures of a results file: what an engineer reads (joint angles and speeds,
+    forces and torques, gaps and pressures, dissipated power, the energy budget) in units
+    with SI prefixes chosen by magnitude, one figure per category, and the dashboard of a
+    library model (differential: torques, TDR, speeds, axial travel, washers, losses;
+    vehicle: wheel torques, slips, speeds, splits); see docs/plots.md. For a `drivedyn
+    sweep` file: line plots, heat maps, histograms or a tornado chart; for beams, the stress
+    history of chosen elements and snapshots of the deformed shape; for meshed flexible
+    parts, pressure maps, stress snapshots and ParaView files.
 
     \b
     Examples:
+        drivedyn plot torsen-c.nc --out figs
         drivedyn plot pendulum.nc --vars 'rod.*' --vars 'energy.*' --out figs
         drivedyn plot shaft.nc --stress driveshaft.e6 --shape --scale 200
         drivedyn plot bench.nc --pressure ring_case --part washer_ring_case --vtu washer_ring_case
@@ -206,7 +205,6 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     from drivedyn.results.results import load_results
 
@@ -228,47 +226,42 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
         _flexible_plots(res, out_dir, pressure_contacts, parts, vtu_parts, scale, snapshots)
     if (stress_elements or shape or pressure_contacts or parts or vtu_parts) and not patterns:
         return
-    # time histories only: fields over mesh nodes are drawn by --part / --pressure
-    names = [str(n) for n in res.dataset.data_vars if not str(n).startswith("solver.")
-             and res.dataset[n].dims[:1] == ("time",) and res.dataset[n].size <= 16 * len(
-                 res.time)]
+    _engineering_plots(res.dataset, out_dir, patterns)
+
+
+def _engineering_plots(ds, out_dir: Path, patterns: tuple[str, ...]) -> None:
+    """The engineering figures (only the variables of ``patterns`` when given, else with the
+    library model's dashboard): one PNG each, paths printed."""
+    import warnings
+
+    from drivedyn.plots.engineering import dashboard_figures, engineering_figures, slug
+
     if patterns:
-        names = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]
-        if not names:
+        names = [str(n) for n in ds.data_vars]
+        if not any(fnmatch.fnmatchcase(n, p) for n in names for p in patterns):
             bad_input(f"no variable matches {', '.join(patterns)} (variables: "
-                       f"{', '.join(sorted(res.dataset.data_vars))})")
-    groups = _groups(names)
-    if not patterns and len(groups) > 20:
-        err(f"note: {len(groups)} bodies/elements; plotting the first 20 (use --vars)")
-        keep = ["energy", *[g for g in groups if g != "energy"][:19]]
-        groups = {g: groups[g] for g in keep if g in groups}
+                      f"{', '.join(sorted(names))})")
+    if ds.sizes.get("time", 0) < 2:
+        err("note: the results hold fewer than two output times: no time history to draw")
+        return
+    figs = engineering_figures(ds, patterns)
+    if not patterns:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            figs += dashboard_figures(ds)
+        for w in caught:
+            err(f"note: {w.message}")
+    if not figs and patterns:
+        bad_input(f"nothing to draw for {', '.join(patterns)}: rotation matrices, solver "
+                  "statistics and fields over meshes are not drawn as time histories (see the "
+                  "bodies' angular velocities, the joints' angles, --part and --pressure)")
+    if not figs:
+        err("note: nothing to draw")
+        return
     out_dir.mkdir(parents=True, exist_ok=True)
-    t = res.time
-    for prefix, vars_ in groups.items():
-        fig, axes = plt.subplots(len(vars_), 1, figsize=(8, 2.2 * len(vars_) + 0.8),
-                                 sharex=True, squeeze=False)
-        for ax, n in zip(axes[:, 0], vars_, strict=True):
-            var = res.dataset[n]
-            vals = np.asarray(var.values)
-            unit = var.attrs.get("units", "")
-            if vals.ndim == 1:
-                ax.plot(t, vals)
-            else:
-                flat = vals.reshape(len(t), -1)
-                labels = (["x", "y", "z"] if flat.shape[1] == 3
-                          else [str(j) for j in range(flat.shape[1])])
-                for j in range(flat.shape[1]):
-                    ax.plot(t, flat[:, j], label=labels[j])
-                ax.legend(fontsize="small", ncol=min(3, flat.shape[1]))
-            ax.set_ylabel(f"{n.split('.')[-1]} [{unit}]")
-            ax.set_title(var.attrs.get("description", n), fontsize="small")
-            ax.grid(True, alpha=0.3)
-        axes[-1, 0].set_xlabel("time [s]")
-        fig.suptitle(prefix)
-        fig.tight_layout()
-        path = out_dir / f"{prefix}.png"
+    for title, fig in figs:
+        path = out_dir / f"{slug(title)}.png"
         fig.savefig(path, dpi=110)
-        plt.close(fig)
         click.echo(str(path))
 
 

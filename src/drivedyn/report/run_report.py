@@ -180,6 +180,7 @@ def write_report(ds: Any, out: str | os.PathLike, view: str | None = None) -> Pa
     parts.append("</body></html>")
     path = Path(out)
     tmp = path.with_name(path.name + ".part")
+    path.parent.mkdir(parents=True, exist_ok=True)
     tmp.write_text("\n".join(parts), encoding="utf-8")
     os.replace(tmp, path)
     return path

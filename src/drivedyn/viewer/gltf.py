@@ -130,6 +130,7 @@ def write_glb(scene: Scene, path: str | os.PathLike) -> Path:
     total = 12 + 8 + len(js) + 8 + len(binary)
     out = Path(path)
     tmp = out.with_name(out.name + ".part")
+    out.parent.mkdir(parents=True, exist_ok=True)
     with open(tmp, "wb") as f:
         f.write(struct.pack("<4sII", b"glTF", 2, total))
         f.write(struct.pack("<I4s", len(js), b"JSON"))

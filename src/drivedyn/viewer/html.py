@@ -120,6 +120,7 @@ def write_html(scene: Scene, path: str | os.PathLike) -> Path:
                         orbit=_asset("vendor/OrbitControls.js"), viewer=_asset("viewer.js"))
     out = Path(path)
     tmp = out.with_name(out.name + ".part")
+    out.parent.mkdir(parents=True, exist_ok=True)
     tmp.write_text(page, encoding="utf-8")
     os.replace(tmp, out)
     return out

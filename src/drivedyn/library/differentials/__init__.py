@@ -5,7 +5,8 @@ file, analytic TDR), and shares the bench protocol, the vehicle configuration
 
 Adding a differential = one subpackage + one default model file + one line in
 :data:`TYPES`; the CLI (``drivedyn tdr NAME``, ``drivedyn calibrate NAME``,
-``drivedyn models``) finds it by name.
+``drivedyn models``) finds it by name, and ``drivedyn plot`` draws its dashboard
+(:func:`dashboard_of`, from the record's outputs, washers, axial bodies and element groups).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
+from drivedyn.library.dashboards import Dashboard
 from drivedyn.library.differentials.base import Differential, Mode, Output
 
 #: library key -> module declaring ``DIFFERENTIAL`` (imported on first use)
@@ -36,9 +38,20 @@ def of(params: Any) -> Differential:
     return get(params.model.library)
 
 
+def dashboard_of(params: Any) -> Dashboard:
+    """The dashboard (figures of ``drivedyn plot``) of a run of the differential and scenario
+    of validated parameters ``params``
+    (:func:`~drivedyn.library.differentials.dashboard.differential_dashboard`)."""
+    # imported here: the builders' elements stay unloaded until a dashboard is wanted
+    from drivedyn.library.differentials.dashboard import differential_dashboard
+
+    return differential_dashboard(of(params), params)
+
+
 def schemas() -> dict[str, type]:
     """library key -> model-file schema of every differential."""
     return {k: get(k).schema for k in TYPES}
 
 
-__all__ = ["TYPES", "Differential", "Mode", "Output", "get", "of", "schemas"]
+__all__ = ["TYPES", "Differential", "Mode", "Output", "dashboard_of", "get", "of",
+           "schemas"]

@@ -12,7 +12,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
 from typing import Any
+
+
+def matcher(patterns: tuple[str, ...]) -> Callable[[str], bool]:
+    """``f(name) -> bool``: does an element name match one of the glob ``patterns``."""
+    return lambda name: any(fnmatchcase(name, p) for p in patterns)
 
 
 @dataclass(frozen=True)
@@ -73,6 +79,9 @@ class Differential:
         axial_bodies: (body, label) whose axial motion the vehicle figures show.
         mesh_elements: ``f(name) -> bool``: is this element a gear mesh (dissipation figure).
         pocket_elements: ``f(name) -> bool``: is this element a pocket contact.
+        element_groups: (label, glob patterns of element names) of the dissipative element
+            groups other than the washers that the dashboard sums (``("pockets",
+            ("*_pocket",))``, the gear meshes...).
     """
 
     name: str
@@ -92,6 +101,7 @@ class Differential:
     axial_bodies: tuple[tuple[str, str], ...] = ()
     mesh_elements: Callable[[str], bool] = lambda name: False
     pocket_elements: Callable[[str], bool] = lambda name: "_pocket" in name
+    element_groups: tuple[tuple[str, tuple[str, ...]], ...] = ()
 
     def output(self, side: str) -> Output:
         """The output called ``side``."""

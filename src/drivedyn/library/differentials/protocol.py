@@ -91,6 +91,21 @@ def level_times(p: Any) -> list[tuple[float, float, int, bool]]:
     return out
 
 
+#: fraction of each hold (its end) over which a level is averaged (the ramp's transient has
+#: died out)
+WINDOW_FRACTION = 0.6
+
+
+def level_windows(p: Any) -> list[tuple[float, float, float, int, bool]]:
+    """(hold start, window start, window end, level index, backward?) [s] of each held level
+    of the profile, in time order (:func:`level_times`); the window is the last
+    :data:`WINDOW_FRACTION` of the hold."""
+    out = []
+    for t0, t1, i, back in level_times(p):
+        out.append((t0, t1 - WINDOW_FRACTION * (t1 - t0), t1, i, back))
+    return out
+
+
 def vehicle_profile(p: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, float]:
     """(housing torque T(t) [N m], mean output speed w(t) [rad/s], second-minus-first speed
     difference d(t) [rad/s], t_end [s]).

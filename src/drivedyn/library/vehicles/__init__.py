@@ -1,5 +1,7 @@
 """Vehicles that take any differential by name (architecture: ``library/vehicles``): each
-a subpackage with a model-file schema (``SCHEMA``) and a builder (``build_spec``).
+a subpackage with a model-file schema (``SCHEMA``), a builder (``build_spec``) and the
+dashboard of its runs (``DASHBOARD``: params -> :class:`~drivedyn.library.dashboards.
+Dashboard`, drawn by ``drivedyn plot``).
 
 Adding a vehicle = one subpackage + one default model file + one line in :data:`TYPES`.
 """
@@ -8,6 +10,9 @@ from __future__ import annotations
 
 import importlib
 from types import ModuleType
+from typing import Any
+
+from drivedyn.library.dashboards import Dashboard
 
 #: library key -> module of the vehicle (imported on first use)
 TYPES = {
@@ -24,9 +29,14 @@ def get(name: str) -> ModuleType:
     return importlib.import_module(TYPES[key])
 
 
+def dashboard_of(params: Any) -> Dashboard:
+    """The dashboard of a run of the vehicle of validated parameters ``params``."""
+    return get(params.model.library).DASHBOARD(params)
+
+
 def schemas() -> dict[str, type]:
     """library key -> model-file schema of every vehicle."""
     return {k: get(k).SCHEMA for k in TYPES}
 
 
-__all__ = ["TYPES", "get", "schemas"]
+__all__ = ["TYPES", "dashboard_of", "get", "schemas"]

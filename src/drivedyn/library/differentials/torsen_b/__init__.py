@@ -5,7 +5,7 @@ and the slides of seed 002: the parametric model (:mod:`.model`), its model-file
 
 from __future__ import annotations
 
-from drivedyn.library.differentials.base import Differential, Mode, Output
+from drivedyn.library.differentials.base import Differential, Mode, Output, matcher
 from drivedyn.library.differentials.torsen_b import analytic, model
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 
@@ -18,6 +18,11 @@ def _fixed_speeds(p: TorsenBFile, dw: float) -> tuple[float, float]:
 def _housing_speed(p: TorsenBFile, w_left: float, w_right: float) -> float:
     return 0.5 * (w_left + w_right)
 
+
+#: element names of the pockets, the element gears' end faces and the gear meshes (globs)
+POCKETS = ("*_pocket",)
+END_FACES = ("*_end_*",)
+MESHES = ("left_*", "right_*", "a*_b*")
 
 DIFFERENTIAL = Differential(
     name="torsen-b",
@@ -38,5 +43,8 @@ DIFFERENTIAL = Differential(
              "right": "right side gear - housing"},
     axial_bodies=(("left", "left side gear"), ("right", "right side gear"),
                   ("a1", "element gear a1"), ("b1", "element gear b1")),
-    mesh_elements=lambda n: n.startswith(("left_", "right_")) or (n[0] == "a" and "_b" in n),
+    mesh_elements=matcher(MESHES),
+    pocket_elements=matcher(POCKETS),
+    element_groups=(("pockets", POCKETS), ("pocket end faces", END_FACES),
+                    ("gear meshes", MESHES)),
 )

@@ -4,7 +4,7 @@ independent quasi-static TDR (:mod:`.analytic`)."""
 
 from __future__ import annotations
 
-from drivedyn.library.differentials.base import Differential, Mode, Output
+from drivedyn.library.differentials.base import Differential, Mode, Output, matcher
 from drivedyn.library.differentials.torsen_c import analytic, model
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 
@@ -19,6 +19,10 @@ def _housing_speed(p: TorsenCFile, w_front: float, w_rear: float) -> float:
     g = p.gears
     return (g.teeth_sun * w_front + g.teeth_ring * w_rear) / (g.teeth_sun + g.teeth_ring)
 
+
+#: element names of the planet pockets and of the gear meshes (glob patterns)
+POCKETS = ("*_pocket",)
+MESHES = ("sun_planet*", "planet*_ring")
 
 DIFFERENTIAL = Differential(
     name="torsen-c",
@@ -43,5 +47,7 @@ DIFFERENTIAL = Differential(
              "coupling_case": "W3 coupling - case", "ring_housing": "W4 ring - housing",
              "ring_case": "W5 ring - case"},
     axial_bodies=(("sun", "sun"), ("ring", "internal gear (ring)"), ("coupling", "coupling")),
-    mesh_elements=lambda n: n.startswith("sun_planet") or n.endswith("_ring"),
+    mesh_elements=matcher(MESHES),
+    pocket_elements=matcher(POCKETS),
+    element_groups=(("pockets", POCKETS), ("gear meshes", MESHES)),
 )

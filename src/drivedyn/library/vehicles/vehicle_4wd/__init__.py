@@ -1,7 +1,8 @@
 """The four-wheel-drive vehicle with three differentials on split-mu (seed 003, Figures
-14-15): parametric model (:mod:`.model`) and model-file schema (:mod:`.schema`, default file
-``vehicle-4wd``)."""
+14-15): parametric model (:mod:`.model`), model-file schema (:mod:`.schema`, default file
+``vehicle-4wd``) and the dashboard of its runs (:mod:`.dashboard`)."""
 
+from drivedyn.library.vehicles.vehicle_4wd.dashboard import vehicle_dashboard
 from drivedyn.library.vehicles.vehicle_4wd.model import (
     Layout,
     build_spec,
@@ -11,5 +12,8 @@ from drivedyn.library.vehicles.vehicle_4wd.model import (
 from drivedyn.library.vehicles.vehicle_4wd.schema import Vehicle4WDFile
 
 SCHEMA = Vehicle4WDFile
+#: params -> the Dashboard of a run (drivedyn plot)
+DASHBOARD = vehicle_dashboard
 
-__all__ = ["SCHEMA", "Layout", "Vehicle4WDFile", "build_spec", "check_parameters", "load_tyre"]
+__all__ = ["DASHBOARD", "SCHEMA", "Layout", "Vehicle4WDFile", "build_spec", "check_parameters",
+           "load_tyre", "vehicle_dashboard"]
