@@ -242,13 +242,57 @@ def test_scene_of_a_run_follows_the_recorded_poses(torsen_c_run) -> None:
         R = ds[f"{n}.rotation"].values[idx]
         for f in range(scene.frames):
             assert np.allclose(_rotation(scene.quaternion[f, i]), R[f], atol=1e-12)
-    assert len(scene.arrows) == 5 and not scene.warnings
-    # VTK: a rigid mesh's points are its node's pose applied to its vertices
-    P, T, L, vm, _ = frame_geometry(scene, 3)
+    assert not scene.warnings
+    # force arrows: 5 washers, 4 pockets, 8 gear meshes
+    arrows = {a.name: a for a in scene.arrows}
+    assert len(arrows) == 17
+    d = json.loads(ds.attrs["scene"])
+    geo = {s["label"]: s for s in d["shapes"]}
+    f = scene.frames - 1
+    pos = {n: scene.position[f, i] for i, n in enumerate(scene.nodes)}
+    # a washer's force is its normal force along the washer normal (the housing's z here)
+    w = arrows["sun_housing"]
+    R_h = _rotation(scene.quaternion[f, scene.nodes.index("housing")])
+    n_w = R_h @ np.asarray(geo["sun_housing"]["rotation"]).reshape(3, 3)[:, 2]
+    assert np.allclose(w.vector[f], ds["sun_housing.normal_force"].values[idx[f]] * n_w)
+    # a mesh force is the element's global force on wheel B, at the pitch point: on the line
+    # of centres, at the sun's pitch radius from the sun's centre
+    g = arrows["sun_planet1"]
+    assert np.allclose(g.vector[f], [ds[f"sun_planet1.force_{c}"].values[idx[f]] for c in "xyz"])
+    gears = [s for s in d["shapes"] if s["kind"] == "gear"]
+    r_sun = next(s["params"]["pitch_radius"] for s in gears if s["node"] == "sun")
+    r_pl = next(s["params"]["pitch_radius"] for s in gears if s["node"] == "planet1")
+    c_sun, c_pl = pos["sun"], pos["planet1"]
+    plane = np.array([1.0, 1.0, 0.0])  # the gears' axes are z
+    assert np.linalg.norm((g.origin[f] - c_sun) * plane) == pytest.approx(r_sun, rel=1e-9)
+    assert np.linalg.norm((g.origin[f] - c_pl) * plane) == pytest.approx(r_pl, rel=2e-3)
+    # planet inside the ring: the pitch point is on the planet's far side from the axis
+    gr = arrows["planet1_ring"]
+    assert np.linalg.norm(gr.origin[f] * plane) == pytest.approx(
+        np.linalg.norm(c_pl * plane) + r_pl, rel=2e-3)
+    # a pocket pushes the planet back towards the pocket's axis, from the bore wall (the
+    # pockets do not touch in these 10 ms: a force of 7 N is put into a copy of the results)
+    ds7 = ds.copy()
+    ds7["planet1_pocket.normal_force"] = ds["planet1_pocket.normal_force"] * 0.0 + 7.0
+    pk = {a.name: a for a in build_scene(ds7, frames=8).arrows}["planet1_pocket"]
+    bore = next(s for s in d["shapes"] if s["label"] == "planet1_pocket")
+    pocket = (pos["housing"] + _rotation(scene.quaternion[f, scene.nodes.index("housing")])
+              @ np.asarray(bore["position"]))
+    n = (c_pl - pocket) * plane
+    n /= np.linalg.norm(n)
+    r_bore = bore["params"]["reach"]
+    assert np.allclose(pk.vector[f], -7.0 * n, atol=1e-12)
+    assert np.allclose(pk.origin[f], pocket + r_bore * n, atol=1e-12)
+    # VTK: a rigid mesh's points are its node's pose applied to its vertices; the arrows are
+    # vertices carrying their force
+    geom = frame_geometry(scene, 3)
     m = scene.meshes[0]
     x, Rm = scene.position[3, m.node], _rotation(scene.quaternion[3, m.node])
-    assert np.allclose(P[: len(m.vertices)], m.vertices @ Rm.T + x)
-    assert T.max() < len(P) and len(L) == 0 and np.isnan(vm).all()
+    assert np.allclose(geom["points"][: len(m.vertices)], m.vertices @ Rm.T + x)
+    v = geom["vertices"]
+    assert len(v) == 17 and np.allclose(geom["points"][v], [a.origin[3] for a in scene.arrows])
+    assert np.allclose(geom["force"][v], [a.vector[3] for a in scene.arrows])
+    assert geom["triangles"].max() < len(geom["points"]) and len(geom["lines"]) == 0
 
 
 def test_gltf_export_animates_every_node(torsen_c_run, tmp_path) -> None:
@@ -287,7 +331,8 @@ def test_view_command_writes_html_gltf_and_vtk(torsen_c_run, tmp_path) -> None:
     files = re.findall(r'file="([^"]+)"', pvd)
     assert len(files) == 5
     mesh = meshio.read(tmp_path / "vtk" / files[-1])
-    assert mesh.points.shape[1] == 3 and "von_mises" in mesh.point_data
+    assert mesh.points.shape[1] == 3
+    assert {"von_mises", "shape", "force"} <= set(mesh.point_data)
     # no network address: the only URLs in the page are the XHTML namespace name (an
     # identifier that browsers never fetch) and a link inside a three.js warning text
     text = html.read_text()

@@ -444,6 +444,14 @@ class JournalContact(TwoMarkerSpec):
                              f"= {self.bore_radius!r} (a clearance is needed)")
         check_laws(self, what)
 
+    def visuals(self) -> tuple:
+        """The contact force on the pin, at the bore wall where the pin presses (on the
+        line from the bore axis through the pin centre)."""
+        from drivedyn.elements.visuals import point_force
+
+        return (point_force(self.marker_a, self.marker_b, f"{self.name}.normal_force",
+                            self.bore_radius, radial=True, label=self.name),)
+
 
 # --- building ---------------------------------------------------------------------------------
 

@@ -24,6 +24,12 @@ Kinds and their parameters (all lengths in metres, angles in radians):
 - ``"arrow"``: no parameters: an arrow along the marker's z axis whose length follows
   ``variable`` (a scalar results variable, e.g. a washer's normal force); the viewer uses one
   force scale for all arrows, so that their lengths compare.
+- ``"point_force"``: ``reach`` [m], ``radial`` (0 or 1): a force arrow at the point at
+  distance ``reach`` from the marker's origin towards ``marker_b``'s origin (in the plane
+  normal to the marker's z axis; a negative reach points away from it): a gear mesh's pitch
+  point, a pin's contact point in its bore. ``radial = 0``: the force is the global vector
+  ``variable_x, _y, _z``; ``radial = 1``: it is ``variable`` (a scalar) along the line from
+  ``marker_b`` towards the marker (the bore pushing the pin back).
 """
 
 from __future__ import annotations
@@ -31,7 +37,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-KINDS = ("cylinder", "gear", "box", "sphere", "axes", "arrow")
+KINDS = ("cylinder", "gear", "box", "sphere", "axes", "arrow", "point_force")
 ROLES = ("gear", "shaft", "washer", "case", "housing", "body", "wheel", "joint", "force",
          "chassis", "pin", "part")
 
@@ -47,8 +53,10 @@ class Visual:
             and housings are drawn semi-transparent.
         params: the kind's dimensions as ``(name, value)`` pairs, SI units.
         label: what the viewer shows on hover (the element or body name by default).
-        variable: results variable driving an ``"arrow"`` (empty for the other kinds).
+        variable: results variable driving an ``"arrow"`` or ``"point_force"`` (empty for
+            the other kinds).
         opacity: 0..1; None chooses from the role.
+        marker_b: the second marker of a ``"point_force"``.
     """
 
     marker: str
@@ -58,6 +66,7 @@ class Visual:
     label: str = ""
     variable: str = ""
     opacity: float | None = None
+    marker_b: str = ""
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -78,7 +87,8 @@ class Visual:
             head, tail = var.split(".", 1)
             var = names.get(head, head) + "." + tail
         return replace(self, marker=names.get(self.marker, self.marker), variable=var,
-                       label=names.get(self.label, self.label))
+                       label=names.get(self.label, self.label),
+                       marker_b=names.get(self.marker_b, self.marker_b))
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready description (stored in results files)."""
@@ -135,3 +145,12 @@ def arrow(marker: str, variable: str, *, label: str = "") -> Visual:
     """An arrow along the marker's z axis whose length follows the results variable
     ``variable`` (a contact's normal force [N]; positive: along +z)."""
     return Visual(marker, "arrow", "force", label=label, variable=variable)
+
+
+def point_force(marker: str, marker_b: str, variable: str, reach: float, *,
+                radial: bool = False, label: str = "") -> Visual:
+    """A force arrow at ``reach`` [m] from ``marker`` towards ``marker_b`` (see the module
+    docstring): a mesh force (``variable`` + ``_x/_y/_z``, global) or a radial contact force
+    (``radial``: the scalar ``variable`` [N] pushing ``marker_b`` back towards the axis)."""
+    return Visual(marker, "point_force", "force", _params(reach=reach, radial=float(radial)),
+                  label=label, variable=variable, marker_b=marker_b)

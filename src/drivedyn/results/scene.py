@@ -13,7 +13,7 @@ The description is a JSON-ready dict::
     {"version": 1,
      "shapes":  [{"kind", "role", "label", "params", "node", "position" (3,) [m],
                   "rotation" (9,) row-major, marker frame in the node frame,
-                  "variable"? , "opacity"?}, ...],
+                  "variable"? , "opacity"?, "node_b"? "position_b"? (point forces)}, ...],
      "markers": [{"name", "node", "position", "rotation"}, ...],
      "beams":   [{"element", "radius" [m]}, ...],
      "length":  size of the largest shape [m]}
@@ -88,6 +88,11 @@ def scene_description(model: Model) -> dict[str, Any]:
         d = v.as_dict()
         d.update(node=_node_name(model, node), position=[float(p) for p in pos],
                  rotation=[float(r) for r in np.asarray(rot).ravel()])
+        if v.marker_b:
+            if v.marker_b not in model.marker_frames:
+                continue
+            nb, pb, _ = model.marker_frames[v.marker_b]
+            d.update(node_b=_node_name(model, nb), position_b=[float(p) for p in pb])
         if d["kind"] == "gear" and any(s["kind"] == "gear" and _same_gear(s, d)
                                        for s in shapes):
             continue

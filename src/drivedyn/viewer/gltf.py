@@ -4,7 +4,7 @@ One glTF node per mechanism node, animated by translation and rotation channels 
 the scene's frame times (linear interpolation); the shapes are meshes under their node, with
 the viewer's colours (cases and housings blended semi-transparent). Meshed flexible parts are
 exported undeformed under their host node; beams, whose shape is their nodes' deformation,
-and force arrows are not (the HTML viewer and the VTK export show them). Units: metres,
+and force arrows are not (the HTML viewer and the VTK export have them). Units: metres,
 seconds; the glTF +y-up convention is met by a root node turning drivedyn's z-up world.
 """
 

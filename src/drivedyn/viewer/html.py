@@ -44,8 +44,7 @@ def scene_payload(scene: Scene) -> dict[str, Any]:
         "meshes": [{"name": m.name, "node": m.node, "role": m.role,
                     "vertices": _b64(m.vertices), "triangles": _b64(m.triangles, np.uint32),
                     "colour": list(m.colour), "opacity": m.opacity} for m in scene.meshes],
-        "arrows": [{"name": a.name, "node": a.node, "origin": a.origin.tolist(),
-                    "direction": a.direction.tolist(), "values": _b64(a.values),
+        "arrows": [{"name": a.name, "origin": _b64(a.origin), "vector": _b64(a.vector),
                     "unit": a.unit} for a in scene.arrows],
         "beams": [{"name": b.name, "nodes": b.nodes.tolist(), "radius": b.radius,
                    "rigid": _b64(b.rigid), "stress": _b64(b.stress)} for b in scene.beams],
@@ -92,8 +91,7 @@ _PAGE = """<!DOCTYPE html>
  <span id="tlabel"></span>
  <fieldset>camera
   <button id="cam-iso">iso</button><button id="cam-front">front</button>
-  <button id="cam-side">side</button><button id="cam-top">top</button>
-  <button id="cam-axial">axial</button></fieldset>
+  <button id="cam-side">side</button><button id="cam-top">top</button></fieldset>
  <label>deformation x <input id="scale" type="number" value="1" min="0" step="any"
    style="width: 6em"></label>
  <fieldset><label><input id="section" type="checkbox"> section</label>

@@ -47,14 +47,12 @@ class Mesh:
 
 @dataclass
 class Arrow:
-    """A force arrow on a node: origin (3,) and unit direction (3,) in the node frame, its
-    value per frame (nf,) in ``unit``."""
+    """A force arrow, per frame in the global frame: where it starts (nf, 3) [m] and the
+    force (nf, 3) in ``unit`` (its length on screen follows the force)."""
 
     name: str
-    node: int
     origin: np.ndarray
-    direction: np.ndarray
-    values: np.ndarray
+    vector: np.ndarray
     unit: str
 
 
@@ -261,14 +259,10 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
             scene.joints.append((s["label"], node, np.asarray(s["position"]),
                                  np.asarray(s["rotation"]).reshape(3, 3)))
             continue
-        if s["kind"] == "arrow":
-            var = s.get("variable", "")
-            if var not in ds:
-                continue
-            Rs = np.asarray(s["rotation"]).reshape(3, 3)
-            scene.arrows.append(Arrow(s["label"], node, np.asarray(s["position"]), Rs[:, 2],
-                                      np.asarray(ds[var].values, dtype=float)[idx],
-                                      ds[var].attrs.get("units", "")))
+        if s["kind"] in ("arrow", "point_force"):
+            arrow = _arrow(s, ds, idx, index, X, Rm)
+            if arrow is not None:
+                scene.arrows.append(arrow)
             continue
         mesh = shape_mesh(s)
         if mesh is None:
@@ -287,6 +281,52 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
     spread = float(np.ptp(X[0], axis=0).max()) if len(nodes) > 1 else 0.0
     scene.length = max(spread, float(desc.get("length", 0.0)), 1e-3)
     return scene
+
+
+def _pose(node: int, X: np.ndarray, Rm: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Global positions (nf, 3) of point ``p`` (3,) of a node (-1: ground) over the frames."""
+    if node < 0:
+        return np.broadcast_to(p, (X.shape[0], 3)).copy()
+    return X[:, node] + np.einsum("fij,j->fi", Rm[:, node], p)
+
+
+def _arrow(s: dict, ds: Any, idx: np.ndarray, index: dict[str, int], X: np.ndarray,
+           Rm: np.ndarray) -> Arrow | None:
+    """The per-frame global origin and force of an ``arrow`` or ``point_force`` shape, or
+    None when its variables are not in the results."""
+    var = s.get("variable", "")
+    node = index.get(s["node"])
+    Rs = np.asarray(s["rotation"]).reshape(3, 3)
+    pa = _pose(node, X, Rm, np.asarray(s["position"], dtype=float))
+    nf = len(idx)
+    # the marker's axis over the frames (global)
+    axis = (np.broadcast_to(Rs[:, 2], (nf, 3)) if node < 0
+            else np.einsum("fij,j->fi", Rm[:, node], Rs[:, 2]))
+    if s["kind"] == "arrow":
+        if var not in ds:
+            return None
+        v = np.asarray(ds[var].values, dtype=float)[idx]
+        return Arrow(s["label"], pa, v[:, None] * axis, ds[var].attrs.get("units", ""))
+    nb = index.get(s.get("node_b", ""))
+    if nb is None:
+        return None
+    pb = _pose(nb, X, Rm, np.asarray(s["position_b"], dtype=float))
+    d = pb - pa
+    d -= np.einsum("fi,fi->f", d, axis)[:, None] * axis  # in the plane normal to the axis
+    n = d / np.maximum(np.linalg.norm(d, axis=1), 1e-300)[:, None]
+    origin = pa + s["params"]["reach"] * n
+    if s["params"].get("radial"):
+        if var not in ds:
+            return None
+        vec = -np.asarray(ds[var].values, dtype=float)[idx][:, None] * n
+        unit = ds[var].attrs.get("units", "")
+    else:
+        comps = [f"{var}_{c}" for c in "xyz"]
+        if any(c not in ds for c in comps):
+            return None
+        vec = np.stack([np.asarray(ds[c].values, dtype=float)[idx] for c in comps], axis=1)
+        unit = ds[comps[0]].attrs.get("units", "")
+    return Arrow(s["label"], origin, vec, unit)
 
 
 def _add_beams(scene: Scene, ds: Any, desc: dict, idx: np.ndarray,

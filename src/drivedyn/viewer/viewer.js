@@ -34,7 +34,7 @@
   sun.position.set(1, 1, 2);
   scene.add(camera);
   const controls = new THREE.OrbitControls(camera, renderer.domElement);
-  controls.addEventListener("change", render);
+  controls.addEventListener("change", () => { if (el("section").checked) updateSection(); else render(); });
 
   // ---- bodies -------------------------------------------------------------------------
   const groups = D.nodes.map((n) => { const g = new THREE.Group(); g.name = n; scene.add(g); return g; });
@@ -79,19 +79,21 @@
   const markerTriads = triads(D.markers, 0.04 * L);
   const jointTriads = triads(D.joints, 0.12 * L);
 
-  // ---- force arrows: one scale for all, the largest force = 0.3 L --------------------
+  // ---- force arrows (global frame, per frame): one scale for all, the largest = 0.4 L ----
   const arrows = [];
   let fmax = 0;
   for (const a of D.arrows) {
-    const v = b64(a.values, F32);
-    for (let i = 0; i < v.length; i++) fmax = Math.max(fmax, Math.abs(v[i]));
-    const h = new THREE.ArrowHelper(new THREE.Vector3(a.direction[0], a.direction[1], a.direction[2]),
-      new THREE.Vector3(a.origin[0], a.origin[1], a.origin[2]), 1, 0xd62728);
+    const o = b64(a.origin, F32), v = b64(a.vector, F32);
+    for (let i = 0; i < v.length; i += 3) fmax = Math.max(fmax, Math.hypot(v[i], v[i + 1], v[i + 2]));
+    const h = new THREE.ArrowHelper(new THREE.Vector3(0, 0, 1), new THREE.Vector3(), 1, 0xd62728);
     h.name = a.name;
-    parentOf(a.node).add(h);
-    arrows.push({ helper: h, values: v, dir: new THREE.Vector3(...a.direction) });
+    // forces act inside the parts (pitch points, bores): drawn over them, not hidden
+    for (const m of [h.line.material, h.cone.material]) { m.depthTest = false; m.transparent = true; }
+    h.renderOrder = 10;
+    ground.add(h);
+    arrows.push({ helper: h, origin: o, vector: v });
   }
-  const forceScale = fmax > 0 ? 0.3 * L / fmax : 0;
+  const forceScale = fmax > 0 ? 0.4 * L / fmax : 0;
 
   // ---- colour map (turbo-like, 0..1) ----------------------------------------------------
   const CMAP = [[0.19, 0.07, 0.23], [0.27, 0.42, 0.94], [0.10, 0.80, 0.82], [0.36, 0.98, 0.40],
@@ -218,11 +220,15 @@
     for (const B of beams) updateBeam(B, frame);
     for (const Q of parts) updatePart(Q, frame);
     const showF = el("forces").checked;
+    const dir = new THREE.Vector3();
     for (const a of arrows) {
-      const v = a.values[frame], len = Math.abs(v) * forceScale;
-      a.helper.visible = showF && len > 1e-6 * L;
+      const k = 3 * frame;
+      dir.set(a.vector[k], a.vector[k + 1], a.vector[k + 2]);
+      const len = dir.length() * forceScale;
+      a.helper.visible = showF && len > 1e-3 * L;
       if (a.helper.visible) {
-        a.helper.setDirection(v >= 0 ? a.dir : a.dir.clone().negate());
+        a.helper.position.set(a.origin[k], a.origin[k + 1], a.origin[k + 2]);
+        a.helper.setDirection(dir.normalize());
         a.helper.setLength(len, Math.min(0.3 * len, 0.04 * L), Math.min(0.15 * len, 0.02 * L));
       }
     }
@@ -247,7 +253,8 @@
     sectionCentre = c; sectionRange = r;
     updateSection();
   }
-  const PRESETS = { iso: [1, -1.2, 0.8], front: [0, -1, 0], side: [1, 0, 0], top: [0, 0.001, 1], axial: [0.001, 0.001, 1] };
+  // the camera's up is +z: a view straight down z is tilted a little to stay defined
+  const PRESETS = { iso: [1, -1.2, 0.8], front: [0, -1, 0], side: [1, 0, 0], top: [0, -0.02, 1] };
   for (const k of Object.keys(PRESETS)) {
     const b = el("cam-" + k);
     if (b) b.addEventListener("click", () => fit(new THREE.Vector3(...PRESETS[k])));
@@ -261,9 +268,10 @@
     const ax = el("section-axis").value;
     const n = new THREE.Vector3(ax === "x" ? 1 : 0, ax === "y" ? 1 : 0, ax === "z" ? 1 : 0);
     const off = parseFloat(el("section-offset").value) / 100 * sectionRange;
-    // keep the far half (seen from the front presets): distance = n.p - (n.c + off) >= 0
-    plane.normal.copy(n);
-    plane.constant = -(n.dot(sectionCentre) + off);
+    // cut away the half on the camera's side: the kept side faces away from the camera
+    const side = Math.sign(n.dot(v1.copy(camera.position).sub(sectionCentre))) || 1;
+    plane.setFromNormalAndCoplanarPoint(n.clone().multiplyScalar(-side),
+      v2.copy(sectionCentre).addScaledVector(n, off));
     renderer.clippingPlanes = on ? [plane] : [];
     render();
   }

@@ -2,8 +2,10 @@
 
 Each frame holds every shape in the global frame: the rigid meshes moved by their nodes,
 the meshed flexible parts deformed (times ``scale``) and the beams as polylines through their
-nodes (ParaView's *Tube* filter gives them volume). Point data: ``von_mises`` [Pa] (NaN where
-a shape has no stress) and ``shape`` (index of the shape, to threshold or colour by part).
+nodes (ParaView's *Tube* filter gives them volume) and the force arrows as vertices at their
+points of application. Point data: ``von_mises`` [Pa] (NaN where a shape has no stress),
+``shape`` (index of the shape, to threshold or colour by part) and ``force`` [N] (the contact
+and mesh forces at the arrows' vertices, zero elsewhere: ParaView's *Glyph* filter draws them).
 """
 
 from __future__ import annotations
@@ -26,9 +28,10 @@ def _rotation(q: np.ndarray) -> np.ndarray:
         [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
-def frame_geometry(scene: Scene, f: int, scale: float = 1.0):
-    """(points (n, 3), triangles (m, 3), lines (k, 2), von_mises (n,), shape id (n,)) of
-    frame ``f`` in the global frame [m, Pa]."""
+def frame_geometry(scene: Scene, f: int, scale: float = 1.0) -> dict[str, np.ndarray]:
+    """Frame ``f`` in the global frame: ``points`` (n, 3) [m], ``triangles`` (m, 3),
+    ``lines`` (k, 2), ``vertices`` (a,) (the force arrows' points), and per point
+    ``von_mises`` (n,) [Pa], ``shape`` (n,) and ``force`` (n, 3) [N]."""
     pts, tris, lines, vm, sid = [], [], [], [], []
     base = 0
 
@@ -37,38 +40,45 @@ def frame_geometry(scene: Scene, f: int, scale: float = 1.0):
             return np.zeros(3), np.eye(3)
         return scene.position[f, node], _rotation(scene.quaternion[f, node])
 
+    def add(P: np.ndarray, stress: np.ndarray | None, k: int) -> int:
+        pts.append(P)
+        vm.append(np.full(len(P), np.nan) if stress is None else stress)
+        sid.append(np.full(len(P), k))
+        return base + len(P)
+
     k = 0
     for m in scene.meshes:
         x, R = pose(m.node)
-        pts.append(m.vertices @ R.T + x)
         tris.append(m.triangles + base)
-        vm.append(np.full(len(m.vertices), np.nan))
-        sid.append(np.full(len(m.vertices), k))
-        base += len(m.vertices)
+        base = add(m.vertices @ R.T + x, None, k)
         k += 1
     for p in scene.parts:
         x, R = pose(p.node)
-        pts.append((p.points + scale * p.displacement[f]) @ R.T + x)
         tris.append(p.triangles + base)
-        vm.append(p.stress[f])
-        sid.append(np.full(len(p.points), k))
-        base += len(p.points)
+        base = add((p.points + scale * p.displacement[f]) @ R.T + x, p.stress[f], k)
         k += 1
     for b in scene.beams:
         P = scene.position[f, b.nodes]
-        P = b.rigid[f] + scale * (P - b.rigid[f])
-        pts.append(P)
         n = len(P)
         lines.append(np.column_stack([np.arange(n - 1), np.arange(1, n)]) + base)
-        vm.append(b.stress[f])
-        sid.append(np.full(n, k))
-        base += n
+        base = add(b.rigid[f] + scale * (P - b.rigid[f]), b.stress[f], k)
         k += 1
+    first_arrow = base
+    for a in scene.arrows:
+        base = add(a.origin[f][None, :], None, k)
+        k += 1
+
     def cat(a: list, shape: tuple) -> np.ndarray:
         return np.concatenate(a) if a else np.zeros(shape)
 
-    return (cat(pts, (0, 3)), cat(tris, (0, 3)).astype(np.int64),
-            cat(lines, (0, 2)).astype(np.int64), cat(vm, (0,)), cat(sid, (0,)))
+    points = cat(pts, (0, 3))
+    force = np.zeros_like(points)
+    if scene.arrows:
+        force[first_arrow:] = np.stack([a.vector[f] for a in scene.arrows])
+    return {"points": points, "triangles": cat(tris, (0, 3)).astype(np.int64),
+            "lines": cat(lines, (0, 2)).astype(np.int64),
+            "vertices": np.arange(first_arrow, base, dtype=np.int64),
+            "von_mises": cat(vm, (0,)), "shape": cat(sid, (0,)), "force": force}
 
 
 def write_vtk(scene: Scene, out_dir: str | os.PathLike, scale: float = 1.0,
@@ -81,11 +91,16 @@ def write_vtk(scene: Scene, out_dir: str | os.PathLike, scale: float = 1.0,
     d.mkdir(parents=True, exist_ok=True)
     entries = []
     for f in range(scene.frames):
-        P, T, L, vm, sid = frame_geometry(scene, f, scale)
-        cells = [("triangle", T)] + ([("line", L)] if len(L) else [])
+        g = frame_geometry(scene, f, scale)
+        cells = [("triangle", g["triangles"])]
+        if len(g["lines"]):
+            cells.append(("line", g["lines"]))
+        if len(g["vertices"]):
+            cells.append(("vertex", g["vertices"][:, None]))
         fn = f"{name}_{f:05d}.vtu"
-        meshio.write(d / fn, meshio.Mesh(P, cells, point_data={
-            "von_mises": vm, "shape": sid.astype(np.float64)}), binary=True)
+        meshio.write(d / fn, meshio.Mesh(g["points"], cells, point_data={
+            "von_mises": g["von_mises"], "shape": g["shape"].astype(np.float64),
+            "force": g["force"]}), binary=True)
         entries.append(f'  <DataSet timestep="{scene.time[f]:.9g}" part="0" '
                        f"file={quoteattr(fn)}/>")
     pvd = d / f"{name}.pvd"

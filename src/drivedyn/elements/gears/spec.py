@@ -117,8 +117,9 @@ class GearPair(TwoMarkerSpec):
     def visuals(self) -> tuple:
         """The two wheels as toothed wheels on their markers: pitch radius z m_n / (2 cos
         beta) (bevel: z m_n / 2 at the mean cone, with its cone angle), the tooth count, face
-        width and helix of each; the profile shift is not drawn."""
-        from drivedyn.elements.visuals import gear
+        width and helix of each (the profile shift is not drawn), and for parallel axes the
+        mesh force at the pitch point."""
+        from drivedyn.elements.visuals import gear, point_force
 
         beta_a = float(self.helix_angle)
         if self.helix_angle_b is not None:
@@ -134,6 +135,12 @@ class GearPair(TwoMarkerSpec):
             out.append(gear(marker, int(z), r, self.face_width, self.module,
                             helix_angle=0.0 if bevel else beta, internal=internal,
                             cone_angle=float(cone or 0.0) if bevel else 0.0, label=self.name))
+        if self.kind == "parallel":
+            # the mesh force on wheel B at the pitch point: from A's centre towards B's at
+            # A's pitch radius (away from B's when A is a pinion inside ring B)
+            r_a = out[0].values["pitch_radius"]
+            out.append(point_force(self.marker_a, self.marker_b, f"{self.name}.force",
+                                   -r_a if self.internal == "b" else r_a, label=self.name))
         return tuple(out)
 
     def _fail(self, label: str, msg: str, value) -> None:

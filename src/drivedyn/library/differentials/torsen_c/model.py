@@ -323,7 +323,8 @@ def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: 
         sp.add_visual(cylinder("c_case", r_in + wall, wall, inner_radius=0.6 * geo.r_sun,
                                z0=back, role="case", label="case"))
     sp.add_visual(cylinder("b_coupling", 0.8 * geo.r_ring, COUPLING_LENGTH,
-                           inner_radius=0.3 * geo.r_sun, role="pin", label="coupling"))
+                           inner_radius=0.3 * geo.r_sun, role="pin", label="coupling",
+                           opacity=0.6))
     shaft = 1.5 * geo.r_ring
     sp.add_visual(cylinder("m_sun", 0.3 * geo.r_sun, shaft, z0=-b / 2 - shaft, role="shaft",
                            label="front output (sun)"))
