@@ -595,3 +595,68 @@ def test_validation_cases_pass(name):
     bad = [f"{r.quantity}: ref {r.reference!r}, sim {r.simulated!r}, error {r.error:.3g} "
            f"(tol {r.tolerance:g})" for r in results if not r.passed]
     assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("gap, lends", [(0.0, True), (2e-12, False), (5e-9, False)])
+def test_only_a_flank_at_contact_lends_its_stiffness(gap, lends):
+    """Anticipated contact: a flank exactly at contact with neither flank loaded (a
+    zero-backlash pair assembled at t = 0) lends k_m c_A^2 to the iteration matrix, so that a
+    factorisation made there has the mesh; a flank open by more than ``TANGENT_BAND`` (1 pm;
+    planets floating a few nanometres off the sun at zero torque) enters with its true zero
+    stiffness, so the matrix is the derivative of the residual (finite differences)."""
+    from drivedyn.elements.gears.kernel import TANGENT_BAND
+    from drivedyn.solver.assembly import System
+    from fdcheck import assembled, perturb, residual
+
+    assert TANGENT_BAND < 2e-12
+    spec, _ = two_gears(stiffness=1e8, backlash=1e-6, initial_gap=gap)
+    m = dd.compile_model(spec)
+    sys = System(m)
+    st = m.initial_state()
+    K = assembled(sys, st, 0.0, 0.0, 1.0)
+    info = mesh_info(m, "g")
+    rz = 5  # rotation of wheel A about its axis (node A, body frame = global frame)
+    assert m.eq_labels[rz] == "node A: rz"
+    if lends:
+        assert K[rz, rz] == pytest.approx(1e8 * info["coef_a"] ** 2, rel=1e-12)
+    else:
+        eps = 0.1 * gap / info["coef_a"]  # a turn that keeps the flank open
+        fd = (residual(sys, perturb(st, rz, eps, m.nd)) -
+              residual(sys, perturb(st, rz, -eps, m.nd))) / (2 * eps)
+        assert K[rz, rz] == 0.0 and fd[rz] == 0.0
+
+
+def test_adaptive_step_stays_below_a_size_that_failed_newton(caplog):
+    """Backlash impact with an adaptive step: when Newton fails at h (the flank closes within
+    the step), the following accepted steps stay below LIMIT_AFTER_FAILURE h, a cap that
+    grows by LIMIT_RELAX per accepted step (the error estimate alone would double h back to
+    the size that failed)."""
+    import logging
+    import re
+
+    from drivedyn.solver.simulate import LIMIT_AFTER_FAILURE, LIMIT_RELAX
+
+    b, w0 = 1e-4, -20.0
+    spec, _ = two_gears(stiffness=1e9, backlash=b, damping=30.0)
+    spec.add(dd.JointDriver("holdB", "hB", 0.0, quantity="angle"))
+    body = spec.bodies["A"]
+    spec.bodies["A"] = type(body)(**{**body.__dict__, "angular_velocity": np.array([0, 0, w0])})
+    m = dd.compile_model(spec)
+    # loose error tolerances: Newton, not the error estimate, limits the step here
+    step = dd.AdaptiveStep(h0=1e-3, h_min=1e-9, h_max=1e-3, rtol=10.0, atol=1.0)
+    with caplog.at_level(logging.DEBUG, logger="drivedyn"):
+        res = dd.simulate(m, 2e-2, step=step, output_dt=1e-2)
+    assert res.success
+    cap, failures, checked = np.inf, 0, 0
+    for rec in caplog.records:
+        msg = rec.getMessage()
+        h = float(re.search(r"h = (\S+) s", msg).group(1))
+        if "rejected" in msg and "Newton" in msg:
+            cap = LIMIT_AFTER_FAILURE * h
+            failures += 1
+        elif "Newton iterations" in msg:
+            cap *= LIMIT_RELAX
+            if np.isfinite(cap):
+                assert h <= cap * (1 + 1e-9)
+                checked += 1
+    assert failures >= 1 and checked >= 5

@@ -270,7 +270,8 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre():
     """A slider-crank started from rest at a dead centre: the residual of the stiff
     constraint forces stalls at the round-off of the positions (|A| eps |x|). Each accepted
     step's residual, evaluated afresh, is within the tolerance beyond that level, computed
-    here independently from the dense iteration matrix."""
+    here independently from the dense iteration matrix (the floor of each equation's scale
+    is 1e-4 of the largest force sum carried so far)."""
     from drivedyn.elements.base import MODE_DYN
     from drivedyn.solver.stepper import FLOOR_REL, ROUNDOFF_ULPS, Stepper
     from drivedyn.timefunctions import SmoothStep
@@ -284,6 +285,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre():
     original = Stepper.step
 
     def step(self, sn, h):
+        carried = self.force_scale  # the largest force sum of the steps before this one
         out = original(self, sn, h)
         if out.ok and self.lu_h is not None:
             tr = self.trial
@@ -294,7 +296,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre():
             e = np.concatenate([np.full(nd, eps * max(1.0, np.abs(tr.x).max())),
                                 eps * np.abs(tr.lam)])
             r, ra = self.sys.r, self.sys.rabs
-            floor = FLOOR_REL * ra[:nd].max()
+            floor = FLOOR_REL * max(ra[:nd].max(), carried)
             # the matrix at the converged state, not at the factorisation: 2 x the level
             beyond = np.maximum(np.abs(r) - 2.0 * (A @ e), 0.0)
             checked.append(max((beyond[:nd] / (ra[:nd] + floor)).max() / newton.tol,
@@ -338,3 +340,22 @@ def test_bound_kernel_calls_equal_the_dispatcher_bit_for_bit(name: str) -> None:
                 assert np.array_equal(a, b)
             for a, g in zip(aux_fast, model.groups, strict=True):
                 assert np.array_equal(a, g.aux)
+
+
+def test_residual_floor_is_the_largest_force_sum_carried() -> None:
+    """Node residuals are scaled by their own force sum plus FLOOR_REL times the largest
+    force sum, of the state or carried before (``amin``): an unloaded state (a differential
+    at zero torque after a loaded level) is solved to the same absolute accuracy as the
+    loaded one, not to 1e-12 of its own round-off-sized forces."""
+    from drivedyn.solver.stepper import FLOOR_REL, residual_norms
+
+    r = np.array([1e-9, -2e-6, 0.0, 3e-12])  # two node equations, two constraint rows
+    rabs = np.array([1e-3, 4.0, 0.0, 0.0])
+    kscale = np.ones(4)
+    roff = np.zeros(4)
+    rq, ph, ok = residual_norms(r, rabs, kscale, 2, FLOOR_REL, roff)
+    assert ok and ph == 3e-12
+    assert rq == pytest.approx(max(1e-9 / (1e-3 + 4.0 * FLOOR_REL), 2e-6 / (4.0 + 4.0 * FLOOR_REL)),
+                               rel=1e-15)
+    rq, _, _ = residual_norms(r, rabs, kscale, 2, FLOOR_REL, roff, 1e4)
+    assert rq == pytest.approx(max(1e-9 / (1e-3 + 1.0), 2e-6 / (4.0 + 1.0)), rel=1e-15)

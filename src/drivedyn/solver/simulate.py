@@ -32,6 +32,12 @@ from drivedyn.solver.stepper import FLOOR_REL, Stepper, residual_norms
 
 log = logging.getLogger("drivedyn")
 
+# After a Newton failure at h the adaptive step stays below LIMIT_AFTER_FAILURE h, a cap that
+# grows by LIMIT_RELAX per accepted step: the error estimate alone would double h back to the
+# size that just failed (contact or flank changes) and fail again.
+LIMIT_AFTER_FAILURE = 0.5
+LIMIT_RELAX = 1.05
+
 
 class InitializationError(RuntimeError):
     """The initial state cannot be made consistent (singular constraint Jacobian or mass)."""
@@ -201,6 +207,7 @@ def simulate(
     rejections = 0
     eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
     substep_until = -np.inf
+    h_limit = np.inf  # adaptive: step cap after a Newton failure, relaxed as steps succeed
     debug = log.isEnabledFor(logging.DEBUG)
     try:
         while st.t < t_end - eps_t:
@@ -252,6 +259,8 @@ def simulate(
                         fac = 1.0
                     if h_try >= 0.99 * h:  # not a step shortened to land on an output time
                         h = min(h_max, max(h_min, h_try * fac))
+                    h_limit *= LIMIT_RELAX
+                    h = min(h, max(h_limit, h_min))
                 if debug:
                     log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d",
                               st.t, h_try, out.iterations, out.factorizations)
@@ -271,6 +280,8 @@ def simulate(
                 h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
             else:
                 h = h_try * 0.25
+                if adaptive:
+                    h_limit = LIMIT_AFTER_FAILURE * h_try
                 if not adaptive:
                     substep_until = st.t + h_max
             max_rej = step.max_rejections if adaptive else 12

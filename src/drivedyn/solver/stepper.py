@@ -58,12 +58,12 @@ STALL_ULPS = 64.0
 
 
 @njit(cache=True)
-def residual_norms(r, rabs, kscale, nd, floor_rel, roff):
+def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0):
     """Largest scaled node residual and constraint violation beyond the round-off level
     ``roff`` of each equation (see :func:`roundoff_levels`; zeros for none); returns
     (rq_max, phi_max, finite). Node equations are scaled as in :func:`scaled_residual`,
     constraint rows are violations [m or rad]."""
-    amax = 1e-300
+    amax = max(amin, 1e-300)
     for i in range(nd):
         if rabs[i] > amax:
             amax = rabs[i]
@@ -148,6 +148,7 @@ class Stepper:
         self.bp = b * (1.0 - af) / (1.0 - am)
         self.gp = g * (1.0 - af) / (1.0 - am)
         self.hdq = np.zeros(model.nd)
+        self.force_scale = 0.0
         # round-off levels of the residual for the factorised matrix (zero: none yet)
         self.roff = np.zeros(model.neq)
         self._roff_at: float | None = None
@@ -242,7 +243,7 @@ class Stepper:
         last = np.inf
         for it in range(nw.max_iter + 1):
             rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                    self._no_roff)
+                                                    self._no_roff, self.force_scale)
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
@@ -253,12 +254,14 @@ class Stepper:
                 # cannot be reduced; the rest must still meet the criteria. A step is never
                 # accepted on the size of the correction alone.
                 rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                   self._roundoff(st))
+                                                   self._roundoff(st), self.force_scale)
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
                 if it >= 3 and self.factorizations == nfac0:
                     # converged, but slowly, on a factorisation from an earlier step: it is
                     # stale (contacts or gear flanks changed since); refresh it next step
                     self._forget()
+                if nd:
+                    self.force_scale = max(self.force_scale, float(sys.rabs[:nd].max()))
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break

@@ -33,7 +33,7 @@ from drivedyn.elements.gears.kinematics import (
 from drivedyn.elements.gears.stiffness import mesh_stiffness
 from drivedyn.elements.primitives import cross
 
-TANGENT_BAND = 1e-8  # [m] flank gap within which contact is anticipated in the matrix
+TANGENT_BAND = 1e-12  # [m] flank gap within which contact is anticipated in the matrix
 
 GEAR_AUX = (
     ("normal_force", "N", "normal tooth force (positive: drive flank, negative: coast flank)"),
