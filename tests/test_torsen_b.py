@@ -35,6 +35,7 @@ from drivedyn.library.differentials.torsen_b import analytic as A  # noqa: N812
 from drivedyn.library.differentials.torsen_b.model import check_parameters
 from drivedyn.model.compile import compile_model
 from drivedyn.model.spec import ModelError
+from drivedyn.results.recorder import model_summary
 
 TB = get("torsen-b")
 SHIPPED, _, _ = read_library_file("torsen-b")
@@ -56,9 +57,7 @@ def test_shipped_geometry_and_model_structure() -> None:
                                                                       rel=1e-12)
     assert geo.length == pytest.approx(0.056)
     model = compile_model(bench_spec(TB, SHIPPED, "right")[0])
-    count: dict[str, int] = {}
-    for g in model.groups:
-        count[g.family] = count.get(g.family, 0) + len(g.names)
+    count = {k: v["count"] for k, v in model_summary(model)["elements"].items()}
     # seed 003: 20 gear pairs, 10 element gears on guides, 3 washers (+ 20 end faces)
     assert count["gear_pair"] == 20
     assert count["parallel_axes"] == 10

@@ -17,17 +17,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import partial
 
-from drivedyn.elements import REGISTRY
-from drivedyn.elements.joints import JointFamily
+from drivedyn.elements.joints import JOINT_TYPES
 from drivedyn.model.spec import Spec
 from element_cases import basic, beams, contact, flexible, gears, tyres
 
-_JOINTS = [f.spec_type for f in REGISTRY.values() if isinstance(f, JointFamily)]
-
 TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "rigid_body": [basic.spinning_body],
-    **{j.family: [partial(basic.joint_case, j), partial(basic.joint_case, j, ground_a=True)]
-       for j in _JOINTS},
+    "joint": [*(partial(basic.joint_case, j, ground_a=g) for j in JOINT_TYPES
+                for g in (False, True)), basic.mixed_joints_case],
     "joint_driver": [basic.driver_case, basic.speed_driver_case],
     "speed_difference_driver": [basic.speed_difference_case],
     "spring_damper": [basic.spring_case],

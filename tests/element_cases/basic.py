@@ -49,6 +49,19 @@ def joint_case(joint_type: type, ground_a: bool = False) -> Spec:
     return spec
 
 
+def mixed_joints_case() -> Spec:
+    """Every joint type between the same two bodies, in one group: elements with 2 to 6
+    rows side by side (each element's unused rows must stay out of the matrix)."""
+    from drivedyn.elements.joints import JOINT_TYPES
+
+    spec = Spec(gravity=(0.0, 0.0, -9.81))
+    a, b = _two_bodies(spec)
+    for i, jt in enumerate(JOINT_TYPES):
+        kw = {"pitch": 0.05} if jt.__name__ == "Screw" else {}
+        spec.add(jt(f"j{i}", a, b, k=3.0e2 * (1 + i), p=1.0e2 * (2 + i), **kw))
+    return spec
+
+
 def driver_case() -> Spec:
     from drivedyn.elements.drivers import JointDriver
     from drivedyn.elements.joints import Hinge

@@ -44,7 +44,7 @@ def _driven_joint(ctx, joint: str, what: str):
         j = ctx.spec.element(joint)
     except KeyError:
         raise ModelError(f"{what}: unknown joint {joint!r}") from None
-    if getattr(j, "family", "") not in _ANGLE_JOINTS:
+    if getattr(j, "kind", "") not in _ANGLE_JOINTS:
         raise ModelError(f"{what}: joint {joint!r} is a {type(j).__name__}; a driver needs a "
                          f"joint with a rotation axis ({', '.join(_ANGLE_JOINTS)})")
     return j

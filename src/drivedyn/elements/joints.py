@@ -1,4 +1,4 @@
-"""Joints between two markers, by the augmented Lagrangian (families per joint type).
+"""Joints between two markers, by the augmented Lagrangian (one family for all joint types).
 
 Every joint is a set of scalar constraint rows ``Phi_i(q) = 0`` built from three primitives
 (:mod:`drivedyn.elements.primitives`) on the frames of marker A (axes ``a1, a2, a3``) and
@@ -82,7 +82,7 @@ JOINT_OUTPUTS = (
 
 @njit(cache=True, inline="always")
 def _constraints(P, C, W, full):
-    rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
+    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
     L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (ws, wv) = W
     rq, rl, _, _, K, G = L
     x, R, _, _, _, es, tfv, _ = sc.state(C)
@@ -94,28 +94,32 @@ def _constraints(P, C, W, full):
         RA = R[nA]
         RB = R[nB]
         rq[:] = 0.0
+        # rows beyond this element's own (a group mixes joint types) stay zero
+        rl[:] = 0.0
         if full:
             K[:, :] = 0.0
+            G[:, :] = 0.0
         if mode != MODE_DYN:
             sc.velocities(C, e, 12, vl)
         if mode == MODE_ACC:
             sc.accelerations(C, e, 12, al)
         th = 0.0
-        if has_angle:
+        if has_angle[e]:
             raw = prim_angle(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth, Hth,
                              full, w1, w2, w3, w4, ws, wv)
             th = unwrap(raw, es[sc.state_offset(C, e)])
         power = 0.0
         sig = 0.0
-        for i in range(rtype.shape[0]):
-            typ = rtype[i]
+        for i in range(nrow[e]):
+            typ = rtype[e, i]
             phit = 0.0
             phitt = 0.0
             if typ == ROW_AXIAL:
-                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, ai[i]], g, H,
+                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, ai[e, i]], g, H,
                                  full, ws, wv)
             elif typ == ROW_DOT:
-                val = prim_dot(RA, RB, RmA[e, :, ai[i]], RmB[e, :, bj[i]], g, H, full, ws, wv)
+                val = prim_dot(RA, RB, RmA[e, :, ai[e, i]], RmB[e, :, bj[e, i]], g, H, full,
+                               ws, wv)
             elif typ == ROW_SCREW:
                 val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, 2], g, H,
                                  full, ws, wv)
@@ -177,13 +181,13 @@ def _constraints(P, C, W, full):
 
 @njit(cache=True)
 def constraint_kernel(
-    rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode,
+    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    W = (local_arrays(12, rtype.shape[0]), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
+    W = (local_arrays(12, rtype.shape[1]), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
          np.zeros(12), np.zeros(12), sc.workspace())
-    sc.run(_constraints, (rtype, ai, bj, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
+    sc.run(_constraints, (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
                          tfmode),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
@@ -228,6 +232,8 @@ class Joint(TwoMarkerSpec):
     k: float | None = None
     p: float | None = None
 
+    family: ClassVar[str] = "joint"
+    kind: ClassVar[str] = ""  # joint type, e.g. "hinge"
     rows: ClassVar[tuple[tuple[int, int, int], ...]] = ()
     has_angle: ClassVar[bool] = False
 
@@ -250,7 +256,7 @@ _A, _D, _S = ROW_AXIAL, ROW_DOT, ROW_SCREW
 class Spherical(Joint):
     """Ball joint: marker origins coincide, all rotations free."""
 
-    family: ClassVar[str] = "spherical"
+    kind: ClassVar[str] = "spherical"
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0))
 
 
@@ -258,7 +264,7 @@ class Spherical(Joint):
 class Fixed(Joint):
     """Rigid connection: marker frames coincide."""
 
-    family: ClassVar[str] = "fixed"
+    kind: ClassVar[str] = "fixed"
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 1, 2), (_D, 2, 0), (_D, 0, 1))
 
 
@@ -266,7 +272,7 @@ class Fixed(Joint):
 class Hinge(Joint):
     """Revolute joint about the z axis of marker A (marker B's z along it)."""
 
-    family: ClassVar[str] = "hinge"
+    kind: ClassVar[str] = "hinge"
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 2, 0), (_D, 2, 1))
     has_angle: ClassVar[bool] = True
 
@@ -275,7 +281,7 @@ class Hinge(Joint):
 class Cylindrical(Joint):
     """Rotation about and translation along the z axis of marker A."""
 
-    family: ClassVar[str] = "cylindrical"
+    kind: ClassVar[str] = "cylindrical"
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1))
     has_angle: ClassVar[bool] = True
 
@@ -284,7 +290,7 @@ class Cylindrical(Joint):
 class Prismatic(Joint):
     """Translation along the z axis of marker A; no relative rotation."""
 
-    family: ClassVar[str] = "prismatic"
+    kind: ClassVar[str] = "prismatic"
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_D, 0, 1))
 
 
@@ -292,7 +298,7 @@ class Prismatic(Joint):
 class Universal(Joint):
     """Cardan joint: origins coincide; rotation axes are x of marker A and y of marker B."""
 
-    family: ClassVar[str] = "universal"
+    kind: ClassVar[str] = "universal"
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 0, 1))
 
 
@@ -305,7 +311,7 @@ class Planar(Joint):
     :class:`~drivedyn.elements.contact.JournalContact` takes the radial load.
     """
 
-    family: ClassVar[str] = "planar"
+    kind: ClassVar[str] = "planar"
     rows: ClassVar = ((_A, 2, 0), (_D, 2, 0), (_D, 2, 1))
 
 
@@ -319,7 +325,7 @@ class ParallelAxes(Joint):
     takes the radial load and thrust-washer contacts on its end faces the axial load.
     """
 
-    family: ClassVar[str] = "parallel_axes"
+    kind: ClassVar[str] = "parallel_axes"
     rows: ClassVar = ((_D, 2, 0), (_D, 2, 1))
 
 
@@ -332,7 +338,7 @@ class Screw(Joint):
     """
 
     pitch: float = 0.0
-    family: ClassVar[str] = "screw"
+    kind: ClassVar[str] = "screw"
     units: ClassVar[dict[str, str]] = {"pitch": "m"}
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_S, 2, 0))
     has_angle: ClassVar[bool] = True
@@ -342,21 +348,31 @@ class Screw(Joint):
         check_number(what_of(self), "pitch", self.pitch)
 
 
-def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
+def build_constraint_group(family: str, specs, ctx, rows, has_angle,
                            drive: list[tuple[int, int]] | None = None) -> Group:
     """Arrays and index maps of a group of two-marker constraint elements.
 
-    ``rows`` are ``(type, i, j)`` triples; ``drive`` gives per element (time-function id,
-    mode) for ``ROW_DRIVE`` rows.
+    ``rows`` are the ``(type, i, j)`` triples of every element, or a list of them per
+    element (a group of mixed joint types); ``has_angle`` a bool, or one per element;
+    ``drive`` gives per element (time-function id, mode) for ``ROW_DRIVE`` rows. Elements
+    with fewer rows than the longest have their remaining rows and multiplier dofs unused
+    (zero and -1).
     """
     nel = len(specs)
-    nr = len(rows)
+    rows_of = list(rows) if rows and isinstance(rows[0][0], tuple) else [rows] * nel
+    angle_of = list(has_angle) if isinstance(has_angle, (list, tuple)) else [has_angle] * nel
+    nr = max(len(r) for r in rows_of)
     pA, pB, RmA, RmB, lnodes = two_markers(specs, ctx, "a joint")
     kk = np.zeros((nel, nr))
     pp = np.zeros((nel, nr))
+    rt = np.zeros((nel, nr), np.int64)
+    ai = np.zeros((nel, nr), np.int64)
+    bj = np.zeros((nel, nr), np.int64)
+    nrow = np.zeros(nel, np.int64)
+    angle = np.zeros(nel, np.int64)
     pitch = np.zeros(nel)
     c0 = np.zeros(nel)
-    dofs = np.zeros((nel, 12 + nr), np.int64)
+    dofs = np.full((nel, 12 + nr), -1, np.int64)
     eoff = np.zeros(nel, np.int64)
     tfid = np.zeros(nel, np.int64)
     tfmode = np.zeros(nel, np.int64)
@@ -366,7 +382,11 @@ def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
         ma, mb = s.markers()[:2]
         nA, nB = lnodes[e]
         xA, RA, xB, RB = ctx.x0[nA], ctx.R0[nA], ctx.x0[nB], ctx.R0[nB]
-        for i, (typ, a, b) in enumerate(rows):
+        er = rows_of[e]
+        nrow[e] = len(er)
+        angle[e] = bool(angle_of[e])
+        for i, (typ, a, b) in enumerate(er):
+            rt[e, i], ai[e, i], bj[e, i] = typ, a, b
             rot = typ == ROW_DOT or typ == ROW_DRIVE
             kk[e, i], pp[e, i] = ctx.scaling(getattr(s, "k", None), getattr(s, "p", None), rot)
             if typ in (ROW_AXIAL, ROW_DOT):
@@ -376,41 +396,41 @@ def build_constraint_group(family: str, specs, ctx, rows, has_angle: bool,
                     raise ModelError(
                         f"{what}: markers {ma!r} and {mb!r} are not assembled ({kind} "
                         f"constraint {i} = {val:.3g} exceeds {tol:g}); check positions and axes")
-        th0 = relative_angle(RA, RB, RmA[e], RmB[e]) if has_angle else 0.0
-        if has_angle:
-            eoff[e] = ctx.alloc_state([th0])
-        if any(r[0] == ROW_SCREW for r in rows):
+        th0 = relative_angle(RA, RB, RmA[e], RmB[e]) if angle[e] else 0.0
+        # every element keeps an angle slot (the group's state layout is uniform)
+        eoff[e] = ctx.alloc_state([th0])
+        if any(r[0] == ROW_SCREW for r in er):
             pitch[e] = s.pitch
             d = xB + RB @ pB[e] - xA - RA @ pA[e]
             c0[e] = float(d @ (RA @ RmA[e][:, 2])) - s.pitch / (2 * np.pi) * th0
         if drive is not None:
             tfid[e], tfmode[e] = drive[e]
             c0[e] = th0
-        m0 = ctx.alloc_mult(nr, f"{family} {s.name}", list(kk[e]))
-        dofs[e] = ctx.local_dofs([nA, nB], m0, nr)
-    rt = np.array([r[0] for r in rows], np.int64)
-    ai = np.array([r[1] for r in rows], np.int64)
-    bj = np.array([r[2] for r in rows], np.int64)
+        m0 = ctx.alloc_mult(len(er), f"{getattr(s, 'kind', family)} {s.name}",
+                            list(kk[e, :len(er)]))
+        dofs[e, :12 + len(er)] = ctx.local_dofs([nA, nB], m0, len(er))
     return make_group(
         family, specs, constraint_kernel,
-        (rt, ai, bj, bool(has_angle), pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
-        lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=1 if has_angle else 0,
-        commit=commit_angles if has_angle else None, naux=9,
+        (rt, ai, bj, nrow, angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
+        lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=1,
+        commit=commit_angles if angle.any() else None, naux=9,
+        extra={"kinds": [getattr(s, "kind", family) for s in specs]},
     )
 
 
-class JointFamily(Family):
-    """Registry entry of one joint type."""
+JOINT_TYPES = (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, ParallelAxes,
+               Screw)
 
-    def __init__(self, spec_type: type[Joint]) -> None:
-        self.spec_type = spec_type
-        self.name = spec_type.family
+
+class JointFamily(Family):
+    """Registry entry of all joint types: one group, so one kernel call per evaluation
+    whatever the mix of types (each call costs a few microseconds of Python and dispatch)."""
+
+    name = "joint"
 
     def build(self, specs, ctx) -> Group:
-        return build_constraint_group(self.name, specs, ctx, self.spec_type.rows,
-                                      self.spec_type.has_angle)
+        return build_constraint_group(self.name, specs, ctx, [type(s).rows for s in specs],
+                                      [type(s).has_angle for s in specs])
 
 
-for _t in (Spherical, Fixed, Hinge, Cylindrical, Prismatic, Universal, Planar, ParallelAxes,
-           Screw):
-    register(JointFamily(_t))
+register(JointFamily())

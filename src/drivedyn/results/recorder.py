@@ -228,10 +228,13 @@ class Recorder:
 def model_summary(model: Model) -> dict:
     """Size of a compiled model, kept in its results for the run report: rigid bodies,
     nodes without mass of their own, coordinates (6 per node), constraint multipliers,
-    equations, and the elements by family (count and names)."""
+    equations, and the elements by type (count and names)."""
     families: dict[str, list[str]] = {}
     for g in model.groups:
-        families.setdefault(g.family, []).extend(g.names)
+        # a group of mixed types (all joints are one group) is listed by type
+        kinds = g.extra.get("kinds") or [g.family] * len(g.names)
+        for kind, name in zip(kinds, g.names, strict=True):
+            families.setdefault(kind, []).append(name)
     return {"bodies": sum(1 for n in model.nodes if n.body is not None),
             "nodes": sum(1 for n in model.nodes if n.body is None),
             "coordinates": int(model.nd), "multipliers": int(model.nm),
