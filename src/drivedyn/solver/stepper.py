@@ -103,6 +103,33 @@ def roundoff_levels(data, indices, indptr, nd, xmax, lam, ulps, out):
             out[indices[k]] += abs(data[k]) * ej
 
 
+EPS = float(np.finfo(float).eps)
+
+
+@njit(cache=True)
+def absmax(x):
+    """max |x| over all entries (0 for an empty array)."""
+    m = 0.0
+    for v in x.ravel():
+        if abs(v) > m:
+            m = abs(v)
+    return m
+
+
+@njit(cache=True)
+def predict(vd, a, v, vd_prev, w, h, af, am, gamma, beta, vd1, a1, v1, hdq):
+    """Predictor of a step from (vd, a, v): accelerations ``vd1 = vd + w (vd - vd_prev)``
+    (``w`` = 0: constant), pseudo-accelerations ``a1``, velocities ``v1`` and the Lie-algebra
+    increment ``hdq`` of the generalized-alpha scheme (one pass, no temporaries)."""
+    for i in range(vd.shape[0]):
+        x = vd[i] + w * (vd[i] - vd_prev[i]) if w > 0.0 else vd[i]
+        vd1[i] = x
+        ai = (af * vd[i] + (1.0 - af) * x - am * a[i]) / (1.0 - am)
+        a1[i] = ai
+        v1[i] = v[i] + h * ((1.0 - gamma) * a[i] + gamma * ai)
+        hdq[i] = h * v[i] + h * h * ((0.5 - beta) * a[i] + beta * ai)
+
+
 @njit(cache=True)
 def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
     """Apply a Newton correction; returns (max |dx|, all finite)."""
@@ -214,15 +241,12 @@ class Stepper:
         st.t = sn.t + h
         # predictor: accelerations extrapolated linearly from the last two accepted steps
         # (constant at the start): halves the Newton iterations on smooth motion
+        w = 0.0
         if self._prev_t is not None and sn.t > self._prev_t and self._prev_vd.shape == sn.vd.shape:
-            w = h / (sn.t - self._prev_t)
-            st.vd[:] = sn.vd + min(w, 1.0) * (sn.vd - self._prev_vd)
-        else:
-            st.vd[:] = sn.vd
-        st.a[:] = (af * sn.vd + (1.0 - af) * st.vd - am * sn.a) / (1.0 - am)
-        st.v[:] = sn.v + h * ((1.0 - gamma) * sn.a + gamma * st.a)
+            w = min(h / (sn.t - self._prev_t), 1.0)
         hdq = self.hdq
-        hdq[:] = h * sn.v + h * h * ((0.5 - beta) * sn.a + beta * st.a)
+        predict(sn.vd, sn.a, sn.v, self._prev_vd, w, h, af, am, gamma, beta, st.vd, st.a, st.v,
+                hdq)
         lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
         # a factorisation for a slightly different h (output-time clipping) still converges
         # well; the contraction monitor below refactors if it does not
@@ -239,7 +263,7 @@ class Stepper:
         since_factor = 0
         worst, wval = -1, 0.0
         kscale = sys.kscale
-        stall = STALL_ULPS * np.finfo(float).eps * max(1.0, float(np.abs(st.x).max()))
+        stall = STALL_ULPS * EPS * max(1.0, absmax(st.x))
         last = np.inf
         for it in range(nw.max_iter + 1):
             rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
@@ -280,7 +304,7 @@ class Stepper:
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite Newton correction")
-            ratio = nrm / prev if prev > 0 and np.isfinite(prev) else 0.0
+            ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
             if it > 0 and ratio > nw.contraction:
                 if ratio > 2.0 and fresh:
                     sq, sphi = scaled_residual(sys)
