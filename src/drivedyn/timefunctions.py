@@ -36,6 +36,10 @@ from typing import Any, NamedTuple
 import numpy as np
 from numba import njit
 
+from drivedyn.jit import apply as _fix_numba_inliner
+
+_fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
+
 __all__ = [
     "KIND_CONSTANT",
     "KIND_RAMP",

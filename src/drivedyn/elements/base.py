@@ -51,6 +51,10 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
+from drivedyn.jit import apply as _fix_numba_inliner
+
+_fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
+
 MODE_DYN = 0
 MODE_ACC = 1
 MODE_VEL = 2
