@@ -92,6 +92,7 @@ class System:
         self._calls: dict[tuple[int, bool], list | bool] = {}
         self._state_types: tuple | None = None
         self._last_state: State | None = None
+        self._precompiled = False
 
     def time_functions(self, t: float) -> None:
         tf = self.model.tf
@@ -116,6 +117,8 @@ class System:
             for entry, pre, post in calls:
                 entry(*pre, *mid, *post)
         else:
+            if not self._precompiled:
+                self._precompile(st, cM, cC, cK, mode, want)
             for g in self.model.groups:
                 g.evaluate(st, self.tfv, st.t, self.Tn, cM, cC, cK, mode, want,
                            self.r, self.rabs, self.data)
@@ -135,6 +138,28 @@ class System:
             return False
         self._last_state = st
         return True
+
+    def _precompile(self, st: State, cM: float, cC: float, cK: float, mode: int,
+                    want: bool) -> None:
+        """Before the first evaluation: compile the kernels that are neither compiled nor
+        cached in parallel processes (:mod:`drivedyn.solver.precompile`)."""
+        from drivedyn.solver.precompile import precompile_kernels
+
+        self._precompiled = True
+        mid = (st.x, st.R, st.v, st.vd, st.lam, st.es, self.tfv, st.t, self.Tn,
+               float(cM), float(cC), float(cK), int(mode), bool(want))
+        calls = []
+        for g in self.model.groups:
+            k = g.kernel
+            if not hasattr(k, "typeof_pyval"):
+                continue
+            args = (*g.params, g.lnodes, g.dofs, g.kmap, g.eoff, *mid, self.r, self.rabs,
+                    self.data, g.eout, g.aux)
+            try:
+                calls.append((k, tuple(k.typeof_pyval(a) for a in args)))
+            except (TypeError, ValueError):
+                continue
+        precompile_kernels(calls)
 
     def _bind(self, st: State, cM: float, cC: float, cK: float, mode: int,
               want: bool) -> list | bool:

@@ -1,0 +1,131 @@
+"""First compilation of a model's element kernels in parallel processes.
+
+A kernel is compiled by numba on its first call, for the argument types of that call, and
+kept in numba's on-disk cache (``cache=True``): later runs load it in milliseconds. The first
+run after an install compiles every kernel the model uses, one after the other, in the
+process that runs the simulation (about 80 s for the TORSEN models, half of it the gear
+pair's kernel). :func:`precompile_kernels` finds the kernels that are neither compiled in this
+process nor in the cache and, when there are two or more and more than one CPU, compiles them
+in worker processes at the same time (each worker writes numba's cache); the process then
+loads them from the cache. Anything that goes wrong on the way (no process pool in a daemonic
+worker, a cache directory that cannot be written, a numba without the cache API used here)
+leaves the kernels to numba's usual compilation on first call: slower, same machine code.
+
+``DRIVEDYN_COMPILE_WORKERS`` sets the number of worker processes (default: the number of
+CPUs; 0 or 1 compiles in the process itself). Workers are forked, so this runs on Linux and from a
+single-threaded process; otherwise the kernels compile in the process.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import importlib
+import logging
+import multiprocessing as mp
+import os
+import pickle
+import sys
+import threading
+import time
+from typing import Any
+
+log = logging.getLogger("drivedyn")
+
+#: measured first-compilation times [s] (2-core reference machine), used only to start the
+#: longest compilations first; other kernels count 5 s
+COMPILE_SECONDS = {"gear_kernel": 31.0, "constraint_kernel": 19.0,
+                   "journal_contact_kernel": 11.0, "washer_contact_kernel": 8.0}
+
+
+_FORK = sys.platform.startswith("linux") and "fork" in mp.get_all_start_methods()
+
+
+def workers_default() -> int:
+    """Worker processes for a first compilation: ``DRIVEDYN_COMPILE_WORKERS`` or the CPU
+    count."""
+    env = os.environ.get("DRIVEDYN_COMPILE_WORKERS")
+    if env is not None:
+        try:
+            return max(0, int(env))
+        except ValueError:
+            log.warning("DRIVEDYN_COMPILE_WORKERS=%r is not an integer; compiling in process",
+                        env)
+            return 0
+    return os.cpu_count() or 1
+
+
+def _loaded(disp: Any, sig: tuple) -> bool:
+    """True if ``disp`` has an overload for ``sig`` in memory, or loads it from the cache."""
+    if sig in disp.overloads:
+        return True
+    cache = getattr(disp, "_cache", None)
+    if cache is None:
+        return False
+    cres = cache.load_overload(sig, disp.targetctx)
+    if cres is None:
+        return False
+    disp.add_overload(cres)
+    return True
+
+
+def _compile_one(module: str, qualname: str, sig_bytes: bytes) -> float:
+    """Worker: compile ``module.qualname`` for the pickled signature (numba caches it)."""
+    t0 = time.perf_counter()
+    disp = getattr(importlib.import_module(module), qualname)
+    disp.compile(pickle.loads(sig_bytes))
+    return time.perf_counter() - t0
+
+
+def precompile_kernels(calls: list[tuple[Any, tuple]], workers: int | None = None) -> dict:
+    """Make sure each ``(dispatcher, signature)`` is compiled, compiling the missing ones in
+    parallel worker processes.
+
+    Args:
+        calls: numba dispatchers with the argument-type tuples they will be called with.
+        workers: worker processes (default :func:`workers_default`).
+    Returns:
+        ``{"missing": n, "compiled_in_workers": n, "wall_s": s}`` (for the log and tests).
+    """
+    t0 = time.perf_counter()
+    workers = workers_default() if workers is None else workers
+    todo: dict[tuple[str, str, bytes], tuple[Any, tuple]] = {}
+    try:
+        for disp, sig in calls:
+            if _loaded(disp, sig):
+                continue
+            fn = disp.py_func
+            key = (fn.__module__, fn.__qualname__, pickle.dumps(sig))
+            todo.setdefault(key, (disp, sig))
+    except Exception as exc:  # numba without this cache API: compile on first call
+        log.debug("precompile: cache lookup unavailable (%s)", exc)
+        return {"missing": 0, "compiled_in_workers": 0, "wall_s": time.perf_counter() - t0}
+    done = 0
+    # fork only: a spawned worker would import the user's script again (one without a
+    # ``__main__`` guard would run its simulation in every worker); forked workers start from
+    # this process as it is (no kernel is being compiled at this point, so no numba lock is
+    # held), and only from a single-threaded process (a lock held by another thread at the
+    # fork would stay held in the worker)
+    if len(todo) >= 2 and workers >= 2 and _FORK and threading.active_count() == 1:
+        order = sorted(todo, key=lambda k: -COMPILE_SECONDS.get(k[1], 5.0))
+        log.info("first compilation of %d kernels in %d processes", len(todo),
+                 min(workers, len(todo)))
+        try:
+            with cf.ProcessPoolExecutor(max_workers=min(workers, len(todo)),
+                                        mp_context=mp.get_context("fork")) as pool:
+                futures = {pool.submit(_compile_one, *k): k for k in order}
+                for fut in cf.as_completed(futures):
+                    try:
+                        fut.result()
+                        done += 1
+                    except Exception as exc:  # this one compiles on first call instead
+                        log.debug("precompile: %s failed in a worker (%s)", futures[fut][1],
+                                  exc)
+        except Exception as exc:  # no process pool here (e.g. a daemonic worker)
+            log.debug("precompile: no worker processes (%s)", exc)
+        for disp, sig in todo.values():
+            try:
+                _loaded(disp, sig)
+            except Exception as exc:  # pragma: no cover - compiled on first call instead
+                log.debug("precompile: cache load failed (%s)", exc)
+    return {"missing": len(todo), "compiled_in_workers": done,
+            "wall_s": time.perf_counter() - t0}

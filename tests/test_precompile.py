@@ -1,0 +1,91 @@
+"""First compilation in worker processes (drivedyn.solver.precompile), run in a fresh
+process with an empty numba cache: the missing kernels are compiled by the workers, the
+process loads them from the cache without compiling, and a second pass finds nothing
+missing. Kernels here are two small functions so that the test is quick; the library's
+kernels go the same way (cold `drivedyn tdr torsen-c --mode all`: about 160 s -> 56 s on two
+cores, benchmarks/README.md)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from drivedyn.solver.precompile import _FORK
+
+KMOD = """
+import numpy as np
+from numba import njit
+
+@njit(cache=True)
+def f(x):
+    s = 0.0
+    for v in x:
+        s += v * v
+    return np.sqrt(s)
+
+@njit(cache=True)
+def g(a, b):
+    return a * b + 1.0
+"""
+
+SCRIPT = """
+import json
+import numpy as np
+from numba import typeof
+from numba.core import event
+import kmod
+from drivedyn.solver.precompile import precompile_kernels
+
+compiled = []
+class Count(event.Listener):
+    def on_start(self, e):
+        compiled.append(e.data["dispatcher"].py_func.__name__)
+    def on_end(self, e):
+        pass
+
+def main():
+    calls = [(kmod.f, (typeof(np.zeros(3)),)), (kmod.g, (typeof(1.0), typeof(2.0)))]
+    with event.install_listener("numba:compile", Count()):
+        first = precompile_kernels(calls, WORKERS)
+        values = [float(kmod.f(np.array([3.0, 4.0]))), float(kmod.g(2.0, 3.0))]
+        second = precompile_kernels(calls, WORKERS)
+    print(json.dumps({"first": first, "second": second, "values": values,
+                      "compiled_here": compiled}))
+
+if __name__ == "__main__":
+    main()
+"""
+
+
+def _run(tmp_path: Path, workers: int) -> dict:
+    (tmp_path / "kmod.py").write_text(textwrap.dedent(KMOD))
+    (tmp_path / "run.py").write_text(SCRIPT.replace("WORKERS", str(workers)))
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
+    proc = subprocess.run([sys.executable, "run.py"], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.skipif(not _FORK, reason="workers are forked (Linux)")
+def test_missing_kernels_compile_in_workers_and_load_from_the_cache(tmp_path) -> None:
+    out = _run(tmp_path, 2)
+    assert out["first"]["missing"] == 2 and out["first"]["compiled_in_workers"] == 2
+    assert out["compiled_here"] == []  # both loaded from the cache the workers wrote
+    assert out["values"] == [5.0, 7.0]
+    assert out["second"]["missing"] == 0
+
+
+def test_without_workers_the_kernels_compile_on_first_call(tmp_path) -> None:
+    out = _run(tmp_path, 0)
+    assert out["first"]["missing"] == 2 and out["first"]["compiled_in_workers"] == 0
+    assert sorted(out["compiled_here"]) == ["f", "g"]
+    assert out["values"] == [5.0, 7.0]
+    assert out["second"]["missing"] == 0
