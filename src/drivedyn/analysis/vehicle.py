@@ -18,12 +18,13 @@ the favoured axle's torque over the other's: in drive -- power from the housing 
 -- the slower axle is favoured, in coast the faster one), and the quasi-static TDR of the
 differential's analytic model at the same speeds and housing torque.
 
-Cost: the shipped profile (12 loaded levels) is timed in the README. Avoid long holds at
-exactly zero torque: the meshes then hover within nanometres of contact, where the gear
-element lends its stiffness to the iteration matrix (``TANGENT_BAND`` in
-:mod:`drivedyn.elements.gears`) but not to the residual; the axially free sun then converges
-only linearly in Newton (rate ``K / (K + M / (beta' h^2))``) and the step stays near
-1e-5 s (measured: 10-15 min of wall time per simulated second at zero torque).
+Cost: the shipped profile (12 loaded levels and 3 zero-torque holds) is timed in the README
+and in ``benchmarks/README.md``. At exactly zero torque the gears float in their clearances
+(the planets' centrifugal force opens the sun meshes by nanometres) and rattle: the steps
+are about 4 times shorter than in a loaded hold and a zero-torque hold costs about 4 times
+the wall time of a loaded one per simulated second (it cost 10-15 minutes per simulated
+second before issue 16: the gear element lent its mesh stiffness to the iteration matrix for
+gaps up to 10 nm, where Newton then converged only linearly).
 """
 
 from __future__ import annotations

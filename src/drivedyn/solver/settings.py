@@ -82,7 +82,9 @@ class AdaptiveStep:
 
     The local error of the positions is estimated as ``|beta - 1/6| h^2 |a_n+1 - a_n|`` and
     weighted by ``atol + rtol |h dq|`` (the step's own increment), so rtol is the relative
-    accuracy of the motion within a step.
+    accuracy of the motion within a step. After a Newton failure at ``h`` the step is retried
+    at ``h / 4`` and then stays below ``h / 2``, a cap that grows by 5 % per accepted step
+    (:data:`drivedyn.solver.simulate.LIMIT_AFTER_FAILURE`, ``LIMIT_RELAX``).
 
     Attributes:
         h0: first step [s].
