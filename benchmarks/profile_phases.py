@@ -61,6 +61,19 @@ def instrument() -> None:
         CALLS[label] += 1
 
     Group.evaluate = evaluate
+    # after its first evaluation System.evaluate calls each group's compiled entry point
+    # directly (bound calls): time those too, under the group's family
+    bind = System._bind
+
+    def bound(self, st, cM, cC, cK, mode, want):
+        calls = bind(self, st, cM, cC, cK, mode, want)
+        if not calls:
+            return calls
+        label = "residual + tangent" if want else "residual"
+        return [(_timed(f"elements: {g.family} ({label})", entry), pre, post)
+                for g, (entry, pre, post) in zip(self.model.groups, calls, strict=True)]
+
+    System._bind = bound
     sys_eval = System.evaluate
 
     def system_evaluate(self, *args, **kwargs):
