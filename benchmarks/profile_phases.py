@@ -23,6 +23,7 @@ import argparse
 import collections
 import importlib
 import json
+import resource
 import time
 
 from drivedyn.config import load_model, read_library_file
@@ -146,10 +147,11 @@ def main() -> None:
     rows = sorted(TIMES.items(), key=lambda kv: -kv[1])
     rows.append(("Python around (step and Newton loops, calls, wrappers)", wall - measured))
     st = res.stats
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"{args.model}: {model.neq} unknowns, simulated {res.time[-1]:g} s, wall {wall:.2f} s, "
           f"{st.steps} steps ({st.rejected} rejected), {st.newton_iterations} Newton "
           f"iterations, {st.factorizations} factorisations, {st.residual_evaluations} "
-          "evaluations")
+          f"evaluations, peak RSS {rss:.0f} MB")
     print(f"{'phase':62s} {'s':>7s} {'share':>6s} {'calls':>8s} {'us/call':>8s}")
     for label, sec in rows:
         n = CALLS.get(label, 0)
@@ -159,7 +161,7 @@ def main() -> None:
                       "vehicle": args.vehicle, "side": args.side, "unknowns": model.neq,
                       "wall_s": round(wall, 3), "steps": st.steps, "rejected": st.rejected,
                       "newton_iterations": st.newton_iterations,
-                      "factorizations": st.factorizations,
+                      "factorizations": st.factorizations, "peak_rss_mb": round(rss, 1),
                       "phases": {k: round(v, 4) for k, v in rows},
                       "calls": dict(CALLS)}))
 
