@@ -214,10 +214,22 @@ class Stepper:
             self._roff_at = self.lu_h
         return self.roff
 
-    def _factor(self, st: State, h: float) -> StepOutcome | None:
+    def _evaluate(self, st: State, cM: float, cC: float, want: bool) -> bool:
+        """Residual at ``st``, with the iteration matrix if ``want`` (the next iteration
+        factorises: one evaluation gives both, instead of a residual now and residual and
+        matrix again in :meth:`_factor`); returns ``want``."""
+        if want:
+            tangents(self.hdq, self.model.nn, self.sys.Tn)
+        self.sys.evaluate(st, cM, cC, 1.0, MODE_DYN, want)
+        return want
+
+    def _factor(self, st: State, h: float, assembled: bool = False) -> StepOutcome | None:
+        """Factorise the iteration matrix at ``st`` (assembled already if ``assembled``)."""
         sys = self.sys
-        tangents(self.hdq, self.model.nn, sys.Tn)
-        sys.evaluate(st, 1.0 / (self.bp * h * h), self.gp / (self.bp * h), 1.0, MODE_DYN, True)
+        if not assembled:
+            tangents(self.hdq, self.model.nn, sys.Tn)
+            sys.evaluate(st, 1.0 / (self.bp * h * h), self.gp / (self.bp * h), 1.0, MODE_DYN,
+                         True)
         try:
             sys.factor(self.lin)
         except (np.linalg.LinAlgError, ValueError) as exc:
@@ -256,7 +268,9 @@ class Stepper:
         cM = 1.0 / (self.bp * h * h)
         cC = self.gp / (self.bp * h)
         ca = (1.0 - af) / (1.0 - am) * cM
-        sys.evaluate(st, cM, cC, 1.0, MODE_DYN, False)
+        # without a factorisation the first iteration factorises (the predictor itself
+        # converges in about 2 % of the steps)
+        assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
         nfac0 = self.factorizations
         prev = np.inf
         fresh = False
@@ -292,7 +306,7 @@ class Stepper:
             # modified Newton: a factorisation that needed several iterations already is
             # stale (the configuration moved on); refresh it rather than creep along
             if full or self.lu_h is None or since_factor >= 3:
-                out = self._factor(st, h)
+                out = self._factor(st, h, assembled)
                 if out is not None:
                     out.iterations = it
                     return out
@@ -317,7 +331,10 @@ class Stepper:
             last = nrm
             fresh = False
             lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
-            sys.evaluate(st, cM, cC, 1.0, MODE_DYN, False)
+            # the matrix with the residual when the next iteration factorises for certain
+            # (a correction that did not contract); not after three iterations on one
+            # factorisation, where the next check often converges
+            assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
         sq, sphi = scaled_residual(sys)
         worst, wval = _worst(sys, sq, sphi)
         return StepOutcome(StepStatus.NEWTON_MAX_ITER, nw.max_iter, self.factorizations - nfac0,
