@@ -100,7 +100,8 @@ class JointDriverFamily(Family):
             j = _driven_joint(ctx, s.joint, f"JointDriver {s.name!r}")
             views.append(_DriverView(s.name, j.marker_a, j.marker_b, s.k, s.p))
             drive.append((ctx.time_function(s.function), 0 if s.quantity == "angle" else 1))
-        g = build_constraint_group(self.name, views, ctx, ((ROW_DRIVE, 0, 0),), True, drive)
+        g = build_constraint_group(self.name, views, ctx, [((ROW_DRIVE, 0, 0),)] * len(views),
+                                   [True] * len(views), drive)
         g.extra["joint"] = [s.joint for s in specs]
         # outputs: driving torque (column 8 = -sigma of the drive row), angle, power
         g.aux_cols = (8, 6, 7)

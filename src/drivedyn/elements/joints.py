@@ -348,19 +348,16 @@ class Screw(Joint):
         check_number(what_of(self), "pitch", self.pitch)
 
 
-def build_constraint_group(family: str, specs, ctx, rows, has_angle,
+def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
                            drive: list[tuple[int, int]] | None = None) -> Group:
     """Arrays and index maps of a group of two-marker constraint elements.
 
-    ``rows`` are the ``(type, i, j)`` triples of every element, or a list of them per
-    element (a group of mixed joint types); ``has_angle`` a bool, or one per element;
-    ``drive`` gives per element (time-function id, mode) for ``ROW_DRIVE`` rows. Elements
-    with fewer rows than the longest have their remaining rows and multiplier dofs unused
-    (zero and -1).
+    Per element: ``rows_of`` its ``(type, i, j)`` row triples (a group may mix joint
+    types), ``angle_of`` whether it measures the relative angle, and ``drive`` (time-function
+    id, mode) for ``ROW_DRIVE`` rows. Elements with fewer rows than the longest have their
+    remaining rows and multiplier dofs unused (zero and -1).
     """
     nel = len(specs)
-    rows_of = list(rows) if rows and isinstance(rows[0][0], tuple) else [rows] * nel
-    angle_of = list(has_angle) if isinstance(has_angle, (list, tuple)) else [has_angle] * nel
     nr = max(len(r) for r in rows_of)
     pA, pB, RmA, RmB, lnodes = two_markers(specs, ctx, "a joint")
     kk = np.zeros((nel, nr))

@@ -139,6 +139,21 @@ class System:
         self._last_state = st
         return True
 
+    def _kernel_args(self, st: State, cM: float, cC: float, cK: float, mode: int,
+                     want: bool) -> list[tuple[object, tuple, tuple, tuple]]:
+        """Per group: the kernel, its fixed leading arguments, the per-evaluation middle ones
+        and its fixed trailing ones, as :meth:`evaluate` passes them."""
+        mid = (st.x, st.R, st.v, st.vd, st.lam, st.es, self.tfv, st.t, self.Tn,
+               float(cM), float(cC), float(cK), int(mode), bool(want))
+        return [(g.kernel, (*g.params, g.lnodes, g.dofs, g.kmap, g.eoff), mid,
+                 (self.r, self.rabs, self.data, g.eout, g.aux)) for g in self.model.groups]
+
+    @staticmethod
+    def _signature(kernel, pre: tuple, mid: tuple, post: tuple) -> tuple:
+        """numba argument types of one kernel call (AttributeError: not a numba dispatcher;
+        TypeError/ValueError: an argument numba cannot type)."""
+        return tuple(kernel.typeof_pyval(a) for a in (*pre, *mid, *post))
+
     def _precompile(self, st: State, cM: float, cC: float, cK: float, mode: int,
                     want: bool) -> None:
         """Before the first evaluation: compile the kernels that are neither compiled nor
@@ -146,18 +161,11 @@ class System:
         from drivedyn.solver.precompile import precompile_kernels
 
         self._precompiled = True
-        mid = (st.x, st.R, st.v, st.vd, st.lam, st.es, self.tfv, st.t, self.Tn,
-               float(cM), float(cC), float(cK), int(mode), bool(want))
         calls = []
-        for g in self.model.groups:
-            k = g.kernel
-            if not hasattr(k, "typeof_pyval"):
-                continue
-            args = (*g.params, g.lnodes, g.dofs, g.kmap, g.eoff, *mid, self.r, self.rabs,
-                    self.data, g.eout, g.aux)
+        for k, pre, mid, post in self._kernel_args(st, cM, cC, cK, mode, want):
             try:
-                calls.append((k, tuple(k.typeof_pyval(a) for a in args)))
-            except (TypeError, ValueError):
+                calls.append((k, self._signature(k, pre, mid, post)))
+            except (AttributeError, TypeError, ValueError):
                 continue
         precompile_kernels(calls)
 
@@ -168,15 +176,9 @@ class System:
         arguments; False if an overload cannot be identified exactly (then the dispatcher
         keeps choosing)."""
         calls = []
-        mid = (st.x, st.R, st.v, st.vd, st.lam, st.es, self.tfv, st.t, self.Tn,
-               float(cM), float(cC), float(cK), mode, want)
-        for g in self.model.groups:
-            pre = (*g.params, g.lnodes, g.dofs, g.kmap, g.eoff)
-            post = (self.r, self.rabs, self.data, g.eout, g.aux)
-            k = g.kernel
+        for k, pre, mid, post in self._kernel_args(st, cM, cC, cK, mode, want):
             try:
-                sig = tuple(k.typeof_pyval(a) for a in (*pre, *mid, *post))
-                entry = k.overloads[sig].entry_point
+                entry = k.overloads[self._signature(k, pre, mid, post)].entry_point
             except (AttributeError, KeyError, TypeError, ValueError):
                 return False
             calls.append((entry, pre, post))

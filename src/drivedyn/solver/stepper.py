@@ -209,7 +209,7 @@ class Stepper:
         if self.lu_h is not None and self._roff_at is None:
             m = self.model
             roundoff_levels(self.sys.data, m.indices, m.indptr, m.nd,
-                            float(np.abs(st.x).max()) if st.x.size else 1.0, st.lam,
+                            absmax(st.x) if st.x.size else 1.0, st.lam,
                             ROUNDOFF_ULPS, self.roff)
             self._roff_at = self.lu_h
         return self.roff
