@@ -186,6 +186,22 @@ class System:
         self._last_state = st
         return calls
 
+    def kernel_table(self, st: State) -> tuple | None:
+        """Per group ``(leading arguments, trailing arguments, address)`` of its kernel's
+        overload for the argument types of ``st`` (for
+        :func:`~drivedyn.solver.kernel_calls.call_groups`); None if an overload is not
+        compiled yet (evaluate once first) or a kernel is not a numba function."""
+        from drivedyn.solver.kernel_calls import entry_address
+
+        out = []
+        for k, pre, mid, post in self._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True):
+            try:
+                addr = entry_address(k, self._signature(k, pre, mid, post))
+            except (AttributeError, KeyError, TypeError, ValueError):
+                return None
+            out.append((pre, post, addr))
+        return tuple(out)
+
     def matrix(self) -> sp.csc_matrix:
         m = self.model
         return sp.csc_matrix((self.data.copy(), m.indices, m.indptr), shape=(m.neq, m.neq))

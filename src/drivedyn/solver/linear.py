@@ -5,10 +5,11 @@ from __future__ import annotations
 import abc
 
 import numpy as np
-import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numba import njit
+
+from drivedyn.solver import lapack
 
 
 class LinearSolver(abc.ABC):
@@ -92,46 +93,42 @@ class SparseLU(LinearSolver):
         return x
 
 
-@njit(cache=True)
-def _scatter_dense(data, indices, indptr, out):
-    """out[:, :] = the CSC matrix (column-major ``out``, duplicates summed)."""
-    n = out.shape[1]
-    out[:, :] = 0.0
-    for j in range(n):
-        for k in range(indptr[j], indptr[j + 1]):
-            out[indices[k], j] += data[k]
-
-
 class DenseLU(LinearSolver):
     """LAPACK LU (getrf/getrs with partial pivoting); faster than SuperLU up to about 150
     unknowns: for the 113 unknowns of the TORSEN Type B, getrf takes about 60 us where
-    SuperLU with its factor extraction takes about 470 us (benchmarks/README.md)."""
+    SuperLU with its factor extraction takes about 470 us (benchmarks/README.md).
+
+    The factors live in ``lu``/``piv`` (:func:`drivedyn.solver.lapack.workspace`); the
+    compiled Newton iteration factorises and solves in the same arrays with the same
+    functions.
+    """
 
     def __init__(self) -> None:
-        self._lu = None
-        self._a: np.ndarray | None = None
+        self.n = -1
+        self.ws: tuple | None = None  # (lu, piv, ib, tr) for the current size
 
     def factor(self, A: sp.csc_matrix) -> None:
         A = sp.csc_matrix(A)
         self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
 
+    def workspace(self, n: int) -> tuple:
+        """The factor arrays for an ``n`` x ``n`` matrix (allocated on first use)."""
+        if self.ws is None or self.n != n:
+            self.ws = lapack.workspace(n)
+            self.n = n
+        return self.ws
+
     def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
                    n: int) -> None:
-        if self._a is None or self._a.shape[0] != n:
-            self._a = np.zeros((n, n), order="F")
-        _scatter_dense(data, indices, indptr, self._a)
-        lu, piv, info = _getrf(self._a, overwrite_a=True)
-        if info != 0 or not np.all(np.isfinite(lu)):
+        lu, piv, ib, _tr = self.workspace(n)
+        if lapack.dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
             raise np.linalg.LinAlgError("singular matrix")
-        self._lu = (lu, piv)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        x, _info = _getrs(self._lu[0], self._lu[1], b)
+        x = np.array(b, dtype=float)
+        lu, piv, ib, tr = self.ws
+        lapack.dense_solve(lu, piv, x, ib, tr)
         return x
-
-
-_getrs = sla.lapack.get_lapack_funcs("getrs", (np.zeros(1),))
-_getrf = sla.lapack.get_lapack_funcs("getrf", (np.zeros(1),))
 
 
 #: largest system solved by the dense LU: the TORSEN benches (92 and 113 unknowns) run 1.7-1.8x

@@ -64,7 +64,12 @@ def _loaded(disp: Any, sig: tuple) -> bool:
     cres = cache.load_overload(sig, disp.targetctx)
     if cres is None:
         return False
+    # as numba's Dispatcher does on a cache hit: register the overload's lowering too, or a
+    # compiled function calling this kernel fails with "No definition for lowering"
+    if not cres.objectmode:
+        disp.targetctx.insert_user_function(cres.entry_point, cres.fndesc, [cres.library])
     disp.add_overload(cres)
+    disp._cache_hits[sig] += 1
     return True
 
 

@@ -20,19 +20,37 @@ the tangent operator of each node's rotation increment. Working on position corr
 
 from __future__ import annotations
 
+import logging
+import os
+from typing import Any
+
 import numpy as np
-from numba import njit
 
 from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
+from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.assembly import System, lie_update, tangents
-from drivedyn.solver.linear import LinearSolver, default_linear_solver
+from drivedyn.solver.linear import DenseLU, LinearSolver, default_linear_solver
+from drivedyn.solver.newton_kernel import (
+    EPS,
+    F_FORCE,
+    F_LU_H,
+    FLOOR_REL,
+    I_LU,
+    I_NEVAL,
+    I_NFAC,
+    I_ROFF,
+    ROUNDOFF_ULPS,
+    STALL_ULPS,
+    absmax,
+    newton_update,
+    predict,
+    residual_norms,
+    roundoff_levels,
+)
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
 
-# Residual of an equation is measured against the sum of the absolute values of its terms;
-# for an equation with (nearly) no terms of its own, against FLOOR_REL x the largest such sum
-# in the model (the accuracy a solve can deliver there is set by the model's force scale).
-FLOOR_REL = 1e-4
+log = logging.getLogger("drivedyn")
 
 
 def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarray, np.ndarray]:
@@ -48,108 +66,6 @@ def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarr
     else:
         sq = np.zeros(0)
     return sq, sys.constraint_violation()
-
-
-# Round-off of the unknowns, in units of the machine epsilon: the Lie update and the solve
-# leave each coordinate (and multiplier) uncertain by a few ulps of its magnitude.
-ROUNDOFF_ULPS = 16.0
-# Newton stagnates when its correction is below this many ulps of the largest coordinate
-STALL_ULPS = 64.0
-
-
-@njit(cache=True)
-def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0):
-    """Largest scaled node residual and constraint violation beyond the round-off level
-    ``roff`` of each equation (see :func:`roundoff_levels`; zeros for none); returns
-    (rq_max, phi_max, finite). Node equations are scaled as in :func:`scaled_residual`,
-    constraint rows are violations [m or rad]."""
-    amax = max(amin, 1e-300)
-    for i in range(nd):
-        if rabs[i] > amax:
-            amax = rabs[i]
-    floor = floor_rel * amax
-    rq = 0.0
-    finite = True
-    for i in range(nd):
-        v = max(abs(r[i]) - roff[i], 0.0) / (rabs[i] + floor)
-        if not np.isfinite(r[i]):
-            finite = False
-        if v > rq:
-            rq = v
-    ph = 0.0
-    for i in range(nd, r.shape[0]):
-        v = max(abs(r[i]) - roff[i], 0.0) / kscale[i]
-        if not np.isfinite(r[i]):
-            finite = False
-        if v > ph:
-            ph = v
-    return rq, ph, finite
-
-
-@njit(cache=True)
-def roundoff_levels(data, indices, indptr, nd, xmax, lam, ulps, out):
-    """Residual each equation shows when every unknown is off by its round-off, the row sums
-    ``sum_j |A_ij| eps_j`` of the iteration matrix ``A`` (CSC arrays) with
-    ``eps_j = ulps eps max(1, xmax)`` for the position increments and ``ulps eps |lam_j|``
-    for the multipliers. A residual below it cannot be reduced in floating point (a stiff
-    constraint or contact turns the last bit of a position into a large force), so it is not
-    counted against the tolerance. ``out`` (neq,) receives the levels."""
-    eps = 2.220446049250313e-16
-    ex = ulps * eps * max(1.0, xmax)
-    out[:] = 0.0
-    for j in range(indptr.shape[0] - 1):
-        ej = ex if j < nd else ulps * eps * abs(lam[j - nd])
-        for k in range(indptr[j], indptr[j + 1]):
-            out[indices[k]] += abs(data[k]) * ej
-
-
-EPS = float(np.finfo(float).eps)
-
-
-@njit(cache=True)
-def absmax(x):
-    """max |x| over all entries (0 for an empty array)."""
-    m = 0.0
-    for v in x.ravel():
-        if abs(v) > m:
-            m = abs(v)
-    return m
-
-
-@njit(cache=True)
-def predict(vd, a, v, vd_prev, w, h, af, am, gamma, beta, vd1, a1, v1, hdq):
-    """Predictor of a step from (vd, a, v): accelerations ``vd1 = vd + w (vd - vd_prev)``
-    (``w`` = 0: constant), pseudo-accelerations ``a1``, velocities ``v1`` and the Lie-algebra
-    increment ``hdq`` of the generalized-alpha scheme (one pass, no temporaries)."""
-    for i in range(vd.shape[0]):
-        x = vd[i] + w * (vd[i] - vd_prev[i]) if w > 0.0 else vd[i]
-        vd1[i] = x
-        ai = (af * vd[i] + (1.0 - af) * x - am * a[i]) / (1.0 - am)
-        a1[i] = ai
-        v1[i] = v[i] + h * ((1.0 - gamma) * a[i] + gamma * ai)
-        hdq[i] = h * v[i] + h * h * ((0.5 - beta) * a[i] + beta * ai)
-
-
-@njit(cache=True)
-def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
-    """Apply a Newton correction; returns (max |dx|, all finite)."""
-    nrm = 0.0
-    finite = True
-    for i in range(nd):
-        dx = delta[i]
-        if not np.isfinite(dx):
-            finite = False
-        hdq[i] += dx
-        vd[i] += cM * dx
-        a[i] += ca * dx
-        v[i] += cC * dx
-        if abs(dx) > nrm:
-            nrm = abs(dx)
-    for i in range(lam.shape[0]):
-        if not np.isfinite(delta[nd + i]):
-            finite = False
-        lam[i] += delta[nd + i]
-    return nrm, finite
 
 
 class Stepper:
@@ -168,20 +84,42 @@ class Stepper:
         self.newton = newton
         self.lin = linear_solver or default_linear_solver(model.neq)
         self.trial = model.initial_state()
-        self.lu_h: float | None = None
-        self.factorizations = 0
+        # Newton memory, in arrays shared with the compiled step (newton_kernel): istate =
+        # (factorisation valid, round-off levels valid, factorisations, evaluations), fstate =
+        # (step size of the factorisation [s], force scale)
+        self._istate = np.zeros(4, np.int64)
+        self._fstate = np.zeros(2)
         am, af, g, b = integrator.coefficients
         self.am, self.af, self.gamma, self.beta = am, af, g, b
         self.bp = b * (1.0 - af) / (1.0 - am)
         self.gp = g * (1.0 - af) / (1.0 - am)
         self.hdq = np.zeros(model.nd)
-        self.force_scale = 0.0
         # round-off levels of the residual for the factorised matrix (zero: none yet)
         self.roff = np.zeros(model.neq)
-        self._roff_at: float | None = None
         self._no_roff = np.zeros(model.neq)
         self._prev_t: float | None = None  # time and accelerations of the state before sn
         self._prev_vd = np.zeros(model.nd)
+        self._compiled: Any = None  # the model's compiled step (False: Python loop)
+        self._par = np.array([am, af, g, b, self.bp, self.gp, newton.tol, newton.phi_tol,
+                              newton.contraction, newton.max_iter,
+                              1.0 if newton.strategy == "full" else 0.0, FLOOR_REL,
+                              STALL_ULPS, ROUNDOFF_ULPS])
+
+    @property
+    def lu_h(self) -> float | None:
+        """Step size the current factorisation was built for (None: none)."""
+        return float(self._fstate[F_LU_H]) if self._istate[I_LU] else None
+
+    @property
+    def factorizations(self) -> int:
+        """Factorisations so far."""
+        return int(self._istate[I_NFAC])
+
+    @property
+    def force_scale(self) -> float:
+        """Largest sum of absolute contributions of the node equations of an accepted state
+        (the floor of the residual scales)."""
+        return float(self._fstate[F_FORCE])
 
     def accepted(self, sn: State) -> None:
         """Tell the stepper that the step from ``sn`` was accepted (for the predictor)."""
@@ -198,20 +136,20 @@ class Stepper:
 
     def _forget(self) -> None:
         # the round-off levels describe the factorised matrix only
-        self.lu_h = None
+        self._istate[I_LU] = 0
+        self._istate[I_ROFF] = 0
         self.roff[:] = 0.0
-        self._roff_at = None
 
     def _roundoff(self, st: State) -> np.ndarray:
         """Round-off levels of the residual for the factorised matrix (``sys.data`` holds
         it until the next factorisation), computed once per factorisation, when needed;
         zeros without a factorisation."""
-        if self.lu_h is not None and self._roff_at is None:
+        if self._istate[I_LU] and not self._istate[I_ROFF]:
             m = self.model
             roundoff_levels(self.sys.data, m.indices, m.indptr, m.nd,
                             absmax(st.x) if st.x.size else 1.0, st.lam,
                             ROUNDOFF_ULPS, self.roff)
-            self._roff_at = self.lu_h
+            self._istate[I_ROFF] = 1
         return self.roff
 
     def _evaluate(self, st: State, cM: float, cC: float, want: bool) -> bool:
@@ -235,9 +173,10 @@ class Stepper:
         except (np.linalg.LinAlgError, ValueError) as exc:
             self._forget()
             return StepOutcome(StepStatus.SINGULAR, message=str(exc))
-        self.lu_h = h
-        self.factorizations += 1
-        self._roff_at = None  # computed from this matrix when Newton first stagnates on it
+        self._istate[I_LU] = 1
+        self._istate[I_ROFF] = 0  # computed from this matrix when Newton first stagnates on it
+        self._fstate[F_LU_H] = h
+        self._istate[I_NFAC] += 1
         return None
 
     def step(self, sn: State, h: float) -> StepOutcome:
@@ -256,6 +195,12 @@ class Stepper:
         w = 0.0
         if self._prev_t is not None and sn.t > self._prev_t and self._prev_vd.shape == sn.vd.shape:
             w = min(h / (sn.t - self._prev_t), 1.0)
+        if self._compiled is None:
+            self._compiled = self._compiled_step(sn)
+        if self._compiled:
+            out = self._step_compiled(sn, h, w)
+            if out is not None:
+                return out
         hdq = self.hdq
         predict(sn.vd, sn.a, sn.v, self._prev_vd, w, h, af, am, gamma, beta, st.vd, st.a, st.v,
                 hdq)
@@ -299,7 +244,7 @@ class Stepper:
                     # stale (contacts or gear flanks changed since); refresh it next step
                     self._forget()
                 if nd:
-                    self.force_scale = max(self.force_scale, float(sys.rabs[:nd].max()))
+                    self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break
@@ -339,6 +284,67 @@ class Stepper:
         worst, wval = _worst(sys, sq, sphi)
         return StepOutcome(StepStatus.NEWTON_MAX_ITER, nw.max_iter, self.factorizations - nfac0,
                            worst_eq=worst, residual=wval)
+
+    def _compiled_step(self, sn: State) -> Any:
+        """The compiled Newton iterations (:func:`~drivedyn.solver.newton_kernel.
+        newton_iterations`) with the model's kernel table, or False: only with the dense LU
+        (SuperLU is not callable from compiled code), and unless
+        ``DRIVEDYN_COMPILED_NEWTON=0``."""
+        if os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") == "0":
+            return False
+        if not isinstance(self.lin, DenseLU):
+            return False
+        sys = self.sys
+        G = sys.kernel_table(sn)
+        if G is None:  # kernels not compiled yet for these types: evaluate once
+            sys.evaluate(sn, 0.0, 0.0, 1.0, MODE_DYN, False)
+            G = sys.kernel_table(sn)
+        if G is None:
+            return False
+        self._G = G
+        self._delta = np.zeros(self.model.neq)
+        return nk.newton_iterations
+
+    def _step_compiled(self, sn: State, h: float, w: float) -> StepOutcome | None:
+        """:meth:`step` by the compiled Newton iterations (the trial state is ``sn``
+        copied, at time ``sn.t + h``); None if the compiled step cannot be used (then it
+        is not tried again)."""
+        m = self.model
+        sys = self.sys
+        st = self.trial
+        tf = m.tf
+        lu, piv, ib, tr = self.lin.workspace(m.neq)
+        n0 = int(self._istate[I_NEVAL])
+        try:
+            code, it, nfac = self._compiled(
+                self._G, (m.nn, m.nd, w, st.t, h), (sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
+                (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
+                (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind, tf.par,
+                 tf.fstart, tf.tab, m.indices, m.indptr),
+                (lu, piv, ib, tr, self._delta, self.roff, self._no_roff),
+                self._par, self._istate, self._fstate)
+        except Exception as exc:  # not compilable for these argument types: Python loop
+            log.warning("compiled Newton step unavailable, using the Python loop (%s)", exc)
+            self._compiled = False
+            st.assign(sn)
+            st.t = sn.t + h
+            return None
+        sys.nevals += int(self._istate[I_NEVAL]) - n0
+        if code == nk.SUCCESS:
+            return StepOutcome(StepStatus.SUCCESS, it, nfac)
+        if code == nk.NONFINITE_RESIDUAL:
+            return StepOutcome(StepStatus.NONFINITE, it, nfac, message="non-finite residual")
+        if code == nk.NONFINITE_CORRECTION:
+            return StepOutcome(StepStatus.NONFINITE, it, nfac,
+                               message="non-finite Newton correction")
+        if code == nk.SINGULAR:
+            return StepOutcome(StepStatus.SINGULAR, it, nfac, message="singular matrix")
+        sq, sphi = scaled_residual(sys)
+        worst, wval = _worst(sys, sq, sphi)
+        if code == nk.DIVERGED:
+            return StepOutcome(StepStatus.NEWTON_DIVERGED, it, nfac, worst_eq=worst,
+                               residual=wval, message="corrections grow")
+        return StepOutcome(StepStatus.NEWTON_MAX_ITER, it, nfac, worst_eq=worst, residual=wval)
 
     def error_estimate(self, sn: State, h: float, rtol: float, atol: float) -> tuple[float, int]:
         """Weighted max norm of the local position error estimate of the last trial step

@@ -1,0 +1,284 @@
+"""The Newton iteration of one step as one compiled function (dense LU models).
+
+:meth:`drivedyn.solver.stepper.Stepper.step` runs the predictor, the Newton iterations, the
+factorisations and the convergence tests of a step. In Python that orchestration costs more
+than the element kernels of a TORSEN model (about 25 us per iteration for seven group calls,
+their argument unboxing, the residual norms and the solve: measured in benchmarks/README.md).
+:func:`newton_iterations` is the same algorithm, statement for statement, in numba: one call
+from Python per step. It calls the element kernels through their addresses
+(:mod:`drivedyn.solver.kernel_calls`), so it is compiled once per combination of argument
+types and cached; the kernels stay compiled and cached once each.
+
+The two implementations are kept in step by a test that runs a model both ways and compares
+every step bit for bit (``tests/test_compiled_step.py``); a change to the algorithm goes into
+both.
+
+Arrays shared with :class:`~drivedyn.solver.stepper.Stepper` (its Newton memory):
+    ``istate`` (int64, 4): factorisation valid (0/1), round-off levels valid (0/1),
+        factorisations so far, residual evaluations so far.
+    ``fstate`` (float64, 2): step size of the factorisation [s], force scale (largest sum of
+        absolute contributions of an accepted state) [N or N m].
+    ``par`` (float64, 14): alpha_m, alpha_f, gamma, beta, beta', gamma', tol, phi_tol,
+        contraction, max_iter, full Newton (0/1), FLOOR_REL, STALL_ULPS, ROUNDOFF_ULPS.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements.base import MODE_DYN
+from drivedyn.solver.assembly import lie_update, tangents
+from drivedyn.solver.kernel_calls import call_groups
+from drivedyn.solver.lapack import dense_factor_csc, dense_solve
+from drivedyn.timefunctions import eval_time_functions
+
+# Residual of an equation is measured against the sum of the absolute values of its terms;
+# for an equation with (nearly) no terms of its own, against FLOOR_REL x the largest such sum
+# in the model (the accuracy a solve can deliver there is set by the model's force scale).
+FLOOR_REL = 1e-4
+
+
+
+# Round-off of the unknowns, in units of the machine epsilon: the Lie update and the solve
+# leave each coordinate (and multiplier) uncertain by a few ulps of its magnitude.
+ROUNDOFF_ULPS = 16.0
+# Newton stagnates when its correction is below this many ulps of the largest coordinate
+STALL_ULPS = 64.0
+
+
+@njit(cache=True)
+def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0):
+    """Largest scaled node residual and constraint violation beyond the round-off level
+    ``roff`` of each equation (see :func:`roundoff_levels`; zeros for none); returns
+    (rq_max, phi_max, finite). Node equations are scaled as in :func:`scaled_residual`,
+    constraint rows are violations [m or rad]."""
+    amax = max(amin, 1e-300)
+    for i in range(nd):
+        if rabs[i] > amax:
+            amax = rabs[i]
+    floor = floor_rel * amax
+    rq = 0.0
+    finite = True
+    for i in range(nd):
+        v = max(abs(r[i]) - roff[i], 0.0) / (rabs[i] + floor)
+        if not np.isfinite(r[i]):
+            finite = False
+        if v > rq:
+            rq = v
+    ph = 0.0
+    for i in range(nd, r.shape[0]):
+        v = max(abs(r[i]) - roff[i], 0.0) / kscale[i]
+        if not np.isfinite(r[i]):
+            finite = False
+        if v > ph:
+            ph = v
+    return rq, ph, finite
+
+
+@njit(cache=True)
+def roundoff_levels(data, indices, indptr, nd, xmax, lam, ulps, out):
+    """Residual each equation shows when every unknown is off by its round-off, the row sums
+    ``sum_j |A_ij| eps_j`` of the iteration matrix ``A`` (CSC arrays) with
+    ``eps_j = ulps eps max(1, xmax)`` for the position increments and ``ulps eps |lam_j|``
+    for the multipliers. A residual below it cannot be reduced in floating point (a stiff
+    constraint or contact turns the last bit of a position into a large force), so it is not
+    counted against the tolerance. ``out`` (neq,) receives the levels."""
+    eps = 2.220446049250313e-16
+    ex = ulps * eps * max(1.0, xmax)
+    out[:] = 0.0
+    for j in range(indptr.shape[0] - 1):
+        ej = ex if j < nd else ulps * eps * abs(lam[j - nd])
+        for k in range(indptr[j], indptr[j + 1]):
+            out[indices[k]] += abs(data[k]) * ej
+
+
+EPS = float(np.finfo(float).eps)
+
+
+@njit(cache=True)
+def absmax(x):
+    """max |x| over all entries (0 for an empty array)."""
+    m = 0.0
+    for v in x.ravel():
+        if abs(v) > m:
+            m = abs(v)
+    return m
+
+
+@njit(cache=True)
+def predict(vd, a, v, vd_prev, w, h, af, am, gamma, beta, vd1, a1, v1, hdq):
+    """Predictor of a step from (vd, a, v): accelerations ``vd1 = vd + w (vd - vd_prev)``
+    (``w`` = 0: constant), pseudo-accelerations ``a1``, velocities ``v1`` and the Lie-algebra
+    increment ``hdq`` of the generalized-alpha scheme (one pass, no temporaries)."""
+    for i in range(vd.shape[0]):
+        x = vd[i] + w * (vd[i] - vd_prev[i]) if w > 0.0 else vd[i]
+        vd1[i] = x
+        ai = (af * vd[i] + (1.0 - af) * x - am * a[i]) / (1.0 - am)
+        a1[i] = ai
+        v1[i] = v[i] + h * ((1.0 - gamma) * a[i] + gamma * ai)
+        hdq[i] = h * v[i] + h * h * ((0.5 - beta) * a[i] + beta * ai)
+
+
+@njit(cache=True)
+def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
+    """Apply a Newton correction; returns (max |dx|, all finite)."""
+    nrm = 0.0
+    finite = True
+    for i in range(nd):
+        dx = delta[i]
+        if not np.isfinite(dx):
+            finite = False
+        hdq[i] += dx
+        vd[i] += cM * dx
+        a[i] += ca * dx
+        v[i] += cC * dx
+        if abs(dx) > nrm:
+            nrm = abs(dx)
+    for i in range(lam.shape[0]):
+        if not np.isfinite(delta[nd + i]):
+            finite = False
+        lam[i] += delta[nd + i]
+    return nrm, finite
+
+
+
+# outcome codes of newton_iterations (mapped to StepStatus by the stepper)
+SUCCESS = 0
+NONFINITE_RESIDUAL = 1
+NONFINITE_CORRECTION = 2
+SINGULAR = 3
+DIVERGED = 4
+MAX_ITER = 5
+
+# istate / fstate fields
+I_LU, I_ROFF, I_NFAC, I_NEVAL = 0, 1, 2, 3
+F_LU_H, F_FORCE = 0, 1
+
+
+@njit(cache=True, inline="always")
+def _forget(istate, roff):
+    """No factorisation (the round-off levels describe the factorised matrix only)."""
+    istate[I_LU] = 0
+    istate[I_ROFF] = 0
+    roff[:] = 0.0
+
+
+@njit(cache=True, inline="always")
+def _clear(r, rabs, data, want, hdq, nn, Tn, istate):
+    """Before an evaluation: zero the residual, its scales and (if ``want``) the matrix, with
+    the tangent operators of ``hdq`` for it; returns ``want``. (The kernels are called at the
+    call site: ``G`` passed into a helper would be copied, with a reference count update of
+    each of its arrays.)"""
+    r[:] = 0.0
+    rabs[:] = 0.0
+    if want:
+        data[:] = 0.0
+        tangents(hdq, nn, Tn)
+    istate[I_NEVAL] += 1
+    return want
+
+
+@njit(cache=True)
+def newton_iterations(G, sizes, accepted, trial, arrays, linear, par, istate,
+                      fstate):
+    """Newton iterations of the step from the accepted state ``(x0, R0, v0, vd0, a0)`` to
+    time ``t`` = t_n + ``h``; the trial state ``(x, R, v, vd, a, lam)`` holds a copy of the
+    accepted one on entry and the result on return; ``es`` the element states. Arguments
+    come in tuples (fewer arguments to unbox per call)::
+
+        sizes = (nn, nd, w, t, h)            # w: predictor weight (Stepper.step)
+        accepted = (x0, R0, v0, vd0, a0, prev_vd)
+        trial = (x, R, v, vd, a, lam, es, hdq)
+        arrays = (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab,
+                  indices, indptr)           # System's arrays, the time functions, CSC pattern
+        linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
+
+    ``G`` holds the groups' kernels and arguments (:func:`~drivedyn.solver.kernel_calls.
+    call_groups`), which add their contributions into ``r, rabs, data``. Returns
+    ``(code, iterations, factorisations of this step)`` with the codes of this module; ``r`` holds the last
+    residual.
+    """
+    nn, nd, w, t, h = sizes
+    x0, R0, v0, vd0, a0, prev_vd = accepted
+    x, R, v, vd, a, lam, es, hdq = trial
+    Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr = arrays
+    lu, piv, ib, tr, delta, roff, no_roff = linear
+    am, af, gamma, beta, bp, gp = par[0], par[1], par[2], par[3], par[4], par[5]
+    tol, phi_tol, contraction = par[6], par[7], par[8]
+    max_iter = int(par[9])
+    full = par[10] != 0.0
+    floor_rel, stall_ulps, roundoff_ulps = par[11], par[12], par[13]
+    predict(vd0, a0, v0, prev_vd, w, h, af, am, gamma, beta, vd, a, v, hdq)
+    lie_update(x0, R0, hdq, nn, x, R, Tn, False)
+    # a factorisation for a slightly different h (output-time clipping) still converges well;
+    # the contraction monitor below refactors if it does not
+    if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > 1e-2 * h:
+        _forget(istate, roff)
+    cM = 1.0 / (bp * h * h)
+    cC = gp / (bp * h)
+    ca = (1.0 - af) / (1.0 - am) * cM
+    eval_time_functions(t, tf_kind, tf_par, tf_fstart, tf_tab, tfv)
+    assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
+    call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, assembled)
+    nfac0 = istate[I_NFAC]
+    prev = np.inf
+    fresh = False
+    since_factor = 0
+    stall = stall_ulps * EPS * max(1.0, absmax(x))
+    last = np.inf
+    for it in range(max_iter + 1):
+        rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, no_roff,
+                                                fstate[F_FORCE])
+        if not finite:
+            return NONFINITE_RESIDUAL, it, istate[I_NFAC] - nfac0
+        if (rq_max > tol or ph_max > phi_tol) and last <= stall:
+            # stagnation at the round-off of the positions: discount the residual a
+            # round-off change of the unknowns produces (Stepper.step explains)
+            if istate[I_LU] != 0 and istate[I_ROFF] == 0:
+                roundoff_levels(data, indices, indptr, nd, absmax(x) if x.size else 1.0, lam,
+                                roundoff_ulps, roff)
+                istate[I_ROFF] = 1
+            rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, roff,
+                                                    fstate[F_FORCE])
+        if rq_max <= tol and ph_max <= phi_tol:
+            if it >= 3 and istate[I_NFAC] == nfac0:
+                _forget(istate, roff)  # slow convergence on an old factorisation: stale
+            if nd:
+                fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
+            return SUCCESS, it, istate[I_NFAC] - nfac0
+        if it == max_iter:
+            break
+        if full or istate[I_LU] == 0 or since_factor >= 3:
+            if not assembled:
+                _clear(r, rabs, data, True, hdq, nn, Tn, istate)
+                call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, True)
+            if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
+                _forget(istate, roff)
+                return SINGULAR, it, istate[I_NFAC] - nfac0
+            istate[I_LU] = 1
+            istate[I_ROFF] = 0
+            fstate[F_LU_H] = h
+            istate[I_NFAC] += 1
+            fresh = True
+            since_factor = 0
+        since_factor += 1
+        for i in range(r.shape[0]):
+            delta[i] = -r[i]
+        dense_solve(lu, piv, delta, ib, tr)
+        nrm, finite = newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
+        if not finite:
+            return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0
+        ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
+        if it > 0 and ratio > contraction:
+            if ratio > 2.0 and fresh:
+                return DIVERGED, it + 1, istate[I_NFAC] - nfac0
+            _forget(istate, roff)  # refactor at the next iteration
+        if nrm > 0:
+            prev = nrm
+        last = nrm
+        fresh = False
+        lie_update(x0, R0, hdq, nn, x, R, Tn, False)
+        assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
+        call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, assembled)
+    return MAX_ITER, max_iter, istate[I_NFAC] - nfac0
