@@ -37,7 +37,7 @@ def g(a, b):
 SCRIPT = """
 import json
 import numpy as np
-from numba import typeof
+from numba import njit, typeof
 from numba.core import event
 import kmod
 from drivedyn.solver.precompile import precompile_kernels
@@ -49,11 +49,19 @@ class Count(event.Listener):
     def on_end(self, e):
         pass
 
+@njit
+def caller(a, b):
+    return kmod.g(a, b) + 1.0
+
 def main():
     calls = [(kmod.f, (typeof(np.zeros(3)),)), (kmod.g, (typeof(1.0), typeof(2.0)))]
     with event.install_listener("numba:compile", Count()):
         first = precompile_kernels(calls, WORKERS)
         values = [float(kmod.f(np.array([3.0, 4.0]))), float(kmod.g(2.0, 3.0))]
+        # a compiled function calling a kernel loaded from the cache (the compiled Newton
+        # step calls kernels; a cache load without registering the kernel's lowering made
+        # this fail with "No definition for lowering")
+        values.append(float(caller(2.0, 3.0)))
         second = precompile_kernels(calls, WORKERS)
     print(json.dumps({"first": first, "second": second, "values": values,
                       "compiled_here": compiled}))
@@ -78,14 +86,15 @@ def _run(tmp_path: Path, workers: int) -> dict:
 def test_missing_kernels_compile_in_workers_and_load_from_the_cache(tmp_path) -> None:
     out = _run(tmp_path, 2)
     assert out["first"]["missing"] == 2 and out["first"]["compiled_in_workers"] == 2
-    assert out["compiled_here"] == []  # both loaded from the cache the workers wrote
-    assert out["values"] == [5.0, 7.0]
+    # both kernels loaded from the cache the workers wrote; only the caller compiles here
+    assert out["compiled_here"] == ["caller"]
+    assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
 
 
 def test_without_workers_the_kernels_compile_on_first_call(tmp_path) -> None:
     out = _run(tmp_path, 0)
     assert out["first"]["missing"] == 2 and out["first"]["compiled_in_workers"] == 0
-    assert sorted(out["compiled_here"]) == ["f", "g"]
-    assert out["values"] == [5.0, 7.0]
+    assert sorted(out["compiled_here"]) == ["caller", "f", "g"]
+    assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import scipy.sparse as sp
 from numba import njit
@@ -10,6 +12,9 @@ from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.rotations import tangent
 from drivedyn.timefunctions import eval_time_functions
+
+if TYPE_CHECKING:
+    from drivedyn.solver.kernel_calls import KernelTable
 
 
 @njit(cache=True)
@@ -186,12 +191,11 @@ class System:
         self._last_state = st
         return calls
 
-    def kernel_table(self, st: State) -> tuple | None:
-        """Per group ``(leading arguments, trailing arguments, address)`` of its kernel's
-        overload for the argument types of ``st`` (for
-        :func:`~drivedyn.solver.kernel_calls.call_groups`); None if an overload is not
-        compiled yet (evaluate once first) or a kernel is not a numba function."""
-        from drivedyn.solver.kernel_calls import entry_address
+    def kernel_table(self, st: State) -> KernelTable | None:
+        """Every group's kernel overload for the argument types of ``st``, with its fixed
+        arguments (:class:`~drivedyn.solver.kernel_calls.KernelTable`); None if an overload
+        is not compiled yet (evaluate once first) or a kernel is not a numba function."""
+        from drivedyn.solver.kernel_calls import KernelTable, entry_address
 
         out = []
         for k, pre, mid, post in self._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True):
@@ -199,8 +203,11 @@ class System:
                 addr = entry_address(k, self._signature(k, pre, mid, post))
             except (AttributeError, KeyError, TypeError, ValueError):
                 return None
-            out.append((pre, post, addr))
-        return tuple(out)
+            out.append((addr, pre, post))
+        try:
+            return KernelTable(out)
+        except TypeError:
+            return None
 
     def matrix(self) -> sp.csc_matrix:
         m = self.model

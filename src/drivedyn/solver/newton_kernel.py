@@ -194,10 +194,10 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, par, istate,
                   indices, indptr)           # System's arrays, the time functions, CSC pattern
         linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
 
-    ``G`` holds the groups' kernels and arguments (:func:`~drivedyn.solver.kernel_calls.
-    call_groups`), which add their contributions into ``r, rabs, data``. Returns
-    ``(code, iterations, factorisations of this step)`` with the codes of this module; ``r`` holds the last
-    residual.
+    ``G`` (a :class:`~drivedyn.solver.kernel_calls.KernelTable`) holds the groups' kernels
+    and arguments; they add their contributions into ``r, rabs, data``. Returns ``(code,
+    iterations, factorisations of this step)`` with the codes of this module; ``r`` holds the
+    last residual.
     """
     nn, nd, w, t, h = sizes
     x0, R0, v0, vd0, a0, prev_vd = accepted

@@ -1,0 +1,145 @@
+"""The compiled Newton step (drivedyn.solver.newton_kernel) against the Python Newton loop of
+Stepper.step: the same algorithm, so every run must give the same steps, iterations,
+factorisations and recorded outputs, bit for bit (both call the same element kernels and the
+same LAPACK routines in the same order). Cases cover a TORSEN bench (contacts, gears with
+stick-slip, rejections), a slider-crank at a dead centre (round-off stagnation test) and a run
+that fails (Newton failures down to h_min, partial results)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import drivedyn as dd
+from drivedyn.solver import newton_kernel as nk
+
+
+def _run_both(monkeypatch, run):
+    """``run()`` with the Python loop and with the compiled step; returns both Results and
+    the number of compiled step calls."""
+    calls = []
+    compiled = nk.newton_iterations
+
+    def counting(*args):
+        calls.append(1)
+        return compiled(*args)
+
+    monkeypatch.setattr(nk, "newton_iterations", counting)
+    monkeypatch.setenv("DRIVEDYN_COMPILED_NEWTON", "0")
+    slow = run()
+    assert not calls
+    monkeypatch.setenv("DRIVEDYN_COMPILED_NEWTON", "1")
+    fast = run()
+    return slow, fast, len(calls)
+
+
+def _assert_identical(slow, fast) -> None:
+    assert (slow.success, slow.message) == (fast.success, fast.message)
+    for k in ("steps", "rejected", "newton_iterations", "factorizations",
+              "residual_evaluations", "h_min_used", "h_max_used"):
+        assert getattr(slow.stats, k) == getattr(fast.stats, k), k
+    a, b = slow.dataset, fast.dataset
+    assert sorted(a.data_vars) == sorted(b.data_vars)
+    assert np.array_equal(a["time"].values, b["time"].values)
+    for name in a.data_vars:
+        assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+
+
+def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch) -> None:
+    from drivedyn.config import read_library_file
+    from drivedyn.library.differentials import of
+    from drivedyn.library.differentials.protocol import bench_spec
+
+    p = read_library_file("torsen-c")[0]
+    model = dd.compile_model(bench_spec(of(p), p, "front")[0])
+
+    def run():
+        return dd.simulate(model, 0.06, **p.solver.settings(), output_dt=1e-3)
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert slow.success and slow.stats.rejected > 0  # rejections are part of the case
+    assert ncalls == fast.stats.steps + fast.stats.rejected
+    _assert_identical(slow, fast)
+
+
+def test_dead_centre_round_off_stagnation_is_the_same(monkeypatch) -> None:
+    """A slider-crank started at a dead centre stagnates at the round-off of the positions
+    (the round-off levels of the residual are used): both loops decide alike."""
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)),
+                               guide_spring=(2000.0, 5.0))
+
+    def run():
+        return dd.simulate(model, 0.05, step=dd.FixedStep(1e-3),
+                           integrator=dd.GeneralizedAlpha(0.9))
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert slow.success and ncalls >= 50
+    _assert_identical(slow, fast)
+
+
+def test_a_failing_run_fails_the_same_way(monkeypatch) -> None:
+    """A speed demand that jumps faster than h_min can resolve: Newton fails (iteration
+    limit, diverging corrections) at every size down to h_min; message, worst equation and
+    partial results are the same."""
+    spec = dd.Spec()
+    spec.add_rigid_body("disk", 1.0, [0.01, 0.01, 0.02])
+    spec.add_marker("g", "ground", axis=(0, 0, 1))
+    spec.add_marker("m", "disk", axis=(0, 0, 1))
+    spec.add(dd.Hinge("h", "g", "m"))
+    jump = dd.Table([0.0, 0.5, 0.5 + 1e-9, 1.0], [0.0, 0.0, 1e3, 1e3])
+    spec.add(dd.JointDriver("d", "h", jump, quantity="speed"))
+    model = dd.compile_model(spec)
+
+    def run():
+        return dd.simulate(model, 1.0, step=dd.AdaptiveStep(h0=1e-3, h_min=1e-4, h_max=1e-2),
+                           output_dt=0.1)
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert not slow.success and "worst equation:" in slow.message
+    assert ncalls == fast.stats.steps + fast.stats.rejected
+    _assert_identical(slow, fast)
+
+
+def test_full_newton_is_the_same(monkeypatch) -> None:
+    """``strategy="full"`` (a factorisation every iteration) on the dead-centre case."""
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+
+    def run():
+        return dd.simulate(model, 0.02, step=dd.FixedStep(1e-3),
+                           newton=dd.Newton(strategy="full"))
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert slow.stats.factorizations >= slow.stats.newton_iterations
+    _assert_identical(slow, fast)
+
+
+def test_sparse_lu_models_keep_the_python_loop(monkeypatch) -> None:
+    """SuperLU is not callable from compiled code: a run with it never enters the compiled
+    step."""
+    from drivedyn.solver.linear import SparseLU
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+    calls = []
+    compiled = nk.newton_iterations
+    monkeypatch.setattr(nk, "newton_iterations", lambda *a: calls.append(1) or compiled(*a))
+    res = dd.simulate(model, 0.01, step=dd.FixedStep(1e-3), linear_solver=SparseLU())
+    assert res.success and not calls
+
+
+def test_kernel_table_refuses_arguments_it_cannot_pass() -> None:
+    from drivedyn.solver.kernel_calls import KernelTable
+
+    t = KernelTable([(0, (np.zeros((2, 3)), 1.5, 3, True), (np.zeros(4, np.int32),))])
+    assert t.table.size == 1 + (1 + 2 + 2) + 3 + (1 + 1 + 1)
+    assert t.table[1] == t.arrays[0].ctypes.data and list(t.table[2:6]) == [2, 3, 24, 8]
+    assert t.table[6] == np.float64(1.5).view(np.int64) and list(t.table[7:9]) == [3, 1]
+    with pytest.raises(TypeError, match="not supported"):
+        KernelTable([(0, ("text",), ())])
