@@ -115,7 +115,7 @@ def test_full_newton_is_the_same(monkeypatch) -> None:
                            newton=dd.Newton(strategy="full"))
 
     slow, fast, ncalls = _run_both(monkeypatch, run)
-    assert slow.stats.factorizations >= slow.stats.newton_iterations
+    assert ncalls > 0 and slow.stats.factorizations >= slow.stats.newton_iterations
     _assert_identical(slow, fast)
 
 
@@ -143,3 +143,29 @@ def test_kernel_table_refuses_arguments_it_cannot_pass() -> None:
     assert t.table[6] == np.float64(1.5).view(np.int64) and list(t.table[7:9]) == [3, 1]
     with pytest.raises(TypeError, match="not supported"):
         KernelTable([(0, ("text",), ())])
+
+
+def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
+    """AutoLU goes dense at the first factorisation whose factors fill more than DENSE_FILL
+    (the Type C bench's first matrix with stiffness); from then on the compiled step
+    runs."""
+    from drivedyn.config import read_library_file
+    from drivedyn.library.differentials import of
+    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.solver.linear import AutoLU
+
+    p = read_library_file("torsen-c")[0]
+    model = dd.compile_model(bench_spec(of(p), p, "rear")[0])
+    lins = []
+
+    def run():
+        lins.append(AutoLU())
+        return dd.simulate(model, 0.02, **p.solver.settings(), output_dt=1e-3,
+                           linear_solver=lins[-1])
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert all(lin.dense is not None for lin in lins)
+    # the first step factorises on SuperLU (Python loop), which then fills and goes dense:
+    # the rest runs compiled, and the mixed run is still the same
+    assert slow.success and 0 < ncalls < fast.stats.steps + fast.stats.rejected
+    _assert_identical(slow, fast)

@@ -30,7 +30,7 @@ from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.assembly import System, lie_update, tangents
-from drivedyn.solver.linear import DenseLU, LinearSolver, default_linear_solver
+from drivedyn.solver.linear import AutoLU, DenseLU, LinearSolver, default_linear_solver
 from drivedyn.solver.newton_kernel import (
     EPS,
     F_FORCE,
@@ -287,13 +287,21 @@ class Stepper:
 
     def _compiled_step(self, sn: State) -> Any:
         """The compiled Newton iterations (:func:`~drivedyn.solver.newton_kernel.
-        newton_iterations`) with the model's kernel table, or False: only with the dense LU
-        (SuperLU is not callable from compiled code), and unless
+        newton_iterations`) with the model's kernel table, False, or None (not decided
+        yet): only with the dense LU (SuperLU is not callable from compiled code; an
+        :class:`~drivedyn.solver.linear.AutoLU` that went dense counts), and unless
         ``DRIVEDYN_COMPILED_NEWTON=0``."""
         if os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") == "0":
             return False
-        if not isinstance(self.lin, DenseLU):
+        lin = self.lin
+        if isinstance(lin, AutoLU) and lin.dense is None:
+            # AutoLU goes dense at the first factorisation that fills (often the first
+            # matrix with stiffness, not the initial mass-and-constraint one): ask again
+            return None
+        dense = lin.dense if isinstance(lin, AutoLU) else lin
+        if not isinstance(dense, DenseLU):
             return False
+        self._dense = dense
         sys = self.sys
         G = sys.kernel_table(sn)
         if G is None:  # kernels not compiled yet for these types: evaluate once
@@ -313,7 +321,7 @@ class Stepper:
         sys = self.sys
         st = self.trial
         tf = m.tf
-        lu, piv, ib, tr = self.lin.workspace(m.neq)
+        lu, piv, ib, tr = self._dense.workspace(m.neq)
         n0 = int(self._istate[I_NEVAL])
         try:
             code, it, nfac = self._compiled(
