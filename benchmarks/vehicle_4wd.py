@@ -32,7 +32,7 @@ from drivedyn.model.compile import compile_model
 from drivedyn.solver import simulate
 
 GROUPS = {
-    "linear algebra (factorise, solve)": ("getrf", "getrs", "gstrf", "_lu_solve", "factor",
+    "linear algebra (factorise, solve)": ("getrf", "getrs", "gstrf", "sparse_lu_solve", "factor",
                                           "_scatter_dense", "solve"),
     "element kernels": ("kernel",),
 }

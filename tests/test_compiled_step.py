@@ -119,19 +119,28 @@ def test_full_newton_is_the_same(monkeypatch) -> None:
     _assert_identical(slow, fast)
 
 
-def test_sparse_lu_models_keep_the_python_loop(monkeypatch) -> None:
-    """SuperLU is not callable from compiled code: a run with it never enters the compiled
-    step."""
+def test_superlu_factorised_between_calls_is_the_same(monkeypatch) -> None:
+    """With SuperLU the compiled iteration returns for each factorisation and resumes after
+    it: the Type C bench on SparseLU (several factorisations in some steps, rejections) is
+    the same step for step."""
+    from drivedyn.config import read_library_file
+    from drivedyn.library.differentials import of
+    from drivedyn.library.differentials.protocol import bench_spec
     from drivedyn.solver.linear import SparseLU
-    from drivedyn.timefunctions import SmoothStep
-    from drivedyn.validation.engine import slider_crank_model
 
-    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
-    calls = []
-    compiled = nk.newton_iterations
-    monkeypatch.setattr(nk, "newton_iterations", lambda *a: calls.append(1) or compiled(*a))
-    res = dd.simulate(model, 0.01, step=dd.FixedStep(1e-3), linear_solver=SparseLU())
-    assert res.success and not calls
+    p = read_library_file("torsen-c")[0]
+    model = dd.compile_model(bench_spec(of(p), p, "front")[0])
+
+    def run():
+        return dd.simulate(model, 0.03, **p.solver.settings(), output_dt=1e-3,
+                           linear_solver=SparseLU())
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    attempts = fast.stats.steps + fast.stats.rejected
+    # one call per attempt, and one more per factorisation done in between
+    assert slow.success and slow.stats.rejected > 0
+    assert ncalls == attempts + fast.stats.factorizations
+    _assert_identical(slow, fast)
 
 
 def test_kernel_table_refuses_arguments_it_cannot_pass() -> None:
@@ -147,8 +156,8 @@ def test_kernel_table_refuses_arguments_it_cannot_pass() -> None:
 
 def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     """AutoLU goes dense at the first factorisation whose factors fill more than DENSE_FILL
-    (the Type C bench's first matrix with stiffness); from then on the compiled step
-    runs."""
+    (the Type C bench's first matrix with stiffness): the compiled step runs on SuperLU
+    before and on the dense LU after."""
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
     from drivedyn.library.differentials.protocol import bench_spec
@@ -165,7 +174,6 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
 
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert all(lin.dense is not None for lin in lins)
-    # the first step factorises on SuperLU (Python loop), which then fills and goes dense:
-    # the rest runs compiled, and the mixed run is still the same
-    assert slow.success and 0 < ncalls < fast.stats.steps + fast.stats.rejected
+    # the first steps factorise with SuperLU between calls, until AutoLU goes dense
+    assert slow.success and ncalls > fast.stats.steps + fast.stats.rejected
     _assert_identical(slow, fast)

@@ -32,7 +32,7 @@ class LinearSolver(abc.ABC):
 
 
 @njit(cache=True)
-def _lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
+def sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
     """Solve ``A x = b`` with SuperLU's factors ``Pr A Pc = L U`` (CSC, sorted indices,
     L unit lower triangular with its diagonal stored)."""
     n = b.shape[0]
@@ -89,7 +89,7 @@ class SparseLU(LinearSolver):
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.empty_like(b)
-        _lu_solve(*self._f, np.ascontiguousarray(b, dtype=float), self._z, x)
+        sparse_lu_solve(*self._f, np.ascontiguousarray(b, dtype=float), self._z, x)
         return x
 
 

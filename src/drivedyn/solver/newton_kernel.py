@@ -1,4 +1,4 @@
-"""The Newton iteration of one step as one compiled function (dense LU models).
+"""The Newton iteration of one step as one compiled function.
 
 :meth:`drivedyn.solver.stepper.Stepper.step` runs the predictor, the Newton iterations, the
 factorisations and the convergence tests of a step. In Python that orchestration costs more
@@ -14,10 +14,11 @@ every step bit for bit (``tests/test_compiled_step.py``); a change to the algori
 both.
 
 Arrays shared with :class:`~drivedyn.solver.stepper.Stepper` (its Newton memory):
-    ``istate`` (int64, 4): factorisation valid (0/1), round-off levels valid (0/1),
-        factorisations so far, residual evaluations so far.
-    ``fstate`` (float64, 2): step size of the factorisation [s], force scale (largest sum of
-        absolute contributions of an accepted state) [N or N m].
+    ``istate`` (int64, NISTATE): factorisation valid (0/1), round-off levels valid (0/1),
+        factorisations so far, residual evaluations so far, and the fields of a
+        factorisation done by the caller (see :func:`newton_iterations` and I_* below).
+    ``fstate`` (float64, NFSTATE): step size of the factorisation [s], force scale (largest
+        sum of absolute contributions of an accepted state) [N or N m], saved loop state.
     ``par`` (float64, 14): alpha_m, alpha_f, gamma, beta, beta', gamma', tol, phi_tol,
         contraction, max_iter, full Newton (0/1), FLOOR_REL, STALL_ULPS, ROUNDOFF_ULPS.
 """
@@ -31,6 +32,7 @@ from drivedyn.elements.base import MODE_DYN
 from drivedyn.solver.assembly import lie_update, tangents
 from drivedyn.solver.kernel_calls import call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve
+from drivedyn.solver.linear import sparse_lu_solve
 from drivedyn.timefunctions import eval_time_functions
 
 # Residual of an equation is measured against the sum of the absolute values of its terms;
@@ -150,10 +152,18 @@ NONFINITE_CORRECTION = 2
 SINGULAR = 3
 DIVERGED = 4
 MAX_ITER = 5
+NEED_FACTOR = 6
 
-# istate / fstate fields
-I_LU, I_ROFF, I_NFAC, I_NEVAL = 0, 1, 2, 3
-F_LU_H, F_FORCE = 0, 1
+# istate fields: factorisation valid, round-off levels valid, factorisations, evaluations,
+# factorise outside (1: return NEED_FACTOR), factors in the dense workspace (1) or SparseLU's
+# arrays (0), resuming after an outside factorisation, and the saved iteration and
+# factorisation count at the start of the step
+I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0 = range(9)
+NISTATE = 9
+# fstate fields: step size of the factorisation, force scale, and the saved correction
+# sizes and stagnation level of an iteration left for an outside factorisation
+F_LU_H, F_FORCE, F_PREV, F_LAST, F_STALL = range(5)
+NFSTATE = 5
 
 
 @njit(cache=True, inline="always")
@@ -179,8 +189,17 @@ def _clear(r, rabs, data, want, hdq, nn, Tn, istate):
     return want
 
 
+@njit(cache=True, inline="always")
+def _factorised(istate, fstate, h):
+    """Bookkeeping of a new factorisation for step size ``h``."""
+    istate[I_LU] = 1
+    istate[I_ROFF] = 0  # computed from this matrix when Newton first stagnates on it
+    fstate[F_LU_H] = h
+    istate[I_NFAC] += 1
+
+
 @njit(cache=True)
-def newton_iterations(G, sizes, accepted, trial, arrays, linear, par, istate,
+def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, istate,
                       fstate):
     """Newton iterations of the step from the accepted state ``(x0, R0, v0, vd0, a0)`` to
     time ``t`` = t_n + ``h``; the trial state ``(x, R, v, vd, a, lam)`` holds a copy of the
@@ -193,79 +212,113 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, par, istate,
         arrays = (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab,
                   indices, indptr)           # System's arrays, the time functions, CSC pattern
         linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
+        sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z)   # SparseLU's factors
 
     ``G`` (a :class:`~drivedyn.solver.kernel_calls.KernelTable`) holds the groups' kernels
     and arguments; they add their contributions into ``r, rabs, data``. Returns ``(code,
     iterations, factorisations of this step)`` with the codes of this module; ``r`` holds the
     last residual.
+
+    With ``istate[I_EXTERNAL]`` set, a factorisation is left to the caller (SuperLU cannot be
+    called from compiled code): the function returns ``NEED_FACTOR`` with the matrix
+    assembled in ``data`` and its loop state saved; the caller factorises, sets
+    ``istate[I_DENSE]`` (factors in ``linear``'s dense workspace, or in ``sparse``) and
+    calls again, and the iteration goes on from the factorisation.
     """
     nn, nd, w, t, h = sizes
     x0, R0, v0, vd0, a0, prev_vd = accepted
     x, R, v, vd, a, lam, es, hdq = trial
     Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr = arrays
     lu, piv, ib, tr, delta, roff, no_roff = linear
+    Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z = sparse
     am, af, gamma, beta, bp, gp = par[0], par[1], par[2], par[3], par[4], par[5]
     tol, phi_tol, contraction = par[6], par[7], par[8]
     max_iter = int(par[9])
     full = par[10] != 0.0
     floor_rel, stall_ulps, roundoff_ulps = par[11], par[12], par[13]
-    predict(vd0, a0, v0, prev_vd, w, h, af, am, gamma, beta, vd, a, v, hdq)
-    lie_update(x0, R0, hdq, nn, x, R, Tn, False)
-    # a factorisation for a slightly different h (output-time clipping) still converges well;
-    # the contraction monitor below refactors if it does not
-    if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > 1e-2 * h:
-        _forget(istate, roff)
     cM = 1.0 / (bp * h * h)
     cC = gp / (bp * h)
     ca = (1.0 - af) / (1.0 - am) * cM
-    eval_time_functions(t, tf_kind, tf_par, tf_fstart, tf_tab, tfv)
-    assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
-    call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, assembled)
-    nfac0 = istate[I_NFAC]
-    prev = np.inf
-    fresh = False
-    since_factor = 0
-    stall = stall_ulps * EPS * max(1.0, absmax(x))
-    last = np.inf
-    for it in range(max_iter + 1):
-        rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, no_roff,
-                                                fstate[F_FORCE])
-        if not finite:
-            return NONFINITE_RESIDUAL, it, istate[I_NFAC] - nfac0
-        if (rq_max > tol or ph_max > phi_tol) and last <= stall:
-            # stagnation at the round-off of the positions: discount the residual a
-            # round-off change of the unknowns produces (Stepper.step explains)
-            if istate[I_LU] != 0 and istate[I_ROFF] == 0:
-                roundoff_levels(data, indices, indptr, nd, absmax(x) if x.size else 1.0, lam,
-                                roundoff_ulps, roff)
-                istate[I_ROFF] = 1
-            rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, roff,
+    resumed = istate[I_PHASE] != 0
+    if resumed:
+        # back from the caller's factorisation: go on from there
+        istate[I_PHASE] = 0
+        it = istate[I_IT]
+        nfac0 = istate[I_NFAC0]
+        prev = fstate[F_PREV]
+        last = fstate[F_LAST]
+        stall = fstate[F_STALL]
+        assembled = True
+        _factorised(istate, fstate, h)
+        fresh = True
+        since_factor = 0
+    else:
+        predict(vd0, a0, v0, prev_vd, w, h, af, am, gamma, beta, vd, a, v, hdq)
+        lie_update(x0, R0, hdq, nn, x, R, Tn, False)
+        # a factorisation for a slightly different h (output-time clipping) still converges
+        # well; the contraction monitor below refactors if it does not
+        if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > 1e-2 * h:
+            _forget(istate, roff)
+        eval_time_functions(t, tf_kind, tf_par, tf_fstart, tf_tab, tfv)
+        assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
+        call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, assembled)
+        it = 0
+        nfac0 = istate[I_NFAC]
+        prev = np.inf
+        fresh = False
+        since_factor = 0
+        stall = stall_ulps * EPS * max(1.0, absmax(x))
+        last = np.inf
+    while True:
+        if not resumed:
+            rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, no_roff,
                                                     fstate[F_FORCE])
-        if rq_max <= tol and ph_max <= phi_tol:
-            if it >= 3 and istate[I_NFAC] == nfac0:
-                _forget(istate, roff)  # slow convergence on an old factorisation: stale
-            if nd:
-                fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
-            return SUCCESS, it, istate[I_NFAC] - nfac0
-        if it == max_iter:
-            break
-        if full or istate[I_LU] == 0 or since_factor >= 3:
-            if not assembled:
-                _clear(r, rabs, data, True, hdq, nn, Tn, istate)
-                call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, True)
-            if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
-                _forget(istate, roff)
-                return SINGULAR, it, istate[I_NFAC] - nfac0
-            istate[I_LU] = 1
-            istate[I_ROFF] = 0
-            fstate[F_LU_H] = h
-            istate[I_NFAC] += 1
-            fresh = True
-            since_factor = 0
+            if not finite:
+                return NONFINITE_RESIDUAL, it, istate[I_NFAC] - nfac0
+            if (rq_max > tol or ph_max > phi_tol) and last <= stall:
+                # stagnation at the round-off of the positions: discount the residual a
+                # round-off change of the unknowns produces (Stepper.step explains)
+                if istate[I_LU] != 0 and istate[I_ROFF] == 0:
+                    roundoff_levels(data, indices, indptr, nd, absmax(x) if x.size else 1.0,
+                                    lam, roundoff_ulps, roff)
+                    istate[I_ROFF] = 1
+                rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, roff,
+                                                        fstate[F_FORCE])
+            if rq_max <= tol and ph_max <= phi_tol:
+                if it >= 3 and istate[I_NFAC] == nfac0:
+                    _forget(istate, roff)  # slow convergence on an old factorisation: stale
+                if nd:
+                    fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
+                return SUCCESS, it, istate[I_NFAC] - nfac0
+            if it == max_iter:
+                break
+            if full or istate[I_LU] == 0 or since_factor >= 3:
+                if not assembled:
+                    _clear(r, rabs, data, True, hdq, nn, Tn, istate)
+                    call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN,
+                                True)
+                if istate[I_EXTERNAL] != 0:
+                    istate[I_PHASE] = 1
+                    istate[I_IT] = it
+                    istate[I_NFAC0] = nfac0
+                    fstate[F_PREV] = prev
+                    fstate[F_LAST] = last
+                    fstate[F_STALL] = stall
+                    return NEED_FACTOR, it, istate[I_NFAC] - nfac0
+                if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
+                    _forget(istate, roff)
+                    return SINGULAR, it, istate[I_NFAC] - nfac0
+                _factorised(istate, fstate, h)
+                fresh = True
+                since_factor = 0
+        resumed = False
         since_factor += 1
         for i in range(r.shape[0]):
             delta[i] = -r[i]
-        dense_solve(lu, piv, delta, ib, tr)
+        if istate[I_DENSE] != 0:
+            dense_solve(lu, piv, delta, ib, tr)
+        else:
+            sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z, delta)
         nrm, finite = newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
         if not finite:
             return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0
@@ -281,4 +334,5 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, par, istate,
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
         assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
         call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, assembled)
+        it += 1
     return MAX_ITER, max_iter, istate[I_NFAC] - nfac0

@@ -28,17 +28,27 @@ import numpy as np
 
 from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
+from drivedyn.solver import lapack
 from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.assembly import System, lie_update, tangents
-from drivedyn.solver.linear import AutoLU, DenseLU, LinearSolver, default_linear_solver
+from drivedyn.solver.linear import (
+    AutoLU,
+    DenseLU,
+    LinearSolver,
+    SparseLU,
+    default_linear_solver,
+)
 from drivedyn.solver.newton_kernel import (
     EPS,
     F_FORCE,
     F_LU_H,
     FLOOR_REL,
+    I_DENSE,
+    I_EXTERNAL,
     I_LU,
     I_NEVAL,
     I_NFAC,
+    I_PHASE,
     I_ROFF,
     ROUNDOFF_ULPS,
     STALL_ULPS,
@@ -71,6 +81,11 @@ def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarr
 class Stepper:
     """Advances a state by one step; keeps the factorisation between steps (modified Newton).
 
+    A step runs as one compiled call (:mod:`~drivedyn.solver.newton_kernel`) with the dense
+    LU, SuperLU and AutoLU; the Python loop of :meth:`step` is the same algorithm, kept for
+    other linear solvers and ``DRIVEDYN_COMPILED_NEWTON=0``, and the reference the compiled
+    one is tested against. A change to one goes into both.
+
     Attributes:
         lu_h: step size the current factorisation was built for (None: none).
         factorizations: factorisations so far.
@@ -87,8 +102,8 @@ class Stepper:
         # Newton memory, in arrays shared with the compiled step (newton_kernel): istate =
         # (factorisation valid, round-off levels valid, factorisations, evaluations), fstate =
         # (step size of the factorisation [s], force scale)
-        self._istate = np.zeros(4, np.int64)
-        self._fstate = np.zeros(2)
+        self._istate = np.zeros(nk.NISTATE, np.int64)
+        self._fstate = np.zeros(nk.NFSTATE)
         am, af, g, b = integrator.coefficients
         self.am, self.af, self.gamma, self.beta = am, af, g, b
         self.bp = b * (1.0 - af) / (1.0 - am)
@@ -254,6 +269,7 @@ class Stepper:
                 out = self._factor(st, h, assembled)
                 if out is not None:
                     out.iterations = it
+                    out.factorizations = self.factorizations - nfac0
                     return out
                 fresh = True
                 since_factor = 0
@@ -285,23 +301,27 @@ class Stepper:
         return StepOutcome(StepStatus.NEWTON_MAX_ITER, nw.max_iter, self.factorizations - nfac0,
                            worst_eq=worst, residual=wval)
 
+    def _solvers(self) -> tuple[DenseLU | None, SparseLU | None] | None:
+        """(dense LU, sparse LU) of the linear solver, one of them active and the other
+        None; None for a solver the compiled step cannot use."""
+        lin = self.lin
+        if isinstance(lin, AutoLU):
+            return lin.dense, lin.sparse
+        if isinstance(lin, DenseLU):
+            return lin, None
+        if isinstance(lin, SparseLU):
+            return None, lin
+        return None
+
     def _compiled_step(self, sn: State) -> Any:
         """The compiled Newton iterations (:func:`~drivedyn.solver.newton_kernel.
-        newton_iterations`) with the model's kernel table, False, or None (not decided
-        yet): only with the dense LU (SuperLU is not callable from compiled code; an
-        :class:`~drivedyn.solver.linear.AutoLU` that went dense counts), and unless
+        newton_iterations`) with the model's kernel table, or False: with the dense LU,
+        SuperLU (factorised here, between two calls) or AutoLU, and unless
         ``DRIVEDYN_COMPILED_NEWTON=0``."""
         if os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") == "0":
             return False
-        lin = self.lin
-        if isinstance(lin, AutoLU) and lin.dense is None:
-            # AutoLU goes dense at the first factorisation that fills (often the first
-            # matrix with stiffness, not the initial mass-and-constraint one): ask again
-            return None
-        dense = lin.dense if isinstance(lin, AutoLU) else lin
-        if not isinstance(dense, DenseLU):
+        if self._solvers() is None:
             return False
-        self._dense = dense
         sys = self.sys
         G = sys.kernel_table(sn)
         if G is None:  # kernels not compiled yet for these types: evaluate once
@@ -311,32 +331,64 @@ class Stepper:
             return False
         self._G = G
         self._delta = np.zeros(self.model.neq)
+        self._no_dense = lapack.workspace(0)
+        i0, f0 = np.zeros(0, np.int64), np.zeros(0)
+        self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
+                           i0, f0)
         return nk.newton_iterations
+
+    def _linear_arrays(self) -> tuple[tuple, tuple]:
+        """The ``linear`` and ``sparse`` arguments of the compiled step for the active
+        factors; sets the solver fields of the Newton memory."""
+        dense, sparse = self._solvers()
+        n = self.model.neq
+        if dense is not None:
+            lu, piv, ib, tr = dense.workspace(n)
+            sp_args = self._no_sparse
+        else:
+            lu, piv, ib, tr = self._no_dense
+            f = sparse._f
+            sp_args = self._no_sparse if f is None else (*f, sparse._z)
+        self._istate[I_EXTERNAL] = 0 if dense is not None else 1
+        self._istate[I_DENSE] = 1 if dense is not None else 0
+        return (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), sp_args
 
     def _step_compiled(self, sn: State, h: float, w: float) -> StepOutcome | None:
         """:meth:`step` by the compiled Newton iterations (the trial state is ``sn``
         copied, at time ``sn.t + h``); None if the compiled step cannot be used (then it
-        is not tried again)."""
+        is not tried again). A SuperLU factorisation is done here when the compiled
+        iteration asks for it, and the iteration resumes."""
         m = self.model
         sys = self.sys
         st = self.trial
         tf = m.tf
-        lu, piv, ib, tr = self._dense.workspace(m.neq)
         n0 = int(self._istate[I_NEVAL])
-        try:
-            code, it, nfac = self._compiled(
-                self._G, (m.nn, m.nd, w, st.t, h), (sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
+        args = (self._G, (m.nn, m.nd, w, st.t, h),
+                (sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
                 (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
                 (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind, tf.par,
-                 tf.fstart, tf.tab, m.indices, m.indptr),
-                (lu, piv, ib, tr, self._delta, self.roff, self._no_roff),
-                self._par, self._istate, self._fstate)
+                 tf.fstart, tf.tab, m.indices, m.indptr))
+        self._istate[I_PHASE] = 0
+        try:
+            code, it, nfac = self._compiled(*args, *self._linear_arrays(), self._par,
+                                            self._istate, self._fstate)
         except Exception as exc:  # not compilable for these argument types: Python loop
             log.warning("compiled Newton step unavailable, using the Python loop (%s)", exc)
             self._compiled = False
+            self._istate[I_PHASE] = 0
             st.assign(sn)
             st.t = sn.t + h
             return None
+        while code == nk.NEED_FACTOR:
+            try:
+                sys.factor(self.lin)
+            except (np.linalg.LinAlgError, ValueError) as exc:
+                self._istate[I_PHASE] = 0
+                self._forget()
+                sys.nevals += int(self._istate[I_NEVAL]) - n0
+                return StepOutcome(StepStatus.SINGULAR, it, nfac, message=str(exc))
+            code, it, nfac = self._compiled(*args, *self._linear_arrays(), self._par,
+                                            self._istate, self._fstate)
         sys.nevals += int(self._istate[I_NEVAL]) - n0
         if code == nk.SUCCESS:
             return StepOutcome(StepStatus.SUCCESS, it, nfac)
