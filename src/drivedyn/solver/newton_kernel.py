@@ -53,8 +53,9 @@ STALL_ULPS = 64.0
 def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0):
     """Largest scaled node residual and constraint violation beyond the round-off level
     ``roff`` of each equation (see :func:`roundoff_levels`; zeros for none); returns
-    (rq_max, phi_max, finite). Node equations are scaled as in :func:`scaled_residual`,
-    constraint rows are violations [m or rad]."""
+    (rq_max, phi_max, finite). Node equations are scaled as in
+    :func:`~drivedyn.solver.stepper.scaled_residual`, constraint rows are violations [m or
+    rad]."""
     amax = max(amin, 1e-300)
     for i in range(nd):
         if rabs[i] > amax:
@@ -144,6 +145,12 @@ def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
     return nrm, finite
 
 
+
+# modified Newton: a factorisation is kept for a step size within H_REUSE of its own, and
+# refreshed after REFACTOR_AFTER iterations on it (the configuration moved on: refresh it
+# rather than creep along)
+H_REUSE = 1e-2
+REFACTOR_AFTER = 3
 
 # outcome codes of newton_iterations (mapped to StepStatus by the stepper)
 SUCCESS = 0
@@ -257,7 +264,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
         # a factorisation for a slightly different h (output-time clipping) still converges
         # well; the contraction monitor below refactors if it does not
-        if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > 1e-2 * h:
+        if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > H_REUSE * h:
             _forget(istate, roff)
         eval_time_functions(t, tf_kind, tf_par, tf_fstart, tf_tab, tfv)
         assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
@@ -292,7 +299,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                 return SUCCESS, it, istate[I_NFAC] - nfac0
             if it == max_iter:
                 break
-            if full or istate[I_LU] == 0 or since_factor >= 3:
+            if full or istate[I_LU] == 0 or since_factor >= REFACTOR_AFTER:
                 if not assembled:
                     _clear(r, rabs, data, True, hdq, nn, Tn, istate)
                     call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN,

@@ -43,6 +43,7 @@ from drivedyn.solver.newton_kernel import (
     F_FORCE,
     F_LU_H,
     FLOOR_REL,
+    H_REUSE,
     I_DENSE,
     I_EXTERNAL,
     I_LU,
@@ -50,6 +51,7 @@ from drivedyn.solver.newton_kernel import (
     I_NFAC,
     I_PHASE,
     I_ROFF,
+    REFACTOR_AFTER,
     ROUNDOFF_ULPS,
     STALL_ULPS,
     absmax,
@@ -222,7 +224,7 @@ class Stepper:
         lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
         # a factorisation for a slightly different h (output-time clipping) still converges
         # well; the contraction monitor below refactors if it does not
-        if self.lu_h is not None and abs(self.lu_h - h) > 1e-2 * h:
+        if self.lu_h is not None and abs(self.lu_h - h) > H_REUSE * h:
             self._forget()
         full = nw.strategy == "full"
         cM = 1.0 / (self.bp * h * h)
@@ -265,7 +267,7 @@ class Stepper:
                 break
             # modified Newton: a factorisation that needed several iterations already is
             # stale (the configuration moved on); refresh it rather than creep along
-            if full or self.lu_h is None or since_factor >= 3:
+            if full or self.lu_h is None or since_factor >= REFACTOR_AFTER:
                 out = self._factor(st, h, assembled)
                 if out is not None:
                     out.iterations = it

@@ -1,0 +1,153 @@
+"""Where the wall time of a run goes on the compiled Newton step (issue 16, third round).
+
+The compiled step (``drivedyn.solver.newton_kernel``) runs a whole step in one call, so a
+profiler sees one opaque call per step. This script measures the unit costs of its phases
+in compiled loops (no Python in between), counts how often a run pays each of them, and
+prints the product next to the measured wall time:
+
+* residual evaluation, all groups (``call_groups`` with ``want=False``), and per group;
+* residual with the iteration matrix (``want=True``), all groups and per group;
+* dense LU of the assembled matrix (``dense_factor_csc``) and one solve (``dense_solve``);
+* the rest of the step (predictor, Lie updates, norms, the Python around each call):
+  measured wall time minus the phases above.
+
+Counts come from the run's statistics: evaluations with the matrix = factorisations (the
+matrix is assembled for a factorisation only); residual-only evaluations = the remaining
+evaluations; solves = Newton iterations.
+
+Usage::
+
+    python benchmarks/compiled_step_costs.py                 # Type C bench, rear side
+    python benchmarks/compiled_step_costs.py torsen-c --side front
+    python benchmarks/compiled_step_costs.py torsen-b --side right
+
+Prints a table and one JSON line. Dense-LU models only (up to 150 unknowns).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+
+import numpy as np
+from numba import njit
+
+from drivedyn.config import read_library_file
+from drivedyn.elements.base import MODE_DYN
+from drivedyn.library.differentials import of
+from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.model.compile import compile_model
+from drivedyn.solver.assembly import System
+from drivedyn.solver.kernel_calls import KernelTable, call_groups
+from drivedyn.solver.lapack import dense_factor_csc, dense_solve, workspace
+from drivedyn.solver.simulate import simulate
+
+
+@njit
+def _evaluations(G, x, R, v, vd, lam, es, tfv, t, Tn, r, rabs, data, want, n):
+    for _ in range(n):
+        r[:] = 0.0
+        rabs[:] = 0.0
+        if want:
+            data[:] = 0.0
+        call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, 1e6, 1e3, 1.0, MODE_DYN, want)
+
+
+@njit
+def _factorisations(data, indices, indptr, lu, piv, ib, n):
+    for _ in range(n):
+        dense_factor_csc(data, indices, indptr, lu, piv, ib)
+
+
+@njit
+def _solves(lu, piv, b, ib, tr, n):
+    for _ in range(n):
+        dense_solve(lu, piv, b, ib, tr)
+
+
+def _per_call(fn, *args, n: int) -> float:
+    """Seconds per repetition of ``fn(*args, n)`` (compiled first, best of three)."""
+    fn(*args, 1)
+    best = np.inf
+    for _ in range(3):
+        t0 = time.perf_counter()
+        fn(*args, n)
+        best = min(best, (time.perf_counter() - t0) / n)
+    return best
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("model", nargs="?", default="torsen-c")
+    ap.add_argument("--side", default="rear")
+    ap.add_argument("--n", type=int, default=20000, help="repetitions per unit cost")
+    args = ap.parse_args()
+    p = read_library_file(args.model)[0]
+    model = compile_model(bench_spec(of(p), p, args.side)[0])
+    simulate(model, 1e-3, **p.solver.settings())  # compile or load every kernel
+    res = simulate(model, p.bench.t_end, **p.solver.settings(), output_dt=p.solver.output_dt)
+    st_ = res.stats
+    sys = System(model)
+    st = model.initial_state()
+    sys.evaluate(st, 1e6, 1e3, 1.0, MODE_DYN, True)
+    mid = (st.x, st.R, st.v, st.vd, st.lam, st.es, sys.tfv, st.t, sys.Tn, sys.r, sys.rabs,
+           sys.data)
+    full = sys.kernel_table(st)
+    groups = [KernelTable([(a, pre, post)]) for a, pre, post in _table_rows(sys, st)]
+    cost = {}
+    for want in (False, True):
+        cost[want] = _per_call(_evaluations, full, *mid, want, n=args.n)
+    per_group = {}
+    for g, G in zip(model.groups, groups, strict=True):
+        per_group[g.family] = [_per_call(_evaluations, G, *mid, w, n=args.n)
+                               for w in (False, True)]
+    lu, piv, ib, tr = workspace(model.neq)
+    sys.evaluate(st, 1e6, 1e3, 1.0, MODE_DYN, True)
+    c_fac = _per_call(_factorisations, sys.data, model.indices, model.indptr, lu, piv, ib,
+                      n=max(1, args.n // 4))
+    b = np.ones(model.neq)
+    c_sol = _per_call(_solves, lu, piv, b, ib, tr, n=args.n)
+    n_mat = st_.factorizations
+    n_res = st_.residual_evaluations - n_mat
+    rows = [("residual evaluations", n_res, cost[False]),
+            ("residual + matrix evaluations", n_mat, cost[True]),
+            ("dense LU", st_.factorizations, c_fac),
+            ("solves", st_.newton_iterations, c_sol)]
+    wall = st_.wall_s
+    print(f"{args.model} bench, {args.side} side: {model.neq} unknowns, wall {wall:.3f} s, "
+          f"{st_.steps} steps, {st_.rejected} rejected, {st_.newton_iterations} Newton it., "
+          f"{st_.factorizations} factorisations, {st_.residual_evaluations} evaluations")
+    print(f"{'phase':34s} {'calls':>8s} {'us/call':>8s} {'s':>7s} {'share':>6s}")
+    total = 0.0
+    out = {}
+    for name, n, c in rows:
+        s = n * c
+        total += s
+        out[name] = {"calls": int(n), "us_per_call": round(c * 1e6, 2), "s": round(s, 3)}
+        print(f"{name:34s} {n:8d} {c * 1e6:8.2f} {s:7.3f} {s / wall:6.1%}")
+    rest = wall - total
+    print(f"{'rest (step logic, Python per step)':34s} {'':8s} {'':8s} {rest:7.3f} "
+          f"{rest / wall:6.1%}")
+    print("per group, us per call (residual / residual + matrix):")
+    for fam, (a, b_) in per_group.items():
+        print(f"  {fam:24s} {a * 1e6:7.2f} / {b_ * 1e6:7.2f}")
+    print(json.dumps({"benchmark": "compiled_step_costs", "model": args.model,
+                      "side": args.side, "wall_s": round(wall, 3), "phases": out,
+                      "rest_s": round(rest, 3),
+                      "per_group_us": {k: [round(a * 1e6, 2), round(b_ * 1e6, 2)]
+                                       for k, (a, b_) in per_group.items()}}))
+
+
+def _table_rows(sys: System, st) -> list:
+    """(address, leading, trailing arguments) of every group, as in ``kernel_table``."""
+    from drivedyn.solver.kernel_calls import entry_address
+
+    rows = []
+    for k, pre, mid, post in sys._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True):
+        rows.append((entry_address(k, sys._signature(k, pre, mid, post)), pre, post))
+    return rows
+
+
+if __name__ == "__main__":
+    main()
