@@ -124,6 +124,21 @@ def predict(vd, a, v, vd_prev, w, h, af, am, gamma, beta, vd1, a1, v1, hdq):
 
 
 @njit(cache=True)
+def error_norm(a1, a0, hdq, c, atol, rtol):
+    """Weighted max norm of the local position error estimate ``c |a1 - a0|`` (``c`` =
+    |beta - 1/6| h^2) with weights ``atol + rtol |hdq|``, and the first dof where it is
+    largest (a NaN counts as largest); (0, -1) for no dofs."""
+    qmax = 0.0
+    imax = -1
+    for i in range(a1.shape[0]):
+        q = c * abs(a1[i] - a0[i]) / (atol + rtol * abs(hdq[i]))
+        if imax < 0 or q > qmax or (q != q and qmax == qmax):
+            qmax = q
+            imax = i
+    return qmax, imax
+
+
+@njit(cache=True)
 def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
     """Apply a Newton correction; returns (max |dx|, all finite)."""
     nrm = 0.0

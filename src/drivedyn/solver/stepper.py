@@ -55,6 +55,7 @@ from drivedyn.solver.newton_kernel import (
     ROUNDOFF_ULPS,
     STALL_ULPS,
     absmax,
+    error_norm,
     newton_update,
     predict,
     residual_norms,
@@ -332,8 +333,11 @@ class Stepper:
         if G is None:
             return False
         self._G = G
+        self._args_of = None
         self._delta = np.zeros(self.model.neq)
-        self._no_dense = lapack.workspace(0)
+        # (2 x 2: a smaller array is C- as well as F-contiguous, numba would type it as C and
+        # compile another overload)
+        self._no_dense = lapack.workspace(2)
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
         self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
                            i0, f0)
@@ -365,11 +369,13 @@ class Stepper:
         st = self.trial
         tf = m.tf
         n0 = int(self._istate[I_NEVAL])
-        args = (self._G, (m.nn, m.nd, w, st.t, h),
-                (sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
-                (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
-                (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind, tf.par,
-                 tf.fstart, tf.tab, m.indices, m.indptr))
+        if sn is not self._args_of:  # the argument tuples of these states (built once)
+            self._args_of = sn
+            self._args = ((sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
+                          (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
+                          (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind,
+                           tf.par, tf.fstart, tf.tab, m.indices, m.indptr))
+        args = (self._G, (m.nn, m.nd, w, st.t, h), *self._args)
         self._istate[I_PHASE] = 0
         try:
             code, it, nfac = self._compiled(*args, *self._linear_arrays(), self._par,
@@ -411,13 +417,9 @@ class Stepper:
     def error_estimate(self, sn: State, h: float, rtol: float, atol: float) -> tuple[float, int]:
         """Weighted max norm of the local position error estimate of the last trial step
         and the dof where it is largest (-1 if there are no dofs)."""
-        e = abs(self.beta - 1.0 / 6.0) * h * h * np.abs(self.trial.a - sn.a)
-        w = atol + rtol * np.abs(self.hdq)
-        if not e.size:
-            return 0.0, -1
-        q = e / w
-        i = int(np.argmax(q))
-        return float(q[i]), i
+        q, i = error_norm(self.trial.a, sn.a, self.hdq, abs(self.beta - 1.0 / 6.0) * h * h,
+                          atol, rtol)
+        return float(q), int(i)
 
 
 def _worst(sys: System, sq: np.ndarray, sphi: np.ndarray) -> tuple[int, float]:
