@@ -56,7 +56,7 @@ class Newton:
     tol: float = 1e-8
     phi_tol: float = 1e-10
     max_iter: int = 12
-    contraction: float = 0.3
+    contraction: float = 0.5
 
     def __post_init__(self) -> None:
         if self.strategy not in ("modified", "full"):
