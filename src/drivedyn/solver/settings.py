@@ -49,7 +49,9 @@ class Newton:
             each equation (dimensionless).
         phi_tol: constraint violation tolerance [m or rad].
         max_iter: iterations before the step is declared failed.
-        contraction: largest accepted ratio |delta_k| / |delta_k-1| before refactoring.
+        contraction: largest accepted ratio |delta_k| / |delta_k-1| before refactoring
+            (0.5: an iteration costs about an eighth of a factorisation, see
+            :data:`drivedyn.solver.newton_kernel.H_REUSE`).
     """
 
     strategy: str = "modified"
