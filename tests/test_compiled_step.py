@@ -177,3 +177,22 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     # the first steps factorise with SuperLU between calls, until AutoLU goes dense
     assert slow.success and ncalls > fast.stats.steps + fast.stats.rejected
     _assert_identical(slow, fast)
+
+
+def test_the_step_is_precompiled_for_the_types_it_runs_with() -> None:
+    """The Stepper hands its compiled step's signature to the System's first-evaluation
+    precompile (parallel workers with the kernels): that signature must be the one the
+    steps then run with, or the workers would compile an overload nobody calls."""
+    from drivedyn.solver.linear import SparseLU
+    from drivedyn.solver.stepper import Stepper
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+    for lin in (None, SparseLU()):
+        stepper = Stepper(model, dd.GeneralizedAlpha(0.9), dd.Newton(), lin)
+        [(disp, sig)] = stepper.sys.precompile_also
+        assert disp is nk.newton_iterations
+        before = set(disp.overloads)
+        dd.simulate(model, 0.005, step=dd.FixedStep(1e-3), linear_solver=lin)
+        assert sig in disp.overloads and set(disp.overloads) == before | {sig}

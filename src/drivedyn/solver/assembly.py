@@ -98,6 +98,9 @@ class System:
         self._state_types: tuple | None = None
         self._last_state: State | None = None
         self._precompiled = False
+        # (dispatcher, signature) of other functions to compile with the kernels (the
+        # stepper's compiled Newton step)
+        self.precompile_also: list[tuple] = []
 
     def time_functions(self, t: float) -> None:
         tf = self.model.tf
@@ -172,7 +175,7 @@ class System:
                 calls.append((k, self._signature(k, pre, mid, post)))
             except (AttributeError, TypeError, ValueError):
                 continue
-        precompile_kernels(calls)
+        precompile_kernels(calls + self.precompile_also)
 
     def _bind(self, st: State, cM: float, cC: float, cK: float, mode: int,
               want: bool) -> list | bool:

@@ -122,6 +122,16 @@ class Stepper:
                               newton.contraction, newton.max_iter,
                               1.0 if newton.strategy == "full" else 0.0, FLOOR_REL,
                               STALL_ULPS, ROUNDOFF_ULPS])
+        self._delta = np.zeros(model.neq)
+        # stand-ins for the factors the active solver does not use (the dense ones 2 x 2: a
+        # smaller array is C- as well as F-contiguous, numba would type it as C and compile
+        # another overload)
+        self._no_dense = lapack.workspace(2)
+        i0, f0 = np.zeros(0, np.int64), np.zeros(0)
+        self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
+                           i0, f0)
+        if self._compiled_allowed():
+            self._precompile_with_kernels()
 
     @property
     def lu_h(self) -> float | None:
@@ -316,14 +326,46 @@ class Stepper:
             return None, lin
         return None
 
+    def _compiled_allowed(self) -> bool:
+        """The compiled step is used unless ``DRIVEDYN_COMPILED_NEWTON=0`` or the linear
+        solver is not one of the dense LU, SuperLU and AutoLU."""
+        return (os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") != "0"
+                and self._solvers() is not None)
+
+    def _state_args(self, sn: State) -> tuple:
+        """The ``accepted``, ``trial`` and ``arrays`` arguments of the compiled step."""
+        m, sys, st, tf = self.model, self.sys, self.trial, self.model.tf
+        return ((sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
+                (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
+                (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind, tf.par,
+                 tf.fstart, tf.tab, m.indices, m.indptr))
+
+    def _precompile_with_kernels(self) -> None:
+        """Add the compiled step, for this model's argument types, to the compilations the
+        System runs in parallel worker processes before its first evaluation
+        (:mod:`~drivedyn.solver.precompile`): a first run then compiles it while the kernels
+        compile, not after them. Its types do not depend on the kernels' addresses."""
+        from drivedyn.solver.kernel_calls import KernelTable
+
+        m, sys, st = self.model, self.sys, self.trial
+        try:
+            G = KernelTable([(0, pre, post) for _k, pre, _mid, post
+                             in sys._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True)])
+            lu, piv, ib, tr = self._no_dense
+            args = (G, (int(m.nn), int(m.nd), 0.0, 0.0, 1.0), *self._state_args(st),
+                    (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), self._no_sparse,
+                    self._par, self._istate, self._fstate)
+            sig = tuple(nk.newton_iterations.typeof_pyval(a) for a in args)
+        except (AttributeError, TypeError, ValueError):  # not typeable: compiled on first use
+            return
+        sys.precompile_also.append((nk.newton_iterations, sig))
+
     def _compiled_step(self, sn: State) -> Any:
         """The compiled Newton iterations (:func:`~drivedyn.solver.newton_kernel.
         newton_iterations`) with the model's kernel table, or False: with the dense LU,
         SuperLU (factorised here, between two calls) or AutoLU, and unless
         ``DRIVEDYN_COMPILED_NEWTON=0``."""
-        if os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") == "0":
-            return False
-        if self._solvers() is None:
+        if not self._compiled_allowed():
             return False
         sys = self.sys
         G = sys.kernel_table(sn)
@@ -334,13 +376,6 @@ class Stepper:
             return False
         self._G = G
         self._args_of = None
-        self._delta = np.zeros(self.model.neq)
-        # (2 x 2: a smaller array is C- as well as F-contiguous, numba would type it as C and
-        # compile another overload)
-        self._no_dense = lapack.workspace(2)
-        i0, f0 = np.zeros(0, np.int64), np.zeros(0)
-        self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
-                           i0, f0)
         return nk.newton_iterations
 
     def _linear_arrays(self) -> tuple[tuple, tuple]:
@@ -367,14 +402,10 @@ class Stepper:
         m = self.model
         sys = self.sys
         st = self.trial
-        tf = m.tf
         n0 = int(self._istate[I_NEVAL])
         if sn is not self._args_of:  # the argument tuples of these states (built once)
             self._args_of = sn
-            self._args = ((sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
-                          (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
-                          (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind,
-                           tf.par, tf.fstart, tf.tab, m.indices, m.indptr))
+            self._args = self._state_args(sn)
         args = (self._G, (m.nn, m.nd, w, st.t, h), *self._args)
         self._istate[I_PHASE] = 0
         try:
