@@ -19,6 +19,13 @@ Prints a table (phase, seconds, share, calls, microseconds per call) and one JSO
 
 from __future__ import annotations
 
+import os
+
+# the phases are timed by wrapping the Python Newton loop's calls; the compiled step
+# (drivedyn.solver.newton_kernel) runs a whole step in one call, so this script profiles the
+# Python loop, the same algorithm (compiled_step_costs.py breaks down the compiled step)
+os.environ["DRIVEDYN_COMPILED_NEWTON"] = "0"
+
 import argparse
 import collections
 import importlib
