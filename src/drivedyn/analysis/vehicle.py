@@ -22,9 +22,10 @@ Cost: the shipped profile (12 loaded levels and 3 zero-torque holds) is timed in
 and in ``benchmarks/README.md``. At exactly zero torque the gears float in their clearances
 (the planets' centrifugal force opens the sun meshes by nanometres) and rattle: the steps
 are about 3 times shorter than in a loaded hold and a zero-torque hold costs about 5 times
-the wall time of a loaded one per simulated second (4 s against 0.6-1.0 s on two cores) (it cost 10-15 minutes per simulated
-second before issue 16: the gear element lent its mesh stiffness to the iteration matrix for
-gaps up to 10 nm, where Newton then converged only linearly).
+the wall time of a loaded one per simulated second (4 s against 0.6-1.0 s on two cores; it
+cost 10-15 minutes per simulated second before issue 16: the gear element lent its mesh
+stiffness to the iteration matrix for gaps up to 10 nm, where Newton then converged only
+linearly).
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """The Newton iteration of one step as one compiled function.
 
 :meth:`drivedyn.solver.stepper.Stepper.step` runs the predictor, the Newton iterations, the
-factorisations and the convergence tests of a step. In Python that orchestration costs more
-than the element kernels of a TORSEN model (about 25 us per iteration for seven group calls,
-their argument unboxing, the residual norms and the solve: measured in benchmarks/README.md).
+factorisations and the convergence tests of a step. In Python that orchestration (seven group
+calls per evaluation with 29 arguments to unbox each, the norms, the solve, the update) took
+about 40 % of the Type C bench's wall time (benchmarks/README.md, issue 16's third round).
 :func:`newton_iterations` is the same algorithm, statement for statement, in numba: one call
 from Python per step. It calls the element kernels through their addresses
 (:mod:`drivedyn.solver.kernel_calls`), so it is compiled once per combination of argument
