@@ -282,7 +282,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     else:
         predict(vd0, a0, v0, prev_vd, w, h, af, am, gamma, beta, vd, a, v, hdq)
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
-        # a factorisation for a slightly different h (output-time clipping) still converges
+        # a factorisation for a step size within H_REUSE of h still converges
         # well; the contraction monitor below refactors if it does not
         if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > H_REUSE * h:
             _forget(istate, roff)

@@ -233,7 +233,7 @@ class Stepper:
         predict(sn.vd, sn.a, sn.v, self._prev_vd, w, h, af, am, gamma, beta, st.vd, st.a, st.v,
                 hdq)
         lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
-        # a factorisation for a slightly different h (output-time clipping) still converges
+        # a factorisation for a step size within H_REUSE of h still converges
         # well; the contraction monitor below refactors if it does not
         if self.lu_h is not None and abs(self.lu_h - h) > H_REUSE * h:
             self._forget()
