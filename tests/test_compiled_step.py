@@ -84,14 +84,9 @@ def test_a_failing_run_fails_the_same_way(monkeypatch) -> None:
     """A speed demand that jumps faster than h_min can resolve: Newton fails (iteration
     limit, diverging corrections) at every size down to h_min; message, worst equation and
     partial results are the same."""
-    spec = dd.Spec()
-    spec.add_rigid_body("disk", 1.0, [0.01, 0.01, 0.02])
-    spec.add_marker("g", "ground", axis=(0, 0, 1))
-    spec.add_marker("m", "disk", axis=(0, 0, 1))
-    spec.add(dd.Hinge("h", "g", "m"))
-    jump = dd.Table([0.0, 0.5, 0.5 + 1e-9, 1.0], [0.0, 0.0, 1e3, 1e3])
-    spec.add(dd.JointDriver("d", "h", jump, quantity="speed"))
-    model = dd.compile_model(spec)
+    from small_models import speed_jump_spec
+
+    model = dd.compile_model(speed_jump_spec())
 
     def run():
         return dd.simulate(model, 1.0, step=dd.AdaptiveStep(h0=1e-3, h_min=1e-4, h_max=1e-2),

@@ -108,14 +108,9 @@ def test_adaptive_step_meets_its_tolerance_with_fewer_steps():
 def test_failure_is_a_value_with_partial_results():
     """A speed demand that jumps faster than h_min can resolve: the run stops near the jump
     with the time, the worst equation and its size, and keeps what was computed."""
-    spec = dd.Spec()
-    spec.add_rigid_body("disk", 1.0, [0.01, 0.01, 0.02])
-    spec.add_marker("g", "ground", axis=(0, 0, 1))
-    spec.add_marker("m", "disk", axis=(0, 0, 1))
-    spec.add(dd.Hinge("h", "g", "m"))
-    jump = dd.Table([0.0, 0.5, 0.5 + 1e-9, 1.0], [0.0, 0.0, 1e3, 1e3])
-    spec.add(dd.JointDriver("d", "h", jump, quantity="speed"))
-    model = dd.compile_model(spec)
+    from small_models import speed_jump_spec
+
+    model = dd.compile_model(speed_jump_spec())
     res = dd.simulate(model, 1.0, step=dd.AdaptiveStep(h0=1e-3, h_min=1e-4, h_max=1e-2),
                       output_dt=0.1)
     assert not res.success

@@ -1,0 +1,19 @@
+"""Small models shared by several test modules."""
+
+from __future__ import annotations
+
+import drivedyn as dd
+
+
+def speed_jump_spec() -> dd.Spec:
+    """A disk on a hinge whose prescribed speed jumps from 0 to 1000 rad/s within 1 ns at
+    t = 0.5 s: faster than any step down to a practical h_min can resolve (a run that must
+    fail there and keep its results)."""
+    spec = dd.Spec()
+    spec.add_rigid_body("disk", 1.0, [0.01, 0.01, 0.02])
+    spec.add_marker("g", "ground", axis=(0, 0, 1))
+    spec.add_marker("m", "disk", axis=(0, 0, 1))
+    spec.add(dd.Hinge("h", "g", "m"))
+    jump = dd.Table([0.0, 0.5, 0.5 + 1e-9, 1.0], [0.0, 0.0, 1e3, 1e3])
+    spec.add(dd.JointDriver("d", "h", jump, quantity="speed"))
+    return spec
