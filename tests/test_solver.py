@@ -354,3 +354,38 @@ def test_residual_floor_is_the_largest_force_sum_carried() -> None:
                                rel=1e-15)
     rq, _, _ = residual_norms(r, rabs, kscale, 2, FLOOR_REL, roff, 1e4)
     assert rq == pytest.approx(max(1e-9 / (1e-3 + 1.0), 2e-6 / (4.0 + 1.0)), rel=1e-15)
+
+
+def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
+    """SparseLU factorises the first matrix with pivot search (gp_factor) and later ones
+    with its pivots (gp_refactor): for new values whose pivots stay the same, the factors
+    are bit for bit those of a fresh factorisation; when a kept pivot becomes too small
+    (here a diagonal entry scaled by 1e-6), it factorises afresh and still solves to
+    round-off."""
+    import scipy.sparse as sps
+
+    from drivedyn.solver.linear import SparseLU, gp_refactor
+
+    data, indices, indptr, A = _saddle_csc(60, 17, 4)
+    n = A.shape[0]
+    b = np.linspace(-1.0, 2.0, n)
+    lin = SparseLU()
+    lin.factor_csc(data, indices, indptr, n)
+    data2 = data * (1.0 + 0.01 * np.sin(np.arange(data.size)))  # same pivots, new values
+    # the refactorisation is accepted (0) for these values
+    assert gp_refactor(n, indptr, indices, data2, lin._q, lin.diag_pivot_thresh, lin._Lp,
+                       lin._Lio, lin._Lx, lin._Up, lin._Ux, lin._pinv, lin._prow, lin._Rp,
+                       lin._Ri, lin._x) == 0
+    fresh = SparseLU()
+    fresh.factor_csc(data2, indices, indptr, n)
+    for a, f in zip(lin._f, fresh._f, strict=True):
+        assert np.array_equal(a, f)
+    # shrink the first pivot: the kept pivot order is refused, a new one is searched
+    rows = indices[indptr[0]:indptr[1]]
+    d = data2.copy()
+    d[indptr[0] + int(np.flatnonzero(rows == lin._prow[0])[0])] *= 1e-6
+    lin.factor_csc(d, indices, indptr, n)
+    A3 = sps.csc_matrix((d, indices, indptr), shape=(n, n)).toarray()
+    x = lin.solve(b)
+    assert np.max(np.abs(A3 @ x - b) / (np.abs(A3) @ np.abs(x) + np.abs(b))) < 1e-13
+    assert lin._prow[0] != fresh._prow[0]

@@ -56,36 +56,251 @@ def sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
         x[i] = z[perm_c[i]]
 
 
+@njit(cache=True)
+def _reach(j, Lp, Li, pinv, top, xi, pstack, mark, stamp):
+    """Depth-first search from row ``j`` through the columns of L computed so far (row
+    ``i`` is column ``pinv[i]`` of L once it is pivotal); the rows reached are pushed onto
+    ``xi[top:]`` in topological order; returns the new ``top`` (CSparse ``cs_dfs``)."""
+    head = 0
+    xi[0] = j
+    while head >= 0:
+        j = xi[head]
+        jnew = pinv[j]
+        if mark[j] != stamp:
+            mark[j] = stamp
+            pstack[head] = 0 if jnew < 0 else Lp[jnew]
+        done = True
+        p2 = 0 if jnew < 0 else Lp[jnew + 1]
+        for p in range(pstack[head], p2):
+            i = Li[p]
+            if mark[i] == stamp:
+                continue
+            pstack[head] = p
+            head += 1
+            xi[head] = i
+            done = False
+            break
+        if done:
+            head -= 1
+            top -= 1
+            xi[top] = j
+    return top
+
+
+@njit(cache=True)
+def gp_factor(n, Ap, Ai, Ax, q, tol, Lp, Li, Lio, Lx, Up, Ui, Ux, pinv, prow, Rp, Ri, x, xi,
+              pstack, mark):
+    """Left-looking sparse LU with threshold partial pivoting (Gilbert and Peierls; the
+    algorithm of CSparse's ``cs_lu``): ``P A Q = L U`` for the CSC matrix ``(Ap, Ai, Ax)``
+    with the column order ``q`` (``Q[:, k] = e_q[k]``). Each column is a sparse triangular
+    solve on the columns of L computed so far; the pivot is the diagonal entry if it is at
+    least ``tol`` times the largest candidate, else the largest.
+
+    Output in the format :func:`sparse_lu_solve` takes: L unit lower triangular with its
+    diagonal first in each column, U with its diagonal last, rows in pivot order;
+    ``pinv[i]`` the pivot step of row ``i``. For :func:`gp_refactor`: ``Lio`` the rows of L
+    in the original order, ``prow[k]`` the pivot row of step ``k``, ``Rp, Ri`` each column's
+    reach in topological order. Work arrays ``x`` (n, zero on entry and exit), ``xi`` (2n),
+    ``pstack`` (n), ``mark`` (n). Returns ``(status, nnz(L), nnz(U))``: status 0, -1
+    (singular or non-finite), -2 (L, U or reach arrays too short: enlarge, call again)."""
+    lnz = 0
+    unz = 0
+    rnz = 0
+    Lp[0] = 0
+    Up[0] = 0
+    Rp[0] = 0
+    for i in range(n):
+        pinv[i] = -1
+        mark[i] = -1
+    for k in range(n):
+        col = q[k]
+        top = n
+        for p in range(Ap[col], Ap[col + 1]):
+            i = Ai[p]
+            if mark[i] != k:
+                top = _reach(i, Lp, Lio, pinv, top, xi, pstack, mark, k)
+        if (lnz + n - top + 1 > Li.shape[0] or unz + n - top + 1 > Ui.shape[0]
+                or rnz + n - top > Ri.shape[0]):
+            for px in range(top, n):
+                x[xi[px]] = 0.0
+            return -2, lnz, unz
+        for p in range(Ap[col], Ap[col + 1]):
+            x[Ai[p]] += Ax[p]
+        for px in range(top, n):  # x = L \ A[:, col] on the reach, in topological order
+            j = xi[px]
+            J = pinv[j]
+            if J < 0:
+                continue
+            xj = x[j]
+            for p in range(Lp[J] + 1, Lp[J + 1]):
+                x[Lio[p]] -= Lx[p] * xj
+        ipiv = -1
+        amax = -1.0
+        for px in range(top, n):
+            i = xi[px]
+            if pinv[i] < 0:
+                t = abs(x[i])
+                if t > amax:
+                    amax = t
+                    ipiv = i
+            else:
+                Ui[unz] = pinv[i]
+                Ux[unz] = x[i]
+                unz += 1
+        if ipiv < 0 or not (amax > 0.0) or not np.isfinite(amax):
+            for px in range(top, n):
+                x[xi[px]] = 0.0
+            return -1, lnz, unz
+        if pinv[col] < 0 and abs(x[col]) >= amax * tol:
+            ipiv = col  # the diagonal when it is large enough (keeps the fill of the order)
+        pivot = x[ipiv]
+        Ui[unz] = k
+        Ux[unz] = pivot
+        unz += 1
+        Up[k + 1] = unz
+        pinv[ipiv] = k
+        prow[k] = ipiv
+        Lio[lnz] = ipiv
+        Lx[lnz] = 1.0
+        lnz += 1
+        for px in range(top, n):
+            i = xi[px]
+            if pinv[i] < 0:
+                Lio[lnz] = i
+                Lx[lnz] = x[i] / pivot
+                lnz += 1
+            x[i] = 0.0
+            Ri[rnz] = i
+            rnz += 1
+        Lp[k + 1] = lnz
+        Rp[k + 1] = rnz
+    for p in range(lnz):
+        Li[p] = pinv[Lio[p]]
+    return 0, lnz, unz
+
+
+@njit(cache=True)
+def gp_refactor(n, Ap, Ai, Ax, q, tol, Lp, Lio, Lx, Up, Ux, pinv, prow, Rp, Ri, x):
+    """:func:`gp_factor` again for new values on the same pattern, with the pivots and the
+    reaches of the last full factorisation (no search, no pivot choice: KLU's refactor).
+    The same arithmetic in the same order, so the factors are those :func:`gp_factor` gives
+    when it picks the same pivots. Returns -1 (and leaves ``x`` zero) when a kept pivot is
+    below ``tol`` times its column's largest candidate, or not finite: factorise afresh."""
+    for k in range(n):
+        col = q[k]
+        for p in range(Ap[col], Ap[col + 1]):
+            x[Ai[p]] += Ax[p]
+        for r in range(Rp[k], Rp[k + 1]):
+            j = Ri[r]
+            J = pinv[j]
+            if J >= k:
+                continue
+            xj = x[j]
+            for p in range(Lp[J] + 1, Lp[J + 1]):
+                x[Lio[p]] -= Lx[p] * xj
+        u = Up[k]
+        amax = 0.0
+        for r in range(Rp[k], Rp[k + 1]):
+            i = Ri[r]
+            if pinv[i] < k:
+                Ux[u] = x[i]
+                u += 1
+            elif abs(x[i]) > amax:
+                amax = abs(x[i])
+        pivot = x[prow[k]]
+        if not (abs(pivot) >= tol * amax and abs(pivot) > 0.0 and np.isfinite(amax)):
+            for r in range(Rp[k], Rp[k + 1]):
+                x[Ri[r]] = 0.0
+            return -1
+        Ux[u] = pivot
+        lo = Lp[k] + 1
+        for r in range(Rp[k], Rp[k + 1]):
+            i = Ri[r]
+            if pinv[i] > k:
+                Lx[lo] = x[i] / pivot
+                lo += 1
+            x[i] = 0.0
+    return 0
+
+
 class SparseLU(LinearSolver):
-    """SuperLU factorisation (COLAMD column ordering from the fixed pattern) with the
-    triangular solves done by a compiled routine on the extracted factors.
+    """Sparse LU on the model's fixed pattern: the column order is COLAMD's, computed once
+    by SuperLU on the first matrix; every factorisation is then a compiled left-looking LU
+    with threshold partial pivoting (:func:`gp_factor`), or, while the last pivots stay
+    large enough, a refactorisation with them (:func:`gp_refactor`); the triangular solves
+    are compiled too (:func:`sparse_lu_solve`).
 
     The iteration matrix is a saddle-point matrix (zero multiplier block), so partial pivoting
-    is kept on (``diag_pivot_thresh``) rather than forcing diagonal pivots. The solves are
-    our own because ``SuperLU.solve`` costs about 16 ns per factor entry through scipy
-    (90 us for a 2200-unknown chain) against about 10 us here.
+    is kept on (``diag_pivot_thresh``: the diagonal is taken when it is at least this share
+    of the column's largest candidate) rather than forcing diagonal pivots. Not SuperLU for
+    every factorisation: its ordering and setup cost 1.45 ms for the 2200 unknowns of the
+    200-disk chain whose factors hold 5826 entries (benchmarks/README.md); and not its
+    solves, which cost about 16 ns per factor entry through scipy.
     """
 
     def __init__(self, permc_spec: str = "COLAMD", diag_pivot_thresh: float = 0.1) -> None:
         self.permc_spec = permc_spec
         self.diag_pivot_thresh = diag_pivot_thresh
         self._f: tuple | None = None
+        self._n = -1
 
     def factor(self, A: sp.csc_matrix) -> None:
+        A = sp.csc_matrix(A)
+        A.sum_duplicates()
+        self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
+
+    def _order(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
+               n: int) -> None:
+        """Column order and work arrays from SuperLU's factorisation of the first matrix."""
         try:
-            lu = spla.splu(A, permc_spec=self.permc_spec,
+            lu = spla.splu(sp.csc_matrix((data.copy(), indices, indptr), shape=(n, n)),
+                           permc_spec=self.permc_spec,
                            diag_pivot_thresh=self.diag_pivot_thresh)
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise np.linalg.LinAlgError(str(exc)) from None
-        L = lu.L.tocsc()
-        U = lu.U.tocsc()
-        L.sort_indices()
-        U.sort_indices()
-        n = A.shape[0]
-        self._f = (L.indptr.astype(np.int64), L.indices.astype(np.int64), L.data,
-                   U.indptr.astype(np.int64), U.indices.astype(np.int64), U.data,
-                   lu.perm_r.astype(np.int64), lu.perm_c.astype(np.int64))
+        q = np.empty(n, np.int64)
+        q[lu.perm_c] = np.arange(n)  # SuperLU's column i goes to position perm_c[i]
+        self._q = q
+        self._qinv = lu.perm_c.astype(np.int64)
+        cap_l, cap_u = 2 * lu.L.nnz + n, 2 * lu.U.nnz + n
+        self._Lp, self._Up = np.zeros(n + 1, np.int64), np.zeros(n + 1, np.int64)
+        self._Li, self._Lx = np.zeros(cap_l, np.int64), np.zeros(cap_l)
+        self._Lio = np.zeros(cap_l, np.int64)
+        self._Ui, self._Ux = np.zeros(cap_u, np.int64), np.zeros(cap_u)
+        self._Rp, self._Ri = np.zeros(n + 1, np.int64), np.zeros(cap_l + cap_u, np.int64)
+        self._pinv, self._prow = np.zeros(n, np.int64), np.zeros(n, np.int64)
+        self._x, self._xi = np.zeros(n), np.zeros(2 * n, np.int64)
+        self._pstack, self._mark = np.zeros(n, np.int64), np.zeros(n, np.int64)
         self._z = np.empty(n)
+        self._n = n
+
+    def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
+                   n: int) -> None:
+        if self._n != n:
+            self._order(data, indices, indptr, n)
+        # the pivots of the last factorisation while they stay large enough (-1: afresh)
+        if self._f is not None and gp_refactor(
+                n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
+                self._Lio, self._Lx, self._Up, self._Ux, self._pinv, self._prow, self._Rp,
+                self._Ri, self._x) == 0:
+            return
+        while True:
+            status, lnz, unz = gp_factor(
+                n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
+                self._Li, self._Lio, self._Lx, self._Up, self._Ui, self._Ux, self._pinv,
+                self._prow, self._Rp, self._Ri, self._x, self._xi, self._pstack, self._mark)
+            if status != -2:
+                break
+            cl, cu = 2 * self._Li.size, 2 * self._Ui.size
+            self._Li, self._Lio, self._Lx = (np.zeros(cl, np.int64), np.zeros(cl, np.int64),
+                                             np.zeros(cl))
+            self._Ui, self._Ux = np.zeros(cu, np.int64), np.zeros(cu)
+            self._Ri = np.zeros(cl + cu, np.int64)
+        if status != 0:
+            self._f = None
+            raise np.linalg.LinAlgError("singular matrix")
+        self._f = (self._Lp, self._Li[:lnz], self._Lx[:lnz], self._Up, self._Ui[:unz],
+                   self._Ux[:unz], self._pinv, self._qinv)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.empty_like(b)
@@ -135,19 +350,21 @@ class DenseLU(LinearSolver):
 #: faster with it than with SuperLU (benchmarks/README.md); LAPACK's getrf grows as n^3 and
 #: loses to the sparse LU of the long chains (hundreds to thousands of unknowns)
 DENSE_MAX = 150
-#: above DENSE_MAX, the dense LU still wins when SuperLU's factors fill more than this share
-#: of the dense matrix (a body that every joint hangs on couples all unknowns: the 387 of the
-#: 4WD vehicle fill 87 % with COLAMD, 3.7 ms per factorisation against 1.5 ms dense), up to
-#: DENSE_FILL_MAX unknowns; a banded chain of 330-396 unknowns fills a few % and SuperLU takes
-#: 0.5 ms against 1.2-1.9 ms dense (measured 2026-11-26)
+#: above DENSE_MAX, the dense LU still wins when the sparse LU's factors fill more than this
+#: share of the dense matrix (a body that every joint hangs on couples all unknowns: the 387
+#: of the 4WD vehicle fill 93 % with COLAMD's order, and the sparse LU's scalar loops lose to
+#: LAPACK by far), up to DENSE_FILL_MAX unknowns; a banded chain of 330-396 unknowns fills a
+#: few % and SuperLU took 0.5 ms against 1.2-1.9 ms dense (measured 2026-11-26); the
+#: 2200-unknown chain's factors fill 0.9 % and refactorise in 0.37 ms
 DENSE_FILL = 0.3
 DENSE_FILL_MAX = 1500
 
 
 class AutoLU(LinearSolver):
-    """SuperLU, switching for good to the dense LU after the first factorisation if its
-    factors fill more than :data:`DENSE_FILL` of the dense matrix (the choice depends on the
-    model's pattern and first matrix only, so it is the same in every run of a model)."""
+    """:class:`SparseLU`, switching for good to the dense LU after a factorisation whose
+    factors fill more than :data:`DENSE_FILL` of the dense matrix (the factors' pattern
+    depends on the model's pattern and the pivots only, so in practice the first
+    factorisation decides, the same in every run of a model)."""
 
     def __init__(self) -> None:
         self.sparse: SparseLU | None = SparseLU()
