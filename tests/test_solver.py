@@ -376,6 +376,7 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     assert gp_refactor(n, indptr, indices, data2, lin._q, lin.diag_pivot_thresh, lin._Lp,
                        lin._Lio, lin._Lx, lin._Up, lin._Ux, lin._pinv, lin._prow, lin._Rp,
                        lin._Ri, lin._x) == 0
+    lin._compact()
     fresh = SparseLU()
     fresh.factor_csc(data2, indices, indptr, n)
     for a, f in zip(lin._f, fresh._f, strict=True):

@@ -223,6 +223,32 @@ def gp_refactor(n, Ap, Ai, Ax, q, tol, Lp, Lio, Lx, Up, Ux, pinv, prow, Rp, Ri, 
     return 0
 
 
+@njit(cache=True)
+def compact_factors(Lp, Li, Lx, Up, Ui, Ux, cLp, cLi, cLx, cUp, cUi, cUx):
+    """Copy the factors without their exact zeros (entries of the fixed pattern that are zero
+    for these values: the solves skip them; the diagonals are never zero); returns
+    ``(nnz(L), nnz(U))`` of the copies."""
+    n = Lp.shape[0] - 1
+    lz = 0
+    uz = 0
+    cLp[0] = 0
+    cUp[0] = 0
+    for j in range(n):
+        for p in range(Lp[j], Lp[j + 1]):
+            if Lx[p] != 0.0:
+                cLi[lz] = Li[p]
+                cLx[lz] = Lx[p]
+                lz += 1
+        cLp[j + 1] = lz
+        for p in range(Up[j], Up[j + 1]):
+            if Ux[p] != 0.0 or p == Up[j + 1] - 1:
+                cUi[uz] = Ui[p]
+                cUx[uz] = Ux[p]
+                uz += 1
+        cUp[j + 1] = uz
+    return lz, uz
+
+
 class SparseLU(LinearSolver):
     """Sparse LU on the model's fixed pattern: the column order is COLAMD's, computed once
     by SuperLU on the first matrix; every factorisation is then a compiled left-looking LU
@@ -269,6 +295,9 @@ class SparseLU(LinearSolver):
         self._Ui, self._Ux = np.zeros(cap_u, np.int64), np.zeros(cap_u)
         self._Rp, self._Ri = np.zeros(n + 1, np.int64), np.zeros(cap_l + cap_u, np.int64)
         self._pinv, self._prow = np.zeros(n, np.int64), np.zeros(n, np.int64)
+        self._cLp, self._cUp = np.zeros(n + 1, np.int64), np.zeros(n + 1, np.int64)
+        self._cLi, self._cLx = np.zeros(0, np.int64), np.zeros(0)
+        self._cUi, self._cUx = np.zeros(0, np.int64), np.zeros(0)
         self._x, self._xi = np.zeros(n), np.zeros(2 * n, np.int64)
         self._pstack, self._mark = np.zeros(n, np.int64), np.zeros(n, np.int64)
         self._z = np.empty(n)
@@ -283,6 +312,7 @@ class SparseLU(LinearSolver):
                 n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
                 self._Lio, self._Lx, self._Up, self._Ux, self._pinv, self._prow, self._Rp,
                 self._Ri, self._x) == 0:
+            self._compact()
             return
         while True:
             status, lnz, unz = gp_factor(
@@ -299,8 +329,26 @@ class SparseLU(LinearSolver):
         if status != 0:
             self._f = None
             raise np.linalg.LinAlgError("singular matrix")
-        self._f = (self._Lp, self._Li[:lnz], self._Lx[:lnz], self._Up, self._Ui[:unz],
-                   self._Ux[:unz], self._pinv, self._qinv)
+        self._lnz, self._unz = lnz, unz
+        self._compact()
+
+    @property
+    def fill(self) -> int:
+        """Entries of the factors' pattern (L and U, zeros of these values included)."""
+        return self._lnz + self._unz
+
+    def _compact(self) -> None:
+        """``_f``: the factors without exact zeros, for the solves (a chain of 200 gears has
+        as many zeros as entries in its pattern's factors, and 5 solves per factorisation)."""
+        lnz, unz = self._lnz, self._unz
+        if self._cLi.size < lnz or self._cUi.size < unz:
+            self._cLi, self._cLx = np.zeros(lnz, np.int64), np.zeros(lnz)
+            self._cUi, self._cUx = np.zeros(unz, np.int64), np.zeros(unz)
+        lz, uz = compact_factors(self._Lp, self._Li[:lnz], self._Lx[:lnz], self._Up,
+                                 self._Ui[:unz], self._Ux[:unz], self._cLp, self._cLi,
+                                 self._cLx, self._cUp, self._cUi, self._cUx)
+        self._f = (self._cLp, self._cLi[:lz], self._cLx[:lz], self._cUp, self._cUi[:uz],
+                   self._cUx[:uz], self._pinv, self._qinv)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.empty_like(b)
@@ -384,7 +432,7 @@ class AutoLU(LinearSolver):
             self.dense.factor_csc(data, indices, indptr, n)
             return
         self.sparse.factor_csc(data, indices, indptr, n)
-        fill = self.sparse._f[1].size + self.sparse._f[4].size
+        fill = self.sparse.fill
         if n <= DENSE_FILL_MAX and fill > DENSE_FILL * n * n:
             self.dense = DenseLU()
             self.sparse = None
