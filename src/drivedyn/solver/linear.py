@@ -271,16 +271,16 @@ class SparseLU(LinearSolver):
         self._n = -1
 
     def factor(self, A: sp.csc_matrix) -> None:
-        A = sp.csc_matrix(A)
-        A.sum_duplicates()
+        A = sp.csc_matrix(A)  # duplicates are summed by the factorisation
         self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
 
     def _order(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
                n: int) -> None:
         """Column order and work arrays from SuperLU's factorisation of the first matrix."""
         try:
-            lu = spla.splu(sp.csc_matrix((data.copy(), indices, indptr), shape=(n, n)),
-                           permc_spec=self.permc_spec,
+            A = sp.csc_matrix((data.copy(), indices.copy(), indptr.copy()), shape=(n, n))
+            A.sum_duplicates()  # a copy: the caller's arrays stay as they are
+            lu = spla.splu(A, permc_spec=self.permc_spec,
                            diag_pivot_thresh=self.diag_pivot_thresh)
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise np.linalg.LinAlgError(str(exc)) from None

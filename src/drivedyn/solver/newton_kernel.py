@@ -246,10 +246,11 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     iterations, factorisations of this step)`` with the codes of this module; ``r`` holds the
     last residual.
 
-    With ``istate[I_EXTERNAL]`` set, a factorisation is left to the caller (SuperLU cannot be
-    called from compiled code): the function returns ``NEED_FACTOR`` with the matrix
-    assembled in ``data`` and its loop state saved; the caller factorises, sets
-    ``istate[I_DENSE]`` (factors in ``linear``'s dense workspace, or in ``sparse``) and
+    With ``istate[I_EXTERNAL]`` set, a factorisation is left to the caller (the sparse LU
+    takes its column order from SuperLU and grows its arrays in Python): the function
+    returns ``NEED_FACTOR`` with the matrix assembled in ``data`` and its loop state saved;
+    the caller factorises, sets ``istate[I_DENSE]`` (factors in ``linear``'s dense
+    workspace, or in ``sparse``) and
     calls again, and the iteration goes on from the factorisation.
     """
     nn, nd, w, t, h = sizes

@@ -85,7 +85,7 @@ class Stepper:
     """Advances a state by one step; keeps the factorisation between steps (modified Newton).
 
     A step runs as one compiled call (:mod:`~drivedyn.solver.newton_kernel`) with the dense
-    LU, SuperLU and AutoLU; the Python loop of :meth:`step` is the same algorithm, kept for
+    LU, the sparse LU and AutoLU; the Python loop of :meth:`step` is the same algorithm, kept for
     other linear solvers and ``DRIVEDYN_COMPILED_NEWTON=0``, and the reference the compiled
     one is tested against. A change to one goes into both.
 
@@ -328,7 +328,7 @@ class Stepper:
 
     def _compiled_allowed(self) -> bool:
         """The compiled step is used unless ``DRIVEDYN_COMPILED_NEWTON=0`` or the linear
-        solver is not one of the dense LU, SuperLU and AutoLU."""
+        solver is not one of the dense LU, the sparse LU and AutoLU."""
         return (os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") != "0"
                 and self._solvers() is not None)
 
@@ -363,7 +363,7 @@ class Stepper:
     def _compiled_step(self, sn: State) -> Any:
         """The compiled Newton iterations (:func:`~drivedyn.solver.newton_kernel.
         newton_iterations`) with the model's kernel table, or False: with the dense LU,
-        SuperLU (factorised here, between two calls) or AutoLU, and unless
+        the sparse LU (factorised here, between two calls) or AutoLU, and unless
         ``DRIVEDYN_COMPILED_NEWTON=0``."""
         if not self._compiled_allowed():
             return False
@@ -397,7 +397,7 @@ class Stepper:
     def _step_compiled(self, sn: State, h: float, w: float) -> StepOutcome | None:
         """:meth:`step` by the compiled Newton iterations (the trial state is ``sn``
         copied, at time ``sn.t + h``); None if the compiled step cannot be used (then it
-        is not tried again). A SuperLU factorisation is done here when the compiled
+        is not tried again). A sparse factorisation is done here when the compiled
         iteration asks for it, and the iteration resumes."""
         m = self.model
         sys = self.sys
