@@ -173,20 +173,37 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     _assert_identical(slow, fast)
 
 
-def test_the_step_is_precompiled_for_the_types_it_runs_with() -> None:
-    """The Stepper hands its compiled step's signature to the System's first-evaluation
-    precompile (parallel workers with the kernels): that signature must be the one the
-    steps then run with, or the workers would compile an overload nobody calls."""
+def test_the_step_is_precompiled_for_the_types_it_runs_with(monkeypatch) -> None:
+    """The Stepper hands its compiled step's and its error norm's signatures, the System its
+    kernels' and time functions', to the first-evaluation precompile (parallel workers):
+    each must be the signature the run then calls, or the workers would compile an overload
+    nobody calls and the run would compile its own after them."""
+    from drivedyn.solver import precompile
     from drivedyn.solver.linear import SparseLU
     from drivedyn.solver.stepper import Stepper
-    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.timefunctions import SmoothStep, eval_time_functions
     from drivedyn.validation.engine import slider_crank_model
 
+    handed = []
+
+    def capture(calls, workers=None):
+        handed.append(list(calls))
+        return {"missing": 0, "compiled_in_workers": 0, "wall_s": 0.0}
+
+    monkeypatch.setattr(precompile, "precompile_kernels", capture)
     model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
     for lin in (None, SparseLU()):
         stepper = Stepper(model, dd.GeneralizedAlpha(0.9), dd.Newton(), lin)
-        [(disp, sig)] = stepper.sys.precompile_also
-        assert disp is nk.newton_iterations
-        before = set(disp.overloads)
-        dd.simulate(model, 0.005, step=dd.FixedStep(1e-3), linear_solver=lin)
-        assert sig in disp.overloads and set(disp.overloads) == before | {sig}
+        assert [d for d, _ in stepper.sys.precompile_also] == [nk.newton_iterations,
+                                                               nk.error_norm]
+        handed.clear()
+        watched = (nk.newton_iterations, nk.error_norm, eval_time_functions)
+        before = {d: set(d.overloads) for d in watched}
+        # adaptive steps, so the error norm runs too
+        dd.simulate(model, 0.005, step=dd.AdaptiveStep(1e-3), linear_solver=lin)
+        (calls,) = handed
+        for d in watched:
+            sigs = {sig for disp, sig in calls if disp is d}
+            assert len(sigs) == 1, d.py_func.__name__
+            # the run compiled (or loaded) exactly the handed signature, no other
+            assert set(d.overloads) == before[d] | sigs, d.py_func.__name__

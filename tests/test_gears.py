@@ -660,3 +660,43 @@ def test_adaptive_step_stays_below_a_size_that_failed_newton(caplog):
                 assert h <= cap * (1 + 1e-9)
                 checked += 1
     assert failures >= 1 and checked >= 5
+
+
+@pytest.mark.parametrize("internal", [None, "a", "b"])
+def test_parallel_only_kernel_equals_the_general_kernel(internal):
+    """A group without bevel or crossed pairs runs ``parallel_gear_kernel`` (two copies of the
+    loop instead of three: a shorter first compilation); it must give what ``gear_kernel``
+    gives, bit for bit, in every evaluation mode and at a state with the flanks loaded."""
+    import dataclasses
+
+    from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+    from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
+    from drivedyn.model.compile import compile_model
+    from drivedyn.rotations import exp_so3
+    from drivedyn.solver.assembly import System
+    from tests.element_cases.gears import parallel_case
+
+    model = compile_model(parallel_case(internal))
+    sys = System(model)
+    (g,) = [g for g in model.groups if g.family == "gear_pair"]
+    assert g.kernel is parallel_gear_kernel
+    general = dataclasses.replace(g, kernel=gear_kernel, eout=g.eout.copy(), aux=g.aux.copy())
+    rng = np.random.default_rng(7)
+    st = model.initial_state()
+    st.x[: model.nn] += 1e-3 * rng.standard_normal((model.nn, 3))
+    for i in range(model.nn):
+        st.R[i] = st.R[i] @ exp_so3(0.02 * rng.standard_normal(3))
+    st.v[:] = rng.standard_normal(model.nd)
+    st.vd[:] = rng.standard_normal(model.nd)
+    st.t = 0.37
+    sys.time_functions(st.t)
+    for mode, want in ((MODE_DYN, True), (MODE_DYN, False), (MODE_ACC, True),
+                       (MODE_VEL, False)):
+        out = []
+        for grp in (g, general):
+            r, rabs, data = np.zeros_like(sys.r), np.zeros_like(sys.rabs), np.zeros_like(sys.data)
+            grp.evaluate(st, sys.tfv, st.t, sys.Tn, 1.3, 0.7, 1.0, mode, want, r, rabs, data)
+            out.append((r, rabs, data, grp.eout.copy(), grp.aux.copy()))
+        assert np.abs(out[0][0]).max() > 0.0
+        for a, b in zip(out[0], out[1]):
+            np.testing.assert_array_equal(a, b)

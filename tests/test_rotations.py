@@ -20,6 +20,7 @@ from drivedyn.rotations import (
     rotation_from_euler_zxz,
     skew,
     tangent,
+    tangent_into,
     tangent_inv,
     unskew,
 )
@@ -277,6 +278,25 @@ def test_tangent_matches_finite_differences(angle: float) -> None:
 @given(vectors.filter(lambda v: np.linalg.norm(v) < 9.0))
 def test_tangent_matches_finite_differences_random(phi: np.ndarray) -> None:
     assert_allclose(tangent(phi), tangent_fd(phi), atol=2e-9, rtol=0)
+
+
+@SETTINGS
+@given(vectors.filter(lambda v: np.linalg.norm(v) < 9.0))
+def test_tangent_into_equals_tangent(phi: np.ndarray) -> None:
+    """The solver's allocation-free form (expanded S^2) against the matrix form."""
+    Tn = np.full((2, 3, 3), np.nan)
+    tangent_into(phi[0], phi[1], phi[2], Tn, 1)
+    assert_allclose(Tn[1], tangent(phi), atol=1e-15, rtol=0)
+    assert np.isnan(Tn[0]).all()
+
+
+@pytest.mark.parametrize("angle", [0.0, 1e-9, *SPECIAL_ANGLES, PI, 5.0])
+def test_tangent_into_special_angles(angle: float) -> None:
+    for axis in AXES[:6]:
+        phi = rotvec(axis, angle)
+        Tn = np.empty((1, 3, 3))
+        tangent_into(phi[0], phi[1], phi[2], Tn, 0)
+        assert_allclose(Tn[0], tangent(phi), atol=1e-15, rtol=0)
 
 
 def test_tangent_is_right_jacobian_second_order() -> None:

@@ -38,6 +38,23 @@ _SECOND_COPY = "    callee_ir_original = copy_ir(callee_ir)\n"
 
 _state = {"applied": None}
 
+#: untyped IR of inlined functions, by (function, untyped pipeline): see :func:`apply`
+_untyped_ir: dict = {}
+
+
+def _inline_function(self, caller_ir, block, i, function, arg_typs=None):
+    """``InlineWorker.inline_function`` with the callee's untyped IR computed once per
+    function (numba runs the callee's whole untyped pipeline, nested inlining included, at
+    every call site). Safe because :meth:`inline_ir` copies the IR before it changes it
+    ("Always copy the callee IR, it gets mutated") and returns that unchanged input."""
+    key = (function, self._compiler_pipeline)
+    callee_ir = _untyped_ir.get(key)
+    if callee_ir is None:
+        callee_ir = self.run_untyped_passes(function)
+        _untyped_ir[key] = callee_ir
+    return self.inline_ir(caller_ir, block, i, callee_ir, function.__code__.co_freevars,
+                          arg_typs=arg_typs)
+
 
 def apply() -> bool:
     """Install the fixed ``InlineWorker.inline_ir`` (once); True if it is installed."""
@@ -60,6 +77,7 @@ def apply() -> bool:
             fixed.__doc__ = icc.InlineWorker.inline_ir.__doc__
             fixed.__drivedyn_fixed__ = True
             icc.InlineWorker.inline_ir = fixed
+            icc.InlineWorker.inline_function = _inline_function
             ok = True
     except (ImportError, OSError, TypeError, SyntaxError):  # pragma: no cover - other numba
         ok = False

@@ -125,6 +125,28 @@ def tangent(phi: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
+def tangent_into(p0: float, p1: float, p2: float, Tn: np.ndarray, i: int) -> None:
+    """:func:`tangent` of ``phi = (p0, p1, p2)`` [rad] written into ``Tn[i]`` (``Tn``:
+    (n, 3, 3)), without temporaries: ``T = I - b S + c S^2`` with ``S^2 = phi phi^T - t^2 I``.
+
+    Equal to :func:`tangent` up to round-off. The solver calls it for every node at every
+    matrix evaluation; :func:`tangent` allocates three arrays and calls BLAS for ``S @ S``
+    (and its compilation costs seconds, the slice assignment of its result more).
+    """
+    t2 = p0 * p0 + p1 * p1 + p2 * p2
+    _, b, c = _coeffs(np.sqrt(t2))
+    Tn[i, 0, 0] = 1.0 + c * (p0 * p0 - t2)
+    Tn[i, 1, 1] = 1.0 + c * (p1 * p1 - t2)
+    Tn[i, 2, 2] = 1.0 + c * (p2 * p2 - t2)
+    Tn[i, 0, 1] = b * p2 + c * p0 * p1
+    Tn[i, 1, 0] = -b * p2 + c * p0 * p1
+    Tn[i, 0, 2] = -b * p1 + c * p0 * p2
+    Tn[i, 2, 0] = b * p1 + c * p0 * p2
+    Tn[i, 1, 2] = b * p0 + c * p1 * p2
+    Tn[i, 2, 1] = -b * p0 + c * p1 * p2
+
+
+@njit(cache=True)
 def tangent_inv(phi: np.ndarray) -> np.ndarray:
     """Inverse of :func:`tangent` (3, 3), valid for |phi| < 2 pi."""
     t = np.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2)

@@ -136,9 +136,14 @@ def _constraints(P, C, W, full):
                     val = th - c0[e] - tfv[f, 3]
                     phit = -tfv[f, 0]
                     phitt = -tfv[f, 1]
-                g[:] = gth
+                # element loops, not ``g[:] = gth``: an array-to-array slice assignment
+                # compiles numba's shape-mismatch error message (2.5 s of first compilation)
+                for a in range(12):
+                    g[a] = gth[a]
                 if full:
-                    H[:, :] = Hth
+                    for a in range(12):
+                        for b in range(12):
+                            H[a, b] = Hth[a, b]
             k = kk[e, i]
             p = pp[e, i]
             sig = k * sc.multiplier(C, e, 12, i) + p * val

@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def cross(a, b, out):
     """out = a x b for 3-vectors."""
     out[0] = a[1] * b[2] - a[2] * b[1]
@@ -50,14 +50,14 @@ def set_skew(v, S):
     S[2, 2] = 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def mv(R, u, out):
     """out = R u."""
     for i in range(3):
         out[i] = R[i, 0] * u[0] + R[i, 1] * u[1] + R[i, 2] * u[2]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def mtv(R, w, out):
     """out = R^T w."""
     for i in range(3):
@@ -342,7 +342,7 @@ def _hess_angle(s, c, r2, g, gs, gc, Hs, Hc, H):
             )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def unwrap(raw, ref):
     """Angle equal to ``raw`` modulo 2 pi and closest to ``ref`` (accumulates revolutions)."""
     return raw + 2.0 * np.pi * np.round((ref - raw) / (2.0 * np.pi))

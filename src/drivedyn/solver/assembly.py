@@ -10,7 +10,7 @@ from numba import njit
 
 from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
-from drivedyn.rotations import tangent
+from drivedyn.rotations import tangent_into
 from drivedyn.timefunctions import eval_time_functions
 
 if TYPE_CHECKING:
@@ -60,14 +60,14 @@ def lie_update(x0, R0, hdq, nn, x, R, Tn, with_tangent):
             for b in range(3):
                 R[i, a, b] = r0 * E[0, b] + r1 * E[1, b] + r2 * E[2, b]
         if with_tangent:
-            Tn[i] = tangent(hdq[d + 3 : d + 6])
+            tangent_into(p0, p1, p2, Tn, i)
 
 
 @njit(cache=True)
 def tangents(hdq, nn, Tn):
     """Tangent operators T(hdq_theta) (3, 3) of all nodes into ``Tn``."""
     for i in range(nn):
-        Tn[i] = tangent(hdq[6 * i + 3 : 6 * i + 6])
+        tangent_into(hdq[6 * i + 3], hdq[6 * i + 4], hdq[6 * i + 5], Tn, i)
 
 
 class System:
@@ -113,6 +113,8 @@ class System:
         self.rabs[:] = 0.0
         if want:
             self.data[:] = 0.0
+        if not self._precompiled:  # before any compiled call, the time functions' included
+            self._precompile(st, cM, cC, cK, mode, want)
         self.time_functions(st.t)
         mode, want = int(mode), bool(want)
         calls = self._calls.get((mode, want))
@@ -125,8 +127,6 @@ class System:
             for entry, pre, post in calls:
                 entry(*pre, *mid, *post)
         else:
-            if not self._precompiled:
-                self._precompile(st, cM, cC, cK, mode, want)
             for g in self.model.groups:
                 g.evaluate(st, self.tfv, st.t, self.Tn, cM, cC, cK, mode, want,
                            self.r, self.rabs, self.data)
@@ -175,6 +175,13 @@ class System:
                 calls.append((k, self._signature(k, pre, mid, post)))
             except (AttributeError, TypeError, ValueError):
                 continue
+        tf = self.model.tf
+        try:
+            calls.append((eval_time_functions, tuple(
+                eval_time_functions.typeof_pyval(a)
+                for a in (float(st.t), tf.kind, tf.par, tf.fstart, tf.tab, self.tfv))))
+        except (AttributeError, TypeError, ValueError):  # compiled on first use
+            pass
         precompile_kernels(calls + self.precompile_also)
 
     def _bind(self, st: State, cM: float, cC: float, cK: float, mode: int,

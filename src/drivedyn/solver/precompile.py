@@ -31,10 +31,11 @@ from typing import Any
 
 log = logging.getLogger("drivedyn")
 
-#: measured first-compilation times [s] (2-core reference machine), used only to start the
-#: longest compilations first; other kernels count 5 s
-COMPILE_SECONDS = {"gear_kernel": 31.0, "constraint_kernel": 19.0,
-                   "journal_contact_kernel": 11.0, "washer_contact_kernel": 8.0}
+#: measured first-compilation times [s] (2-core reference machine, one process), used only to
+#: start the longest compilations first; other kernels count 3 s
+COMPILE_SECONDS = {"gear_kernel": 20.0, "parallel_gear_kernel": 11.0, "constraint_kernel": 11.0,
+                   "journal_contact_kernel": 8.0, "newton_iterations": 7.0,
+                   "washer_contact_kernel": 6.0}
 
 
 _FORK = sys.platform.startswith("linux") and "fork" in mp.get_all_start_methods()
@@ -111,7 +112,7 @@ def precompile_kernels(calls: list[tuple[Any, tuple]], workers: int | None = Non
     # held), and only from a single-threaded process (a lock held by another thread at the
     # fork would stay held in the worker)
     if len(todo) >= 2 and workers >= 2 and _FORK and threading.active_count() == 1:
-        order = sorted(todo, key=lambda k: -COMPILE_SECONDS.get(k[1], 5.0))
+        order = sorted(todo, key=lambda k: -COMPILE_SECONDS.get(k[1], 3.0))
         log.info("first compilation of %d kernels in %d processes", len(todo),
                  min(workers, len(todo)))
         try:
@@ -120,8 +121,10 @@ def precompile_kernels(calls: list[tuple[Any, tuple]], workers: int | None = Non
                 futures = {pool.submit(_compile_one, *k): k for k in order}
                 for fut in cf.as_completed(futures):
                     try:
-                        fut.result()
+                        seconds = fut.result()
                         done += 1
+                        log.debug("precompile: %s compiled in %.1f s (at %.1f s)",
+                                  futures[fut][1], seconds, time.perf_counter() - t0)
                     except Exception as exc:  # this one compiles on first call instead
                         log.debug("precompile: %s failed in a worker (%s)", futures[fut][1],
                                   exc)

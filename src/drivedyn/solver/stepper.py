@@ -132,6 +132,13 @@ class Stepper:
                            i0, f0)
         if self._compiled_allowed():
             self._precompile_with_kernels()
+        # the error estimate's compiled norm goes to the same workers (any loop uses it)
+        try:
+            q = np.zeros(model.nd)
+            sig = tuple(error_norm.typeof_pyval(a) for a in (q, q, self.hdq, 1.0, 1.0, 1.0))
+            self.sys.precompile_also.append((error_norm, sig))
+        except (AttributeError, TypeError, ValueError):  # compiled on first use
+            pass
 
     @property
     def lu_h(self) -> float | None:

@@ -6,7 +6,14 @@ import numpy as np
 
 from drivedyn.elements.base import Family, Group, register
 from drivedyn.elements.building import make_group, node_dofs, two_markers, what_of
-from drivedyn.elements.gears.kernel import COL_PHI_A, COL_PHI_B, GEAR_AUX, NAUX_PUBLIC, gear_kernel
+from drivedyn.elements.gears.kernel import (
+    COL_PHI_A,
+    COL_PHI_B,
+    GEAR_AUX,
+    NAUX_PUBLIC,
+    gear_kernel,
+    parallel_gear_kernel,
+)
 from drivedyn.elements.gears.kinematics import KIND_PARALLEL, NS
 from drivedyn.elements.gears.mesh import BUILDERS
 from drivedyn.elements.gears.spec import GearPair
@@ -104,11 +111,13 @@ class GearPairFamily(Family):
                          "radius_a": float(md.radius_a), "radius_b": float(md.radius_b),
                          "base_radius_a": float(md.base_radius_a), "coef_a": float(md.cof[0]),
                          "coef_b": float(md.cof[1]), "normal_backlash": float(bn[e])})
+        idx_skew = np.flatnonzero(kind != KIND_PARALLEL).astype(np.int64)
         params = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf,
-                  Mf, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64),
-                  np.flatnonzero(kind != KIND_PARALLEL).astype(np.int64))
+                  Mf, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64), idx_skew)
+        # without bevel or crossed pairs, the kernel without their code (compiles faster)
+        kernel = gear_kernel if idx_skew.size else parallel_gear_kernel
         return make_group(
-            self.name, specs, gear_kernel, params, lnodes, node_dofs(ctx, lnodes), GEAR_AUX,
+            self.name, specs, kernel, params, lnodes, node_dofs(ctx, lnodes), GEAR_AUX,
             eoff=eoff, nstate=2, commit=_commit_angles, extra={"mesh": info},
             naux=NAUX_PUBLIC + 2, dissipative=True,
         )

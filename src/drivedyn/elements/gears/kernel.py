@@ -302,6 +302,18 @@ def _gears(P, C, W, full, skew, idx):
         aux[e, 18] = s[1]
 
 
+@njit(cache=True, inline="always")
+def _work():
+    """The gear loop's work arrays (allocated once per kernel call)."""
+    return (local_arrays(12, 0), np.zeros(NP), np.zeros((NP, 12)), np.zeros((NP, 12, 12)),
+            np.zeros((12, 12)), np.zeros((NS, NP)), np.zeros((NS, NP, NP)), np.zeros(NS),
+            np.zeros(NS), np.zeros(NP), np.zeros(12), np.zeros(NS), np.zeros((NS, NS)),
+            np.zeros((NS, NS)), np.zeros(NP), np.zeros((NP, NP)), np.zeros((NP, NP)),
+            np.zeros((NS, NP)), np.zeros((NP, 12)), np.zeros(NS), np.zeros(NS), np.zeros(NS),
+            np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros((16, 3)),
+            sc.workspace())
+
+
 @njit(cache=True)
 def gear_kernel(
     kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
@@ -334,16 +346,34 @@ def gear_kernel(
     P = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
          rabs, data, eout, aux)
-    W = (local_arrays(12, 0), np.zeros(NP), np.zeros((NP, 12)), np.zeros((NP, 12, 12)),
-         np.zeros((12, 12)), np.zeros((NS, NP)), np.zeros((NS, NP, NP)), np.zeros(NS),
-         np.zeros(NS), np.zeros(NP), np.zeros(12), np.zeros(NS), np.zeros((NS, NS)),
-         np.zeros((NS, NS)), np.zeros(NP), np.zeros((NP, NP)), np.zeros((NP, NP)),
-         np.zeros((NS, NP)), np.zeros((NP, 12)), np.zeros(NS), np.zeros(NS), np.zeros(NS),
-         np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros((16, 3)),
-         sc.workspace())
+    W = _work()
     if sc.full_pass(want, mode):
         _gears(P, C, W, True, True, np.arange(kind.shape[0]))
     else:
         _gears(P, C, W, False, False, idx_par)
         if idx_skew.shape[0] > 0:
             _gears(P, C, W, False, True, idx_skew)
+
+
+@njit(cache=True)
+def parallel_gear_kernel(
+    kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
+    idx_par, idx_skew, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    """:func:`gear_kernel` for a group of parallel-axis pairs only (``idx_skew`` empty).
+
+    Same arguments and results; the loop runs in its parallel-only copies, with and without
+    the matrices. A model without bevel or crossed pairs (both TORSEN models) so compiles two
+    copies of the loop instead of three, each without the bevel/crossed code (first
+    compilation: see :mod:`drivedyn.solver.precompile`), and its matrix pass runs the faster
+    parallel-only copy too.
+    """
+    P = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf)
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
+         rabs, data, eout, aux)
+    W = _work()
+    if sc.full_pass(want, mode):
+        _gears(P, C, W, True, False, idx_par)
+    else:
+        _gears(P, C, W, False, False, idx_par)

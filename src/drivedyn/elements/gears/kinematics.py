@@ -23,7 +23,7 @@ NS = 5  # mesh coordinates: phi_A, phi_B, delta_a, delta_r, delta_t
 NP = 7  # kinematic primitives at most
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _cross_into(a, b, g, i0):
     """g[i0:i0+3] = a x b."""
     g[i0] = a[1] * b[2] - a[2] * b[1]

@@ -119,7 +119,7 @@ def mesh_cycle_levels(k_single: float, eps_alpha: float) -> tuple[float, float, 
     return k_single * (0.75 * n + 0.25), k_single * (0.75 * (n + 1.0) + 0.25), f
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _smoothstep(y, w):
     """Quintic ramp from 0 (y <= -w/2) to 1 (y >= w/2): value, d/dy, d2/dy2."""
     t = y / w + 0.5
