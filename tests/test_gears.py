@@ -669,12 +669,13 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     gives, bit for bit, in every evaluation mode and at a state with the flanks loaded."""
     import dataclasses
 
+    from tests.element_cases.gears import parallel_case
+
     from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
     from drivedyn.model.compile import compile_model
     from drivedyn.rotations import exp_so3
     from drivedyn.solver.assembly import System
-    from tests.element_cases.gears import parallel_case
 
     model = compile_model(parallel_case(internal))
     sys = System(model)
@@ -698,5 +699,5 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
             grp.evaluate(st, sys.tfv, st.t, sys.Tn, 1.3, 0.7, 1.0, mode, want, r, rabs, data)
             out.append((r, rabs, data, grp.eout.copy(), grp.aux.copy()))
         assert np.abs(out[0][0]).max() > 0.0
-        for a, b in zip(out[0], out[1]):
+        for a, b in zip(out[0], out[1], strict=True):
             np.testing.assert_array_equal(a, b)
