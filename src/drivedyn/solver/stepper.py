@@ -383,6 +383,7 @@ class Stepper:
             return False
         self._G = G
         self._args_of = None
+        self._entries: dict[tuple, Any] = {}
         return nk.newton_iterations
 
     def _linear_arrays(self) -> tuple[tuple, tuple]:
@@ -401,6 +402,27 @@ class Stepper:
         self._istate[I_DENSE] = 1 if dense is not None else 0
         return (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), sp_args
 
+    def _call_compiled(self, args: tuple) -> tuple[int, int, int]:
+        """One call of the compiled step. The first call with given argument types goes
+        through the numba dispatcher; later ones straight to the overload it chose: the
+        dispatcher types every argument at every call (the kernel table, a custom type, in
+        Python: about 10 us per step, 15 % of the Python around a step). The types can only
+        change with the state objects (:meth:`_step_compiled` then clears the entries) or the
+        linear solver's arrays (the key below)."""
+        lin = self._linear_arrays()
+        key = (int(self._istate[I_DENSE]), lin[1] is self._no_sparse)
+        entry = self._entries.get(key)
+        if entry is not None:
+            return entry(*args, *lin, self._par, self._istate, self._fstate)
+        full = (*args, *lin, self._par, self._istate, self._fstate)
+        out = self._compiled(*full)
+        try:
+            sig = tuple(self._compiled.typeof_pyval(a) for a in full)
+            self._entries[key] = self._compiled.overloads[sig].entry_point
+        except (AttributeError, KeyError, TypeError, ValueError):  # keep the dispatcher
+            self._entries[key] = self._compiled
+        return out
+
     def _step_compiled(self, sn: State, h: float, w: float) -> StepOutcome | None:
         """:meth:`step` by the compiled Newton iterations (the trial state is ``sn``
         copied, at time ``sn.t + h``); None if the compiled step cannot be used (then it
@@ -413,11 +435,11 @@ class Stepper:
         if sn is not self._args_of:  # the argument tuples of these states (built once)
             self._args_of = sn
             self._args = self._state_args(sn)
+            self._entries = {}
         args = (self._G, (m.nn, m.nd, w, st.t, h), *self._args)
         self._istate[I_PHASE] = 0
         try:
-            code, it, nfac = self._compiled(*args, *self._linear_arrays(), self._par,
-                                            self._istate, self._fstate)
+            code, it, nfac = self._call_compiled(args)
         except Exception as exc:  # not compilable for these argument types: Python loop
             log.warning("compiled Newton step unavailable, using the Python loop (%s)", exc)
             self._compiled = False
@@ -433,8 +455,7 @@ class Stepper:
                 self._forget()
                 sys.nevals += int(self._istate[I_NEVAL]) - n0
                 return StepOutcome(StepStatus.SINGULAR, it, nfac, message=str(exc))
-            code, it, nfac = self._compiled(*args, *self._linear_arrays(), self._par,
-                                            self._istate, self._fstate)
+            code, it, nfac = self._call_compiled(args)
         sys.nevals += int(self._istate[I_NEVAL]) - n0
         if code == nk.SUCCESS:
             return StepOutcome(StepStatus.SUCCESS, it, nfac)
