@@ -15,6 +15,19 @@ blocks share it, as they share it in the original), and the unmutated input is r
 instead of a second copy. The method is rebuilt from numba's own source, and only if both
 passages are found exactly as expected; otherwise numba is left as it is (slower first
 compilation, same results). The compiled machine code is the same either way.
+
+It also replaces ``InlineWorker.inline_function``, which runs the callee's whole untyped
+pipeline (bytecode to IR, and its own nested inlining) at every call site, by the same
+method with that IR computed once per function (:func:`_inline_function`): 7 % of the Type C
+bench's first compilation (82 s -> 76 s of CPU, measured).
+
+Inlining at numba's IR level is what costs first compilation: every inlined call site is
+typed and lowered again. Helpers of a few statements that LLVM inlines anyway (``mv``,
+``cross``, ``unwrap``...) are therefore plain ``njit`` functions: LLVM inlines them in the
+final module (checked in the optimised IR), stepping costs the same, and the Type C bench's
+first compilation fell from 76 s to 58 s of CPU. Helpers LLVM would not inline (the
+projections, the scatter, the contact laws) or whose literal ``full`` argument matters stay
+``inline="always"``: left to LLVM they cost 12-15 % of the stepping (measured).
 """
 
 from __future__ import annotations
