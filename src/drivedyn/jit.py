@@ -25,8 +25,8 @@ Inlining at numba's IR level is what costs first compilation: every inlined call
 typed and lowered again. Helpers of a few statements that LLVM inlines anyway (``mv``,
 ``cross``, ``unwrap``...) are therefore plain ``njit`` functions: LLVM inlines them in the
 final module (checked in the optimised IR; only the gear's ``_smoothstep`` stays a call),
-stepping costs the same, and the Type C bench's
-first compilation fell from 76 s to 58 s of CPU. Helpers LLVM would not inline (the
+stepping costs the same, and the Type C bench's first compilation fell from 76 s to 58 s of
+CPU. Helpers LLVM would not inline (the
 projections, the scatter, the contact laws) or whose literal ``full`` argument matters stay
 ``inline="always"``: left to LLVM they cost 12-15 % of the stepping (measured).
 """
