@@ -46,3 +46,29 @@ def test_inlined_helpers_compute_what_numpy_computes() -> None:
     v = np.array([-3.0, 0.2, 0.7, 1.5, -0.1, 0.45])
     ref = np.linalg.norm(np.clip(v, -1.0, 1.0)) + 2.0 * np.linalg.norm(np.clip(v, 0.0, 0.5))
     assert _caller(v) == pytest.approx(ref, rel=1e-15)
+
+
+def test_callee_ir_is_built_once_per_function(monkeypatch) -> None:
+    """The inliner builds an inlined helper's untyped IR once, not at every call site (the
+    memo of ``drivedyn.jit``): a fresh caller with three call sites of a fresh helper runs the
+    helper's untyped pipeline once, and computes what Python computes."""
+    jit.apply()
+    built = []
+    run = InlineWorker.run_untyped_passes
+
+    def counting(self, func, enable_ssa=False):
+        built.append(func.__name__)
+        return run(self, func, enable_ssa)
+
+    monkeypatch.setattr(InlineWorker, "run_untyped_passes", counting)
+
+    @njit(inline="always")
+    def _twice_clipped(x):
+        return 2.0 * min(max(x, -1.0), 1.0)
+
+    @njit
+    def three_sites(a, b, c):
+        return _twice_clipped(a) + 10.0 * _twice_clipped(b) + 100.0 * _twice_clipped(c)
+
+    assert three_sites(0.25, -3.0, 7.0) == 0.5 - 20.0 + 200.0
+    assert built.count("_twice_clipped") == 1

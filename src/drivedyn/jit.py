@@ -26,9 +26,9 @@ typed and lowered again. Helpers of a few statements that LLVM inlines anyway (`
 ``cross``, ``unwrap``...) are therefore plain ``njit`` functions: LLVM inlines them in the
 final module (checked in the optimised IR; only the gear's ``_smoothstep`` stays a call),
 stepping costs the same, and the Type C bench's first compilation fell from 76 s to 58 s of
-CPU. Helpers LLVM would not inline (the
-projections, the scatter, the contact laws) or whose literal ``full`` argument matters stay
-``inline="always"``: left to LLVM they cost 12-15 % of the stepping (measured).
+CPU. Helpers LLVM would not inline (the projections, the scatter, the contact laws) or whose
+literal ``full`` argument matters stay ``inline="always"``: left to LLVM they cost 12-15 % of
+the stepping (measured).
 """
 
 from __future__ import annotations

@@ -113,7 +113,7 @@ class System:
         self.rabs[:] = 0.0
         if want:
             self.data[:] = 0.0
-        if not self._precompiled:  # before any compiled call, the time functions' included
+        if not self._precompiled:  # first evaluation: compile what it calls, in parallel
             self._precompile(st, cM, cC, cK, mode, want)
         self.time_functions(st.t)
         mode, want = int(mode), bool(want)

@@ -132,7 +132,7 @@ class Stepper:
                            i0, f0)
         if self._compiled_allowed():
             self._precompile_with_kernels()
-        # the error estimate's compiled norm goes to the same workers (any loop uses it)
+        # the error estimate's compiled norm (adaptive steps) goes to the same workers
         try:
             q = np.zeros(model.nd)
             sig = tuple(error_norm.typeof_pyval(a) for a in (q, q, self.hdq, 1.0, 1.0, 1.0))
