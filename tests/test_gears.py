@@ -226,14 +226,16 @@ def test_backlash_impact():
     assert np.abs(res["energy.balance_error"].values).max() < 1e-5 * scale
 
 
-def test_energy_conserved_without_damping_and_friction():
+@pytest.mark.parametrize("onset", [0.0, 2e-6])
+def test_energy_conserved_without_damping_and_friction(onset):
     """Two free helical wheels with backlash, transmission error and stiffness varying over
     the mesh cycle, spinning with different speeds (repeated impacts and rolling): with
     rho_inf = 1 the energy balance closes to the integrator's accuracy; nothing is
-    dissipated."""
+    dissipated. With a flank onset of 2 um (impacts pass through it) the potential k W(u)
+    and its stiffness-variation terms must keep the balance as well."""
     spec, _geo = two_gears(za=19, zb=31, beta=15 * DEG, stiffness=5e7, backlash=5e-5,
                           initial_gap=2e-5, transmission_error=3e-6, stiffness_variation=True,
-                          variation_smoothing=0.2)
+                          variation_smoothing=0.2, flank_onset=onset)
     for name, w in (("A", 30.0), ("B", -10.0)):
         body = spec.bodies[name]
         spec.bodies[name] = type(body)(**{**body.__dict__,
@@ -701,3 +703,32 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
         assert np.abs(out[0][0]).max() > 0.0
         for a, b in zip(out[0], out[1], strict=True):
             np.testing.assert_array_equal(a, b)
+
+
+@pytest.mark.parametrize("d", [0.0, 2e-8, 1e-6])
+def test_flank_onset_law_is_a_c1_potential(d):
+    """``_onset(u, d)``: f = W' and s = f' (central differences), continuous at u = d, the
+    sharp law k u past the onset shifted by d/2, and exactly the sharp law for d = 0."""
+    from drivedyn.elements.gears.kernel import _onset
+
+    scale = d if d > 0 else 1e-6
+    for u in np.array([0.1, 0.5, 0.9, 1.5, 7.0]) * scale:
+        h = 1e-6 * scale
+        Wp, fp, _ = _onset(u + h, d)
+        Wm, fm, _ = _onset(u - h, d)
+        _W, f, s = _onset(u, d)
+        assert f == pytest.approx((Wp - Wm) / (2 * h), rel=1e-7)
+        assert s == pytest.approx((fp - fm) / (2 * h), rel=1e-7)
+        if u > d:
+            assert f == pytest.approx(u - d / 2, rel=1e-14) and s == 1.0
+    if d > 0:
+        below, above = _onset(d * (1 - 1e-12), d), _onset(d * (1 + 1e-12), d)
+        np.testing.assert_allclose(below, above, rtol=1e-9)
+        assert _onset(0.5 * d, d)[2] == 0.5  # the stiffness rises linearly over the onset
+    else:
+        assert _onset(3e-6, 0.0) == (0.5 * 3e-6 * 3e-6, 3e-6, 1.0)
+
+
+def test_flank_onset_is_refused_negative():
+    with pytest.raises(ModelError, match="flank_onset"):
+        dd.compile_model(two_gears(flank_onset=-1e-9)[0])

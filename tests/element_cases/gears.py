@@ -73,7 +73,8 @@ def parallel_case(internal: str | None = None, ground_a: bool = False,
                       helix_angle=beta if internal is None else -beta, internal=internal,
                       stiffness=2.0e6, stiffness_variation=True, variation_smoothing=0.5,
                       mesh_phase=0.15, damping=300.0, backlash=2e-3, initial_gap=5e-4,
-                      transmission_error=3e-4, friction=0.2, friction_velocity=0.5))
+                      transmission_error=3e-4, friction=0.2, friction_velocity=0.5,
+                      flank_onset=1e-6))
     return spec
 
 

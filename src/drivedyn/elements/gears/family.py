@@ -65,6 +65,7 @@ class GearPairFamily(Family):
         fric = np.zeros((nel, 2))
         Wf = np.zeros((nel, 2, NS))
         Mf = np.zeros((nel, 3, 3))
+        onset = np.zeros(nel)
         eoff = np.zeros(nel, np.int64)
         info = []
         for e, s in enumerate(specs):
@@ -106,6 +107,7 @@ class GearPairFamily(Family):
             x0[e] = -s.initial_gap * md.n_perp
             terr[e] = s.transmission_error
             fric[e] = (s.friction, s.friction_velocity)
+            onset[e] = s.flank_onset
             info.append({"stiffness": float(km), "damping": float(cdamp[e]),
                          "contact_ratio": float(eps), "sliding_arm": float(md.s_eff),
                          "radius_a": float(md.radius_a), "radius_b": float(md.radius_b),
@@ -113,7 +115,7 @@ class GearPairFamily(Family):
                          "coef_b": float(md.cof[1]), "normal_backlash": float(bn[e])})
         idx_skew = np.flatnonzero(kind != KIND_PARALLEL).astype(np.int64)
         params = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf,
-                  Mf, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64), idx_skew)
+                  Mf, onset, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64), idx_skew)
         # without bevel or crossed pairs, the kernel without their code (compiles faster)
         kernel = gear_kernel if idx_skew.size else parallel_gear_kernel
         return make_group(

@@ -65,6 +65,10 @@ class GearPair(TwoMarkerSpec):
         initial_gap: gap on the drive flank at t = 0 [m], same measure, 0 <= gap <= backlash.
         transmission_error: amplitude X [m] of the loaded transmission error
             X (1 - cos(z_A psi_A)) along the tooth normal (psi_A: rotation of A in the mesh).
+        flank_onset: approach d [m] over which a flank's stiffness rises from 0 to k_m (a C1
+            onset, force k u^2/(2d), then k (u - d/2)); 0: the sharp law k u. A numerical
+            regularisation for flanks that close and open at zero torque (set it far below
+            the loaded deflection, e.g. 20 nm).
         friction: tooth friction coefficient mu (0: none).
         friction_velocity: regularisation speed eps_v [m/s] of the friction law.
         youngs_modulus: equivalent Young's modulus 2 E1 E2 / (E1 + E2) [Pa] for ISO 6336.
@@ -99,6 +103,7 @@ class GearPair(TwoMarkerSpec):
     backlash: float = 0.0
     initial_gap: float = 0.0
     transmission_error: float = 0.0
+    flank_onset: float = 0.0
     friction: float = 0.0
     friction_velocity: float = 1e-3
     youngs_modulus: float = 206e9
@@ -110,8 +115,8 @@ class GearPair(TwoMarkerSpec):
         "module": "m", "face_width": "m", "pressure_angle": "rad", "helix_angle": "rad",
         "helix_angle_b": "rad", "cone_angle_a": "rad", "cone_angle_b": "rad",
         "stiffness": "N/m", "damping": "N s/m", "backlash": "m", "initial_gap": "m",
-        "transmission_error": "m", "friction_velocity": "m/s", "youngs_modulus": "Pa",
-        "max_misalignment": "rad",
+        "transmission_error": "m", "flank_onset": "m", "friction_velocity": "m/s",
+        "youngs_modulus": "Pa", "max_misalignment": "rad",
     }
 
     def visuals(self) -> tuple:
@@ -155,8 +160,8 @@ class GearPair(TwoMarkerSpec):
         for label in ("module", "face_width", "friction_velocity", "youngs_modulus",
                       "rim_factor", "tolerance", "addendum", "dedendum"):
             check_number(what, label, getattr(self, label), 0.0, strict=True)
-        for label in ("backlash", "initial_gap", "transmission_error", "friction",
-                      "max_misalignment"):
+        for label in ("backlash", "initial_gap", "transmission_error", "flank_onset",
+                      "friction", "max_misalignment"):
             check_number(what, label, getattr(self, label), 0.0)
         for label in ("pressure_angle", "helix_angle", "profile_shift_a", "profile_shift_b",
                       "variation_smoothing", "mesh_phase"):

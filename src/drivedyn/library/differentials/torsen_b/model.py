@@ -250,7 +250,8 @@ def build_spec(p: TorsenBFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     mesh_kw = dict(module=g.module, pressure_angle=g.pressure_angle,
                    damping_ratio=g.damping_ratio, stiffness=g.stiffness,
                    youngs_modulus=g.youngs_modulus, stiffness_variation=g.stiffness_variation,
-                   backlash=g.backlash, friction=g.tooth_friction * friction_scale)
+                   backlash=g.backlash, flank_onset=g.flank_onset,
+                   friction=g.tooth_friction * friction_scale)
     beta_l = g.helix_angle
     ratio = g.teeth_side / g.teeth_element
     w_rel = (wl - wh) * ratio  # spin of b relative to the housing (a: the opposite)

@@ -246,7 +246,8 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     gear_kw = dict(module=g.module, face_width=b, pressure_angle=g.pressure_angle,
                    damping_ratio=g.damping_ratio, stiffness=g.stiffness,
                    youngs_modulus=g.youngs_modulus, stiffness_variation=g.stiffness_variation,
-                   backlash=g.backlash, friction=g.tooth_friction * friction_scale)
+                   backlash=g.backlash, flank_onset=g.flank_onset,
+                   friction=g.tooth_friction * friction_scale)
     wp = wh - (ws - wh) * g.teeth_sun / g.teeth_planet  # Willis, planet spin
     for k in range(n):
         th = 2 * math.pi * k / n

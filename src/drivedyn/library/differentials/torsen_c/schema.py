@@ -55,6 +55,8 @@ class Gears(Strict):
     backlash: NonNegLength = 0.0
     tooth_friction: Coefficient = 0.0
     youngs_modulus: Modulus = 206e9
+    # C1 onset of the flank stiffness (GearPair.flank_onset): a numerical regularisation
+    flank_onset: NonNegLength = 0.0
 
 
 class Spline(Strict):
