@@ -70,7 +70,11 @@ positively about the axis as it advances along it); external parallel pairs need
 hands, internal pairs the same. ``torque_a``/``torque_b`` are the mesh torques on the wheels
 about their own axes (friction included).
 
-Numerics: contact status changes the iteration matrix, so a flank within ``TANGENT_BAND``
+Numerics: ``flank_onset = d`` (default 0) makes a flank's elastic force rise smoothly over
+its first ``d`` of approach (``k u^2 / (2 d)``, then ``k (u - d/2)``, from a potential), so
+that a flank closing within a step does not make Newton diverge (zero-torque holds of the
+TORSEN vehicle configuration: 134 failures in 0.3 s without it, none with 20 nm).
+Contact status changes the iteration matrix, so a flank within ``TANGENT_BAND``
 (1 pm) of contact while neither flank is loaded lends its stiffness to the matrix (not to
 the residual): a zero-backlash mesh that is unloaded when the matrix is factorised (at
 t = 0, say) would otherwise enter it with no stiffness. The band is kept at round-off size:
