@@ -21,7 +21,7 @@ differential's analytic model at the same speeds and housing torque.
 Cost: the shipped profile (12 loaded levels and 3 zero-torque holds) is timed in the README
 and in ``benchmarks/README.md``. At exactly zero torque the gears float in their clearances
 (the planets' centrifugal force opens the sun meshes by nanometres) and rattle: the steps
-are about 1.3-1.5 times shorter than in a loaded hold and a zero-torque hold costs about 3
+are about 1.2-1.5 times shorter than in a loaded hold and a zero-torque hold costs about 3
 times the wall time of a loaded one per simulated second (2.2-2.9 s against 0.8-0.9 s on two
 cores). It cost 10-15 minutes per simulated second before issue 16 (the gear element lent its
 mesh stiffness to the iteration matrix for gaps up to 10 nm, where Newton then converged only
