@@ -25,6 +25,9 @@ def _run_both(monkeypatch, run):
         return compiled(*args)
 
     monkeypatch.setattr(nk, "newton_iterations", counting)
+    # one Stepper.step per attempt (the compiled loop, tests/test_step_loop.py, inlines the
+    # compiled step)
+    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
     monkeypatch.setenv("DRIVEDYN_COMPILED_NEWTON", "0")
     slow = run()
     assert not calls

@@ -261,12 +261,14 @@ def test_newton_accepts_a_step_only_when_the_residual_criterion_holds():
     assert not res.success
 
 
-def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre():
+def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch):
     """A slider-crank started from rest at a dead centre: the residual of the stiff
     constraint forces stalls at the round-off of the positions (|A| eps |x|). Each accepted
     step's residual, evaluated afresh, is within the tolerance beyond that level, computed
     here independently from the dense iteration matrix (the floor of each equation's scale
-    is 1e-4 of the largest force sum carried so far)."""
+    is 1e-4 of the largest force sum carried so far). Run by the Python loop, one
+    Stepper.step per step (the compiled loop takes the same steps: test_step_loop.py)."""
+    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
     from drivedyn.elements.base import MODE_DYN
     from drivedyn.solver.stepper import FLOOR_REL, ROUNDOFF_ULPS, Stepper
     from drivedyn.timefunctions import SmoothStep

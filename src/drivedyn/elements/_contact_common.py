@@ -225,14 +225,9 @@ def axial_motion(ctx: Any, nA: int, pA: np.ndarray, abar: np.ndarray, nB: int,
     return float(d @ a), float((vb - va) @ a + d @ np.cross(wa, a))
 
 
-def make_commit(c0: int, n: int):
-    """A ``commit(group, state)`` copying ``aux[:, c0:c0+n]`` into each element's state."""
-    cols = np.arange(n)
-
-    def commit(group: Group, state: Any) -> None:
-        state.es[group.eoff[:, None] + cols] = group.aux[:, c0:c0 + n]
-
-    return commit
+def commit_range(c0: int, n: int) -> tuple[int, ...]:
+    """``Group.commit_cols`` copying ``aux[:, c0:c0+n]`` into each element's state."""
+    return tuple(range(c0, c0 + n))
 
 
 GAP_RATE = ("gap_rate", "m/s", "rate of the gap")
@@ -262,5 +257,5 @@ def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tu
         family, specs, kernel, (*geom, law_table([s.law for s in specs]),
                                       friction_table([s.friction for s in specs]), na), lnodes,
         node_dofs(ctx, lnodes), outputs + STATE_OUTPUTS, eoff=eoff, nstate=NSTATE,
-        commit=make_commit(na, NSTATE), naux=na + NSTATE, aux_cols=cols, dissipative=True,
+        commit_cols=commit_range(na, NSTATE), naux=na + NSTATE, aux_cols=cols, dissipative=True,
     )

@@ -58,6 +58,8 @@ _fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
 MODE_DYN = 0
 MODE_ACC = 1
 MODE_VEL = 2
+# ``Group.commit_cols`` entry for the time of the accepted state
+COMMIT_TIME = -1
 
 
 @njit(cache=True, inline="always")
@@ -175,7 +177,13 @@ class Group:
         aux_units: their units.
         aux_desc: their descriptions.
         kmap: (nel, nloc*nloc) CSC data index of each local matrix entry (set by compile).
-        commit: optional ``commit(group, state)`` updating internal state after an accepted step.
+        commit_cols: per internal state slot ``j`` of an element, the aux column copied into
+            ``es[eoff + j]`` after an accepted step (:data:`COMMIT_TIME`: the step's end
+            time); a family with such a commit declares it here, and the compiled stepping
+            loop (:mod:`drivedyn.solver.step_loop`) does it without Python.
+        commit: optional ``commit(group, state)`` updating internal state after an accepted
+            step; :func:`commit_columns` when ``commit_cols`` is given. A family whose commit
+            is not a copy of columns sets its own (the stepping loop then runs in Python).
         extra: family-specific data (for outputs, sensors and commit).
     """
 
@@ -192,6 +200,7 @@ class Group:
     aux_units: tuple[str, ...] = ()
     aux_desc: tuple[str, ...] = ()
     kmap: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), np.int64))
+    commit_cols: tuple[int, ...] = ()
     commit: Callable[..., None] | None = None
     extra: dict = field(default_factory=dict)
     eout: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
@@ -199,6 +208,10 @@ class Group:
     naux: int = 0  # columns the kernel writes into aux (0: len(aux_names))
     aux_cols: tuple[int, ...] = ()  # aux column of each exported output (empty: in order)
     dissipative: bool = False
+
+    def __post_init__(self) -> None:
+        if self.commit_cols and self.commit is None:
+            self.commit = commit_columns
 
     def outputs(self) -> list[tuple[int, str, str, str]]:
         """Exported per-element outputs: (aux column, name, unit, description)."""
@@ -229,6 +242,30 @@ class Group:
             st.x, st.R, st.v, st.vd, st.lam, st.es, tfv, t, Tn,
             cM, cC, cK, mode, want, r, rabs, data, self.eout, self.aux,
         )
+
+
+def commit_columns(group: Group, state) -> None:
+    """The commit of ``group.commit_cols``: ``es[eoff[e] + j] = aux[e, commit_cols[j]]``
+    (the state's time for :data:`COMMIT_TIME`)."""
+    for j, c in enumerate(group.commit_cols):
+        state.es[group.eoff + j] = state.t if c == COMMIT_TIME else group.aux[:, c]
+
+
+def allocate_outputs(groups: Sequence[Group]) -> tuple[np.ndarray, np.ndarray]:
+    """Allocate every group's ``eout`` and ``aux`` as views of two model-wide arrays, returned
+    as ``(eout_all (sum nel, 4), aux_all (sum nel naux,))``, group after group: the compiled
+    stepping loop reads the outputs of all groups from them."""
+    for g in groups:
+        g.allocate()
+    eout_all = np.zeros((sum(g.nel for g in groups), 4))
+    aux_all = np.zeros(sum(g.aux.size for g in groups))
+    e0 = a0 = 0
+    for g in groups:
+        g.eout = eout_all[e0:e0 + g.nel]
+        g.aux = aux_all[a0:a0 + g.aux.size].reshape(g.aux.shape)
+        e0 += g.nel
+        a0 += g.aux.size
+    return eout_all, aux_all
 
 
 class ElementSpec:

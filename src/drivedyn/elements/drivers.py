@@ -179,11 +179,6 @@ def speed_difference_kernel(
             r, rabs, data, eout, aux), W)
 
 
-def _commit_two_angles(group: Group, state) -> None:
-    state.es[group.eoff] = group.aux[:, 1]
-    state.es[group.eoff + 1] = group.aux[:, 2]
-
-
 @dataclass(frozen=True)
 class SpeedDifferenceDriver(ElementSpec):
     """Prescribed speed difference ``omega_1 - omega_2 = f(t)`` [rad/s] of two joints.
@@ -242,7 +237,8 @@ class SpeedDifferenceDriverFamily(Family):
              ("angle_1", "rad", "accumulated angle of joint 1"),
              ("angle_2", "rad", "accumulated angle of joint 2"),
              ("power", "W", "power supplied by the driver")),
-            nmult=1, eoff=eoff, nstate=2, commit=_commit_two_angles,
+            nmult=1, eoff=eoff, nstate=2,
+            commit_cols=(1, 2),  # the two joints' accumulated angles
         )
 
 

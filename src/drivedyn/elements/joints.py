@@ -216,12 +216,6 @@ def relative_angle(RA, RB, RmA, RmB) -> float:
     return float(np.arctan2(b1 @ a2, b1 @ a1))
 
 
-def commit_angles(group: Group, state) -> None:
-    """Store the accumulated joint angles after an accepted step."""
-    if group.nstate:
-        state.es[group.eoff] = group.aux[:, 6]
-
-
 @dataclass(frozen=True)
 class Joint(TwoMarkerSpec):
     """Base of all joints: between ``marker_a`` and ``marker_b``.
@@ -415,7 +409,7 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
         family, specs, constraint_kernel,
         (rt, ai, bj, nrow, angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
         lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=1,
-        commit=commit_angles if angle.any() else None, naux=9,
+        commit_cols=(6,) if angle.any() else (), naux=9,  # the accumulated angle
         extra={"kinds": [getattr(s, "kind", family) for s in specs]},
     )
 

@@ -79,10 +79,6 @@ def scalar_spring_kernel(
             r, rabs, data, eout, aux), W)
 
 
-def _commit_angle(group: Group, state) -> None:
-    state.es[group.eoff] = group.aux[:, 1]
-
-
 @dataclass(frozen=True)
 class SpringDamper(TwoMarkerSpec):
     """Linear spring-damper between the origins of two markers.
@@ -188,7 +184,8 @@ class SpringFamily(Family):
             self.name, specs, scalar_spring_kernel, params, lnodes, node_dofs(ctx, lnodes),
             (*outputs, ("dissipated_power", "W", "power dissipated by the damper")),
             eoff=eoff, nstate=1 if self.angular else 0,
-            commit=_commit_angle if self.angular else None, dissipative=True,
+            commit_cols=(1,) if self.angular else (),  # accumulated angle
+            dissipative=True,
         )
 
 

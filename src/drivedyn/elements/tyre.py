@@ -39,13 +39,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.base import (
+    COMMIT_TIME,
+    ElementSpec,
+    Family,
+    Group,
+    local_arrays,
+    register,
+)
 from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.checks import check_number
 from drivedyn.errors import ModelError
@@ -407,15 +414,6 @@ OUTPUTS = (
 assert len(OUTPUTS) == NAUX
 
 
-def _commit(group: Group, state: Any) -> None:
-    """Keep the transient slips of the accepted step and its time."""
-    es = state.es
-    for e, off in enumerate(group.eoff):
-        es[off] = group.aux[e, 6]
-        es[off + 1] = group.aux[e, 7]
-        es[off + 2] = state.t
-
-
 class TyreFamily(Family):
     name = "tyre"
     spec_types = (TyreContact,)
@@ -447,7 +445,8 @@ class TyreFamily(Family):
             eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0])  # models start at t = 0
         return make_group(
             self.name, specs, tyre_kernel, (params, opts, patches, npatch, pm, Rm), lnodes,
-            node_dofs(ctx, lnodes), OUTPUTS, eoff=eoff, nstate=NSTATE, commit=_commit,
+            node_dofs(ctx, lnodes), OUTPUTS, eoff=eoff, nstate=NSTATE,
+            commit_cols=(6, 7, COMMIT_TIME),  # the transient slips and their time
             dissipative=True,
         )
 

@@ -57,7 +57,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements._contact_common import axial_motion, make_commit
+from drivedyn.elements._contact_common import axial_motion, commit_range
 from drivedyn.elements.base import (
     MODE_ACC,
     MODE_DYN,
@@ -393,7 +393,7 @@ class UnilateralContactFamily(Family):
              ("stick", "1", "1 while sticking"),
              ("active", "1", "1 while in contact"),
              ("dissipated_power", "W", "friction power (slip)")),
-            nmult=3, eoff=eoff, nstate=NSTATE_AL, commit=make_commit(NAUX_AL, NSTATE_AL),
+            nmult=3, eoff=eoff, nstate=NSTATE_AL, commit_cols=commit_range(NAUX_AL, NSTATE_AL),
             naux=NAUX_AL + NSTATE_AL, dissipative=True,
         )
         g.extra["coupled_multipliers"] = True

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements.base import REGISTRY, family_of
+from drivedyn.elements.base import REGISTRY, allocate_outputs, family_of
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model, NodeInfo, State
 from drivedyn.model.spec import GROUND, ModelError, Spec
@@ -201,8 +201,7 @@ def compile_model(spec: Spec) -> Model:
 
     nm = ctx.nm
     neq = nd + nm
-    for g in groups:
-        g.allocate()
+    eout_all, aux_all = allocate_outputs(groups)
 
     # CSC pattern from all element-local pairs (plus the full diagonal)
     pairs = [_local_pairs(g, neq) for g in groups]
@@ -232,7 +231,7 @@ def compile_model(spec: Spec) -> Model:
         nn=nn, nd=nd, nm=nm, neq=neq, nstate=len(ctx.es0), indptr=indptr, indices=indices,
         eq_labels=labels, tf=ctx.tf_pool.pack(), gravity=spec.settings.gravity.copy(),
         state0=state0, marker_frames=marker_frames, k_default=k_default,
-        meta={"kscale": kscale, "tf_pool": ctx.tf_pool},
+        meta={"kscale": kscale, "tf_pool": ctx.tf_pool}, eout_all=eout_all, aux_all=aux_all,
     )
 
 

@@ -97,6 +97,8 @@ class Model:
         state0: initial state (positions from the spec, velocities as given).
         marker_frames: marker name -> (node index, offset (3,), rotation (3, 3)).
         k_default: default scaling factors (translation rows, rotation rows).
+        eout_all, aux_all: every group's ``eout`` and ``aux``, group after group, of which
+            the groups' arrays are views (:func:`~drivedyn.elements.base.allocate_outputs`).
     """
 
     spec: Any
@@ -118,6 +120,8 @@ class Model:
     marker_frames: dict[str, tuple[int, np.ndarray, np.ndarray]]
     k_default: tuple[float, float] = (1.0, 1.0)
     meta: dict = field(default_factory=dict)
+    eout_all: np.ndarray | None = None
+    aux_all: np.ndarray | None = None
 
     @property
     def nnz(self) -> int:

@@ -12,22 +12,43 @@ from numba import njit
 
 from drivedyn.model.model import Model, State
 
+# fields of EnergyAccount.acc
+E_WORK_IN, E_WORK_LOADS, E_WORK_DRIVERS, E_KINETIC, E_POTENTIAL = range(5)
+
 
 @njit(cache=True)
-def _trapezoid(eout, pin_prev, pd_prev, diss, h):
-    """Trapezoidal work increment of one group over a step; updates the per-element
-    dissipated energies and stored powers; returns (work in, kinetic, potential)."""
-    dw = 0.0
+def advance_energy(eout, gstart, gdriver, pin, pd, diss, acc, h):
+    """Trapezoidal integration of the powers over an accepted step of size ``h`` [s].
+
+    ``eout`` (nel, 4): every element's kinetic and potential energy [J], input and
+    dissipated power [W] at the new state, group ``g`` in rows ``gstart[g]:gstart[g+1]``
+    (``gdriver[g]``: its work counts as drivers', else as loads'); ``pin``, ``pd`` (nel,):
+    the powers at the previous state, updated; ``diss`` (nel,): energies dissipated so far
+    [J], updated; ``acc``: work in, of loads, of drivers [J] (updated), kinetic and potential
+    energy [J] (set)."""
     ek = 0.0
     ep = 0.0
-    for e in range(eout.shape[0]):
-        dw += 0.5 * h * (pin_prev[e] + eout[e, 2])
-        diss[e] += 0.5 * h * (pd_prev[e] + eout[e, 3])
-        pin_prev[e] = eout[e, 2]
-        pd_prev[e] = eout[e, 3]
-        ek += eout[e, 0]
-        ep += eout[e, 1]
-    return dw, ek, ep
+    for gi in range(gstart.shape[0] - 1):
+        dw = 0.0
+        k = 0.0
+        p = 0.0
+        for e in range(gstart[gi], gstart[gi + 1]):
+            dw += 0.5 * h * (pin[e] + eout[e, 2])
+            diss[e] += 0.5 * h * (pd[e] + eout[e, 3])
+            pin[e] = eout[e, 2]
+            pd[e] = eout[e, 3]
+            k += eout[e, 0]
+            p += eout[e, 1]
+        acc[E_WORK_IN] += dw
+        # constraint elements (drivers, rheonomic joints) vs applied loads
+        if gdriver[gi]:
+            acc[E_WORK_DRIVERS] += dw
+        else:
+            acc[E_WORK_LOADS] += dw
+        ek += k
+        ep += p
+    acc[E_KINETIC] = ek
+    acc[E_POTENTIAL] = ep
 
 
 def _fields(m: Model, g, ei: int, en: str, A: np.ndarray) -> dict[str, tuple]:
@@ -57,46 +78,59 @@ class EnergyAccount:
     Attributes:
         e0: kinetic + potential energy at the start [J].
         work_in: work supplied by loads and drivers [J].
-        dissipated: (per group) arrays of energy dissipated by each element [J].
+        dissipated: (per group) arrays of energy dissipated by each element [J]: views of
+            ``diss``, all elements group after group.
+        acc: work in, of loads, of drivers, kinetic and potential energy [J] (``E_*``);
+            ``work_in``, ``work_loads``... read it. The compiled stepping loop
+            (:mod:`drivedyn.solver.step_loop`) advances ``acc``, ``pin``, ``pd`` and ``diss``
+            with :func:`advance_energy` as :meth:`advance` does.
     """
 
     def __init__(self, model: Model) -> None:
         self.model = model
+        groups = model.groups
         self.e0 = 0.0
-        self.work_in = 0.0
-        self.work_loads = 0.0
-        self.work_drivers = 0.0
-        self.dissipated = [np.zeros(g.nel) for g in model.groups]
-        self._pin = [np.zeros(g.nel) for g in model.groups]
-        self._pd = [np.zeros(g.nel) for g in model.groups]
-        self.kinetic = 0.0
-        self.potential = 0.0
+        self.gstart = np.concatenate([[0], np.cumsum([g.nel for g in groups])]).astype(np.int64)
+        self.gdriver = np.array([g.nmult > 0 for g in groups], dtype=np.bool_)
+        # per element, all groups in one array (per group: views)
+        n = int(self.gstart[-1])
+        self.pin, self.pd, self.diss = np.zeros(n), np.zeros(n), np.zeros(n)
+        self.dissipated = [self.diss[a:b] for a, b in zip(self.gstart[:-1], self.gstart[1:],
+                                                          strict=True)]
+        self.acc = np.zeros(5)
+        if model.eout_all is not None:
+            self.eout = model.eout_all
+        else:  # a model compiled without model-wide output arrays
+            self.eout = np.zeros((n, 4))
+
+    work_in = property(lambda self: float(self.acc[E_WORK_IN]),
+                       doc="work supplied by loads and drivers [J]")
+    work_loads = property(lambda self: float(self.acc[E_WORK_LOADS]), doc="work of loads [J]")
+    work_drivers = property(lambda self: float(self.acc[E_WORK_DRIVERS]),
+                            doc="work of drivers and rheonomic joints [J]")
+    kinetic = property(lambda self: float(self.acc[E_KINETIC]), doc="kinetic energy [J]")
+    potential = property(lambda self: float(self.acc[E_POTENTIAL]), doc="potential energy [J]")
+
+    def _gather(self) -> None:
+        if self.model.eout_all is None:
+            self.eout[:] = np.concatenate([g.eout for g in self.model.groups])
 
     def start(self) -> None:
         """Take the energies and powers at the start from the groups' ``eout`` arrays (after
         an evaluation at the initial state)."""
-        self.kinetic = float(sum(g.eout[:, 0].sum() for g in self.model.groups))
-        self.potential = float(sum(g.eout[:, 1].sum() for g in self.model.groups))
+        self._gather()
+        self.acc[E_KINETIC] = float(sum(g.eout[:, 0].sum() for g in self.model.groups))
+        self.acc[E_POTENTIAL] = float(sum(g.eout[:, 1].sum() for g in self.model.groups))
         self.e0 = self.kinetic + self.potential
-        for i, g in enumerate(self.model.groups):
-            self._pin[i] = g.eout[:, 2].copy()
-            self._pd[i] = g.eout[:, 3].copy()
+        self.pin[:] = self.eout[:, 2]
+        self.pd[:] = self.eout[:, 3]
 
     def advance(self, h: float) -> None:
         """Integrate the powers over an accepted step of size ``h`` [s] (after evaluation at
         the new state, so the groups' ``eout`` hold the new powers)."""
-        ek = ep = 0.0
-        for i, g in enumerate(self.model.groups):
-            dw, k, p = _trapezoid(g.eout, self._pin[i], self._pd[i], self.dissipated[i], h)
-            self.work_in += dw
-            # constraint elements (drivers, rheonomic joints) vs applied loads
-            if g.nmult:
-                self.work_drivers += dw
-            else:
-                self.work_loads += dw
-            ek += k
-            ep += p
-        self.kinetic, self.potential = ek, ep
+        self._gather()
+        advance_energy(self.eout, self.gstart, self.gdriver, self.pin, self.pd, self.diss,
+                       self.acc, h)
 
     @property
     def total_dissipated(self) -> float:

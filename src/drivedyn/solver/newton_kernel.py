@@ -225,7 +225,9 @@ def _factorised(istate, fstate, h):
     istate[I_NFAC] += 1
 
 
-@njit(cache=True)
+# inline: the compiled stepping loop (step_loop.run_steps) inlines it, instead of linking a
+# separately compiled copy and optimising it again with the loop (seconds of compilation)
+@njit(cache=True, inline="always")
 def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, istate,
                       fstate):
     """Newton iterations of the step from the accepted state ``(x0, R0, v0, vd0, a0)`` to

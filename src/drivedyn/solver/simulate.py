@@ -28,15 +28,20 @@ from drivedyn.solver.settings import (
     StepOutcome,
     StepStatus,
 )
+from drivedyn.solver.step_control import (
+    CS_IOUT,
+    LIMIT_AFTER_FAILURE,  # noqa: F401 (re-exported: tests, settings docs)
+    LIMIT_RELAX,  # noqa: F401
+    accept_step,
+    control_arrays,
+    next_step,
+    reject_step,
+    step_error,
+)
+from drivedyn.solver.step_loop import RUN_END, RUN_FAILED, RUN_OUTPUT, StepLoop
 from drivedyn.solver.stepper import FLOOR_REL, Stepper, residual_norms
 
 log = logging.getLogger("drivedyn")
-
-# After a Newton failure at h the adaptive step stays below LIMIT_AFTER_FAILURE h, a cap that
-# grows by LIMIT_RELAX per accepted step: the error estimate alone would double h back to the
-# size that just failed (contact or flank changes) and fail again.
-LIMIT_AFTER_FAILURE = 0.5
-LIMIT_RELAX = 1.05
 
 
 class InitializationError(RuntimeError):
@@ -195,107 +200,24 @@ def simulate(
         rec.record(st)
         iout = 1
     stats = RunStats()
-    adaptive = isinstance(step, AdaptiveStep)
-    if adaptive:
-        h = step.h0
-        h_min, h_max = step.h_min, step.h_max
-    else:
-        h = step.h
-        h_min = step.h_min if step.h_min is not None else step.h / 1024
-        h_max = step.h
-    success, message = True, ""
-    rejections = 0
-    eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
-    substep_until = -np.inf
-    h_limit = np.inf  # adaptive: step cap after a Newton failure, relaxed as steps succeed
+    ctl, cs = control_arrays(step, stepper.beta, t_end)
+    cs[CS_IOUT] = iout
     debug = log.isEnabledFor(logging.DEBUG)
+    loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug)
     try:
-        while st.t < t_end - eps_t:
-            t_next = touts[iout] if iout < touts.size else t_end
-            h_try = min(h, h_max)
-            if not adaptive and st.t >= substep_until:
-                h_try = h_max
-            # land on output times; stretch a step by up to 25 % to reach one, unless the
-            # previous attempt was just rejected (stretching it again would loop)
-            stretch = rejections == 0 and st.t + h_try >= t_next - 0.25 * h_try
-            if st.t + h_try > t_next or stretch:
-                h_try = t_next - st.t
-            if h_try <= eps_t:
-                iout += 1
-                continue
-            out: StepOutcome = stepper.step(st, h_try)
-            stats.newton_iterations += out.iterations
-            err = 0.0
-            if out.ok and adaptive:
-                err, ierr = stepper.error_estimate(st, h_try, step.rtol, step.atol)
-                if err > 1.0:
-                    out.status = StepStatus.ERROR_TOO_LARGE
-                    out.worst_eq = ierr
-                    out.residual = err
-            if out.ok:
-                trial = stepper.trial
-                for g in model.groups:
-                    if g.commit is not None:
-                        g.commit(g, trial)
-                energy.advance(h_try)
-                stepper.accepted(st)
-                st.assign(trial)
-                stats.steps += 1
-                stats.h_min_used = min(stats.h_min_used, h_try)
-                stats.h_max_used = max(stats.h_max_used, h_try)
-                rejections = 0
-                if iout < touts.size and abs(st.t - touts[iout]) <= 1e-9 * h_try + eps_t:
-                    st.t = float(touts[iout])
-                    rec.record(st, h_try)
-                    iout += 1
-                if adaptive:
-                    fac = 0.9 * err ** (-1.0 / 3.0) if err > 0 else 2.0
-                    fac = min(2.0, max(0.2, fac))
-                    if out.iterations > 6:
-                        fac = min(fac, 1.0)
-                    # hysteresis: a new step size costs a factorisation, so keep h unless the
-                    # estimate asks for at least 25 % more
-                    if fac < 1.25:
-                        fac = 1.0
-                    if h_try >= 0.99 * h:  # not a step shortened to land on an output time
-                        h = min(h_max, max(h_min, h_try * fac))
-                    h_limit *= LIMIT_RELAX
-                    h = min(h, max(h_limit, h_min))
-                if debug:
-                    log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d",
-                              st.t, h_try, out.iterations, out.factorizations)
-                if progress is not None:
-                    progress(st.t, h_try, stats.steps)
-                continue
-            # rejected step
-            if debug:
-                log.debug("t = %.9g s  h = %.3g s  rejected: %s (iterations %d, worst %s, %.3g)",
-                          st.t, h_try, out.status.value, out.iterations,
-                          model.eq_labels[out.worst_eq] if out.worst_eq >= 0 else "-",
-                          out.residual)
-            stats.rejected += 1
-            rejections += 1
-            stepper.invalidate()
-            if adaptive and out.status is StepStatus.ERROR_TOO_LARGE:
-                h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
-            else:
-                h = h_try * 0.25
-                if adaptive:
-                    h_limit = LIMIT_AFTER_FAILURE * h_try
-                if not adaptive:
-                    substep_until = st.t + h_max
-            max_rej = step.max_rejections if adaptive else 12
-            if h < h_min * (1 - 1e-12) or rejections > max_rej:
-                success = False
-                message = _failure_message(model, st.t, h_try, out)
-                log.error(message)
-                break
+        if loop is not None:
+            success, message = _compiled_loop(loop, model, st, rec, stats, progress, debug)
+        else:
+            success, message = _python_loop(stepper, model, st, touts, ctl, cs, energy, rec,
+                                            stats, progress, debug)
     except KeyboardInterrupt:
         # Ctrl-C: stop cleanly with what was computed (the caller writes partial results)
         success = False
         message = (f"interrupted by the user at t = {st.t:.9g} s; results up to "
                    f"t = {st.t:.9g} s are kept")
         log.error(message)
+    if loop is not None:
+        loop.add_stats(stats)
     stats.factorizations = stepper.factorizations
     stats.residual_evaluations = sys.nevals
     stats.wall_s = _time.perf_counter() - wall0
@@ -309,6 +231,92 @@ def simulate(
     }
     return Results(rec.dataset(attrs, None if variables is None else list(variables)),
                    success, message, stats)
+
+
+def _log_attempt(model: Model, t: float, h: float, out: StepOutcome) -> None:
+    """DEBUG log line of a step attempt (``t``: end of an accepted step, start of a
+    rejected one)."""
+    if out.ok:
+        log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d",
+                  t, h, out.iterations, out.factorizations)
+    else:
+        log.debug("t = %.9g s  h = %.3g s  rejected: %s (iterations %d, worst %s, %.3g)",
+                  t, h, out.status.value, out.iterations,
+                  model.eq_labels[out.worst_eq] if out.worst_eq >= 0 else "-", out.residual)
+
+
+def _python_loop(stepper: Stepper, model: Model, st: State, touts: np.ndarray,
+                 ctl: np.ndarray, cs: np.ndarray, energy: EnergyAccount, rec: Recorder,
+                 stats: RunStats, progress, debug: bool) -> tuple[bool, str]:
+    """The stepping loop in Python, one step per :meth:`Stepper.step` (for the models the
+    compiled loop of :mod:`~drivedyn.solver.step_loop` cannot run); returns (success,
+    message)."""
+    while True:
+        h_try = next_step(cs, ctl, st.t, touts)
+        if h_try == 0.0:
+            return True, ""
+        out: StepOutcome = stepper.step(st, h_try)
+        stats.newton_iterations += out.iterations
+        err = 0.0
+        if out.ok:
+            err, ierr = step_error(ctl, stepper.trial.a, st.a, stepper.hdq, h_try)
+            if err > 1.0:
+                out.status = StepStatus.ERROR_TOO_LARGE
+                out.worst_eq = int(ierr)
+                out.residual = float(err)
+        if out.ok:
+            trial = stepper.trial
+            for g in model.groups:
+                if g.commit is not None:
+                    g.commit(g, trial)
+            energy.advance(h_try)
+            stepper.accepted(st)
+            st.assign(trial)
+            stats.steps += 1
+            stats.h_min_used = min(stats.h_min_used, h_try)
+            stats.h_max_used = max(stats.h_max_used, h_try)
+            t, landed = accept_step(cs, ctl, st.t, h_try, err, out.iterations, touts)
+            st.t = float(t)
+            if landed:
+                rec.record(st, h_try)
+            if debug:
+                _log_attempt(model, st.t, h_try, out)
+            if progress is not None:
+                progress(st.t, h_try, stats.steps)
+            continue
+        if debug:
+            _log_attempt(model, st.t, h_try, out)
+        stats.rejected += 1
+        stepper.invalidate()
+        if reject_step(cs, ctl, st.t, h_try, err, out.status is StepStatus.ERROR_TOO_LARGE):
+            message = _failure_message(model, st.t, h_try, out)
+            log.error(message)
+            return False, message
+
+
+def _compiled_loop(loop: StepLoop, model: Model, st: State, rec: Recorder, stats: RunStats,
+                   progress, debug: bool) -> tuple[bool, str]:
+    """The stepping loop compiled (:mod:`~drivedyn.solver.step_loop`), back in Python at
+    output times (and after every attempt when ``debug``); returns (success, message).
+    ``progress`` is called at output times (and after every accepted step when ``debug``)."""
+    while True:
+        code = loop.run()
+        if code == RUN_END:
+            return True, ""
+        h_try, accepted, _, _ = loop.pieces()
+        if debug and code != RUN_FAILED:
+            _log_attempt(model, st.t, h_try, loop.outcome())
+        if code == RUN_OUTPUT:
+            rec.record(st, h_try)
+        if code == RUN_FAILED:
+            out = loop.outcome()
+            if debug:
+                _log_attempt(model, st.t, h_try, out)
+            message = _failure_message(model, st.t, h_try, out)
+            log.error(message)
+            return False, message
+        if progress is not None and accepted:
+            progress(st.t, h_try, stats.steps + loop.steps)
 
 
 _HINTS = {

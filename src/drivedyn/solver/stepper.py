@@ -457,6 +457,12 @@ class Stepper:
                 return StepOutcome(StepStatus.SINGULAR, it, nfac, message=str(exc))
             code, it, nfac = self._call_compiled(args)
         sys.nevals += int(self._istate[I_NEVAL]) - n0
+        return self.outcome_of(code, it, nfac)
+
+    def outcome_of(self, code: int, it: int, nfac: int) -> StepOutcome:
+        """The :class:`StepOutcome` of a compiled step's code (newton_kernel), with the
+        worst equation of the last residual for a step Newton did not converge."""
+        sys = self.sys
         if code == nk.SUCCESS:
             return StepOutcome(StepStatus.SUCCESS, it, nfac)
         if code == nk.NONFINITE_RESIDUAL:

@@ -120,15 +120,10 @@ class GearPairFamily(Family):
         kernel = gear_kernel if idx_skew.size else parallel_gear_kernel
         return make_group(
             self.name, specs, kernel, params, lnodes, node_dofs(ctx, lnodes), GEAR_AUX,
-            eoff=eoff, nstate=2, commit=_commit_angles, extra={"mesh": info},
+            eoff=eoff, nstate=2, commit_cols=(COL_PHI_A, COL_PHI_B),  # accumulated wheel angles
+            extra={"mesh": info},
             naux=NAUX_PUBLIC + 2, dissipative=True,
         )
-
-
-def _commit_angles(group: Group, state) -> None:
-    """Store the accumulated wheel angles (relative to the mesh frame) after a step."""
-    state.es[group.eoff] = group.aux[:, COL_PHI_A]
-    state.es[group.eoff + 1] = group.aux[:, COL_PHI_B]
 
 
 def mesh_info(model, name: str) -> dict:

@@ -1,0 +1,144 @@
+"""Step-size control of :func:`~drivedyn.solver.simulate.simulate`: the next step, and what
+an accepted or a rejected step does to it.
+
+Compiled functions over two small arrays, so that the Python loop of ``simulate`` and the
+compiled loop of :mod:`~drivedyn.solver.step_loop` run the same code (a change made here
+goes into both, and the two stay equal bit for bit: ``tests/test_step_loop.py``).
+
+``ctl`` (float64, NCTL): the settings of a run::
+
+    adaptive (0/1), h_min [s], h_max [s], rtol, atol [m or rad], max_rejections, eps_t [s],
+    t_end [s], |beta - 1/6| (the error estimate's coefficient)
+
+``cs`` (float64, NCS): the controller's memory::
+
+    h [s] (next step size), h_limit [s] (cap after a Newton failure), substep_until [s]
+    (fixed steps: sub-steps after a failure until then), consecutive rejections, index of
+    the next output time
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from drivedyn.solver.newton_kernel import error_norm
+
+# After a Newton failure at h the adaptive step stays below LIMIT_AFTER_FAILURE h, a cap that
+# grows by LIMIT_RELAX per accepted step: the error estimate alone would double h back to the
+# size that just failed (contact or flank changes) and fail again.
+LIMIT_AFTER_FAILURE = 0.5
+LIMIT_RELAX = 1.05
+# fixed steps: a run stops after this many consecutive rejections
+MAX_REJECTIONS_FIXED = 12
+
+CT_ADAPTIVE, CT_HMIN, CT_HMAX, CT_RTOL, CT_ATOL, CT_MAXREJ, CT_EPS_T, CT_TEND, CT_ERRC = range(9)
+NCTL = 9
+CS_H, CS_LIMIT, CS_SUBSTEP, CS_REJ, CS_IOUT = range(5)
+NCS = 5
+
+
+def control_arrays(step, beta: float, t_end: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(ctl, cs)`` for a :class:`~drivedyn.solver.settings.FixedStep` or
+    :class:`~drivedyn.solver.settings.AdaptiveStep` ``step``, the integrator's ``beta`` and
+    the final time ``t_end`` [s]."""
+    adaptive = hasattr(step, "rtol")
+    if adaptive:
+        h, h_min, h_max = step.h0, step.h_min, step.h_max
+        rtol, atol, max_rej = step.rtol, step.atol, step.max_rejections
+    else:
+        h = h_max = step.h
+        h_min = step.h_min if step.h_min is not None else step.h / 1024
+        rtol, atol, max_rej = 0.0, 0.0, MAX_REJECTIONS_FIXED
+    eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
+    ctl = np.array([1.0 if adaptive else 0.0, h_min, h_max, rtol, atol, float(max_rej), eps_t,
+                    t_end, abs(beta - 1.0 / 6.0)])
+    cs = np.array([h, np.inf, -np.inf, 0.0, 0.0])
+    return ctl, cs
+
+
+@njit(cache=True)
+def next_step(cs, ctl, t, touts):
+    """Size [s] of the next step from time ``t`` [s]; 0 when the run has reached ``t_end``.
+    Steps land on the output times ``touts`` (sorted): one is stretched by up to 25 % to
+    reach an output time, unless the previous attempt was just rejected (stretching it again
+    would loop)."""
+    adaptive = ctl[CT_ADAPTIVE] != 0.0
+    h_max = ctl[CT_HMAX]
+    eps_t = ctl[CT_EPS_T]
+    t_end = ctl[CT_TEND]
+    while t < t_end - eps_t:
+        iout = int(cs[CS_IOUT])
+        t_next = touts[iout] if iout < touts.shape[0] else t_end
+        h_try = min(cs[CS_H], h_max)
+        if not adaptive and t >= cs[CS_SUBSTEP]:
+            h_try = h_max
+        stretch = cs[CS_REJ] == 0.0 and t + h_try >= t_next - 0.25 * h_try
+        if t + h_try > t_next or stretch:
+            h_try = t_next - t
+        if h_try <= eps_t:
+            cs[CS_IOUT] += 1.0
+            continue
+        return h_try
+    return 0.0
+
+
+@njit(cache=True)
+def step_error(ctl, a1, a0, hdq, h):
+    """Weighted local error estimate of a converged step of size ``h`` (pseudo-
+    accelerations ``a1`` after, ``a0`` before, increment ``hdq``) and the dof where it is
+    largest; (0, -1) for fixed steps (no estimate)."""
+    if ctl[CT_ADAPTIVE] == 0.0:
+        return 0.0, -1
+    return error_norm(a1, a0, hdq, ctl[CT_ERRC] * h * h, ctl[CT_ATOL], ctl[CT_RTOL])
+
+
+@njit(cache=True)
+def accept_step(cs, ctl, t, h_try, err, iterations, touts):
+    """Bookkeeping of an accepted step of size ``h_try`` [s] ending at ``t`` [s] with error
+    estimate ``err`` after ``iterations`` Newton iterations: the next step size. Returns
+    ``(t, landed)``: ``t`` snapped onto the output time it reached (``landed``)."""
+    eps_t = ctl[CT_EPS_T]
+    cs[CS_REJ] = 0.0
+    landed = False
+    iout = int(cs[CS_IOUT])
+    if iout < touts.shape[0] and abs(t - touts[iout]) <= 1e-9 * h_try + eps_t:
+        t = touts[iout]
+        landed = True
+        cs[CS_IOUT] += 1.0
+    if ctl[CT_ADAPTIVE] != 0.0:
+        h = cs[CS_H]
+        h_min = ctl[CT_HMIN]
+        fac = 0.9 * err ** (-1.0 / 3.0) if err > 0 else 2.0
+        fac = min(2.0, max(0.2, fac))
+        if iterations > 6:
+            fac = min(fac, 1.0)
+        # hysteresis: a new step size costs a factorisation, so keep h unless the
+        # estimate asks for at least 25 % more
+        if fac < 1.25:
+            fac = 1.0
+        if h_try >= 0.99 * h:  # not a step shortened to land on an output time
+            h = min(ctl[CT_HMAX], max(h_min, h_try * fac))
+        cs[CS_LIMIT] *= LIMIT_RELAX
+        cs[CS_H] = min(h, max(cs[CS_LIMIT], h_min))
+    return t, landed
+
+
+@njit(cache=True)
+def reject_step(cs, ctl, t, h_try, err, error_rejection):
+    """Bookkeeping of a rejected step of size ``h_try`` [s] from ``t`` [s] (``error_rejection``:
+    by the error estimate ``err``, otherwise by Newton): the next step size. Returns True
+    when the run must stop (step below ``h_min`` or too many rejections in a row)."""
+    cs[CS_REJ] += 1.0
+    h_min = ctl[CT_HMIN]
+    adaptive = ctl[CT_ADAPTIVE] != 0.0
+    if adaptive and error_rejection:
+        h = max(h_min, h_try * min(0.9, max(0.2, 0.9 * err ** (-1.0 / 3.0))))
+    else:
+        h = h_try * 0.25
+        if adaptive:
+            cs[CS_LIMIT] = LIMIT_AFTER_FAILURE * h_try
+        else:
+            cs[CS_SUBSTEP] = t + ctl[CT_HMAX]
+    cs[CS_H] = h
+    return h < h_min * (1 - 1e-12) or cs[CS_REJ] > ctl[CT_MAXREJ]

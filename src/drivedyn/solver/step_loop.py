@@ -1,0 +1,334 @@
+"""The time-stepping loop of :func:`~drivedyn.solver.simulate.simulate` as one compiled call
+per output time.
+
+With the Newton step compiled (:mod:`~drivedyn.solver.newton_kernel`), what was left in
+Python around each step (its call and the unboxing of its 50 arrays, the error estimate,
+the groups' commits, the energy account, the copy of the state, the step-size control) cost
+about 50 us per step: 15-25 % of the TORSEN runs' wall time, and more than the whole
+budget of a step for faster than real time at 5000 steps per simulated second
+(benchmarks/README.md, issue 16). :func:`run_steps` does all of that between two output
+times without returning to Python: it runs the Newton iterations (inlined), the error
+estimate and the step-size control of :mod:`~drivedyn.solver.step_control` (the same
+functions the Python loop calls), copies the committed columns of the elements' outputs into
+their states (``Group.commit_cols``), integrates the energy account
+(:func:`~drivedyn.results.recorder.advance_energy`) and copies the trial state into the
+accepted one. It returns to Python to record at an output time, at the end, when the sparse
+LU must factorise (in Python, as for the compiled step), when the run fails, and, with
+``every`` set (step logging at DEBUG level), after every attempt.
+
+The Python loop of ``simulate`` remains for models this loop cannot run (a linear solver
+other than the dense LU, the sparse LU and AutoLU, a family whose commit is not a copy of
+columns, ``DRIVEDYN_COMPILED_NEWTON=0``) and when ``DRIVEDYN_COMPILED_LOOP=0``; both give
+the same steps, states and outputs bit for bit (``tests/test_step_loop.py``).
+
+Arrays of the loop (the ``control`` argument)::
+
+    touts (float64): output times [s]
+    ctl, cs (float64): the step-size control's settings and memory (step_control)
+    ls (float64, NLS): time of the accepted state [s], time of the one before (NaN: none),
+        resume (1: after the caller's factorisation, 2: the caller's factorisation failed),
+        size of the last attempted step [s], its error estimate
+    lo (int64, NLO): the last attempt's Newton code (or ERROR_TOO_LARGE), iterations,
+        factorisations, dof of the largest error, accepted (0/1)
+    stats (float64, NSTATS): steps, rejected steps, Newton iterations, smallest and largest
+        accepted step [s]
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from drivedyn.elements.base import COMMIT_TIME
+from drivedyn.model.model import Model, State
+from drivedyn.results.recorder import EnergyAccount, advance_energy
+from drivedyn.solver import newton_kernel as nk
+from drivedyn.solver.newton_kernel import I_DENSE, I_NEVAL, I_PHASE, _forget, newton_iterations
+from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
+
+# return codes of run_steps
+RUN_END, RUN_OUTPUT, RUN_NEED_FACTOR, RUN_FAILED, RUN_ATTEMPT = range(5)
+# lo[LO_CODE] of a step rejected by its error estimate (beyond newton_kernel's codes)
+ERROR_TOO_LARGE = 7
+
+LS_T, LS_PREV_T, LS_RESUME, LS_HTRY, LS_ERR = range(5)
+NLS = 5
+LO_CODE, LO_IT, LO_NFAC, LO_IERR, LO_ACCEPTED = range(5)
+NLO = 5
+ST_STEPS, ST_REJECTED, ST_NEWTON, ST_HMIN, ST_HMAX = range(5)
+NSTATS = 5
+
+
+@njit(cache=True)
+def _copy(src, dst):
+    """``dst[:] = src`` for 1-D arrays of one size (a slice assignment would compile numba's
+    shape check with its formatted message: seconds of compilation)."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True)
+def _copy_state(x, R, v, vd, a, lam, es, x1, R1, v1, vd1, a1, lam1, es1):
+    """Copy the state ``(x, R, v, vd, a, lam, es)`` into ``(x1, ...)`` (same sizes)."""
+    for i in range(x.shape[0]):
+        for j in range(3):
+            x1[i, j] = x[i, j]
+            for k in range(3):
+                R1[i, j, k] = R[i, j, k]
+    _copy(v, v1)
+    _copy(vd, vd1)
+    _copy(a, a1)
+    _copy(lam, lam1)
+    _copy(es, es1)
+
+
+@njit(cache=True)
+def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fstate, control,
+              energy, commits):
+    """Steps from the accepted state to the next output time (or the end, a failure, a
+    factorisation left to the caller, or after one attempt if ``every``); returns a RUN_*
+    code. Arguments::
+
+        sizes = (nn, nd, every)
+        accepted = (x0, R0, v0, vd0, a0, lam0, es0, prev_vd)   # the accepted state
+        trial = (x, R, v, vd, a, lam, es, hdq)                 # as newton_iterations
+        arrays, linear, sparse, par, istate, fstate            # as newton_iterations
+        control = (touts, ctl, cs, ls, lo, stats)              # module docstring
+        energy = (eout, gstart, gdriver, pin, pd, diss, eacc)  # as advance_energy
+        commits = (dst, src, aux_all)  # es[dst[k]] = aux_all[src[k]] (time if src[k] < 0)
+
+    ``prev_vd`` holds the accelerations of the state before the accepted one (the
+    predictor's history, time ``ls[LS_PREV_T]``).
+    """
+    nn, nd, every = sizes
+    x0, R0, v0, vd0, a0, lam0, es0, prev_vd = accepted
+    x, R, v, vd, a, lam, es, hdq = trial
+    touts, ctl, cs, ls, lo, stats = control
+    eout, gstart, gdriver, pin, pd, diss, eacc = energy
+    dst, src, aux_all = commits
+    roff = linear[5]
+    while True:
+        t = ls[LS_T]
+        resume = ls[LS_RESUME]
+        ls[LS_RESUME] = 0.0
+        if resume != 0.0:
+            h_try = ls[LS_HTRY]
+            t1 = t + h_try
+            if resume == 2.0:  # the caller's factorisation failed: singular matrix
+                code, it, nfac = nk.SINGULAR, lo[LO_IT], lo[LO_NFAC]
+            else:
+                code, it, nfac = newton_iterations(
+                    G, (nn, nd, 0.0, t1, h_try), (x0, R0, v0, vd0, a0, prev_vd), trial,
+                    arrays, linear, sparse, par, istate, fstate)
+        else:
+            h_try = next_step(cs, ctl, t, touts)
+            if h_try == 0.0:
+                return RUN_END
+            _copy_state(x0, R0, v0, vd0, a0, lam0, es0, x, R, v, vd, a, lam, es)
+            t1 = t + h_try
+            # predictor weight (Stepper.step)
+            w = 0.0
+            pt = ls[LS_PREV_T]
+            if pt == pt and t > pt:
+                w = min(h_try / (t - pt), 1.0)
+            istate[I_PHASE] = 0
+            code, it, nfac = newton_iterations(
+                G, (nn, nd, w, t1, h_try), (x0, R0, v0, vd0, a0, prev_vd), trial, arrays,
+                linear, sparse, par, istate, fstate)
+        ls[LS_HTRY] = h_try
+        lo[LO_IT] = it
+        lo[LO_NFAC] = nfac
+        if code == nk.NEED_FACTOR:
+            ls[LS_RESUME] = 1.0
+            return RUN_NEED_FACTOR
+        stats[ST_NEWTON] += it
+        err = 0.0
+        ierr = -1
+        ok = code == nk.SUCCESS
+        if ok:
+            err, ierr = step_error(ctl, a, a0, hdq, h_try)
+            if err > 1.0:
+                ok = False
+                code = ERROR_TOO_LARGE
+        lo[LO_CODE] = code
+        lo[LO_IERR] = ierr
+        ls[LS_ERR] = err
+        if ok:
+            for k in range(dst.shape[0]):
+                es[dst[k]] = t1 if src[k] < 0 else aux_all[src[k]]
+            advance_energy(eout, gstart, gdriver, pin, pd, diss, eacc, h_try)
+            ls[LS_PREV_T] = t
+            _copy(vd0, prev_vd)
+            _copy_state(x, R, v, vd, a, lam, es, x0, R0, v0, vd0, a0, lam0, es0)
+            stats[ST_STEPS] += 1.0
+            stats[ST_HMIN] = min(stats[ST_HMIN], h_try)
+            stats[ST_HMAX] = max(stats[ST_HMAX], h_try)
+            t1, landed = accept_step(cs, ctl, t1, h_try, err, it, touts)
+            ls[LS_T] = t1
+            lo[LO_ACCEPTED] = 1
+            if landed:
+                return RUN_OUTPUT
+        else:
+            stats[ST_REJECTED] += 1.0
+            _forget(istate, roff)
+            lo[LO_ACCEPTED] = 0
+            if reject_step(cs, ctl, t, h_try, err, code == ERROR_TOO_LARGE):
+                return RUN_FAILED
+        if every:
+            return RUN_ATTEMPT
+
+
+def commit_table(model: Model) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(dst, src)`` of every group's commit (``Group.commit_cols``) into ``State.es``, from
+    ``model.aux_all`` (``src`` -1: the time); None if a group commits otherwise or the
+    groups' outputs are not views of ``model.aux_all``."""
+    aux_all = model.aux_all
+    if aux_all is None:
+        return None
+    base = aux_all.ctypes.data
+    dst: list[int] = []
+    src: list[int] = []
+    for g in model.groups:
+        if g.commit is None:
+            continue
+        if not g.commit_cols:
+            return None
+        off = (g.aux.ctypes.data - base) // aux_all.itemsize
+        if not (np.shares_memory(g.aux, aux_all) and g.aux.flags.c_contiguous):
+            return None
+        ncol = g.aux.shape[1]
+        for e in range(g.nel):
+            for j, c in enumerate(g.commit_cols):
+                dst.append(int(g.eoff[e]) + j)
+                src.append(-1 if c == COMMIT_TIME else off + e * ncol + c)
+    return np.array(dst, np.int64), np.array(src, np.int64)
+
+
+def loop_allowed(model: Model) -> bool:
+    """The compiled loop can run ``model`` (unless ``DRIVEDYN_COMPILED_LOOP=0``); the
+    stepper must also allow its compiled step."""
+    return (os.environ.get("DRIVEDYN_COMPILED_LOOP", "1") != "0"
+            and model.eout_all is not None and commit_table(model) is not None)
+
+
+class StepLoop:
+    """Drives :func:`run_steps` for :func:`~drivedyn.solver.simulate.simulate`: holds its
+    argument tuples (built once), factorises for the sparse LU between calls, and calls the
+    compiled overload straight after the first call (as ``Stepper._call_compiled``).
+
+    Args:
+        stepper: the run's :class:`~drivedyn.solver.stepper.Stepper` (its compiled step must
+            be available: :meth:`create` checks).
+        st: the accepted state (updated in place; its ``t`` after every call).
+        touts: output times [s].
+        ctl, cs: the step-size control's arrays (:mod:`~drivedyn.solver.step_control`).
+        energy: the run's energy account (advanced in place).
+        stats: the run's counters so far (steps, rejected, Newton iterations, h used).
+    """
+
+    def __init__(self, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
+                 cs: np.ndarray, energy: EnergyAccount, commits: tuple[np.ndarray, np.ndarray],
+                 every: bool) -> None:
+        self.stepper = stepper
+        self.st = st
+        m, tr = stepper.model, stepper.trial
+        self.ls = np.array([st.t, np.nan, 0.0, 0.0, 0.0])
+        self.lo = np.zeros(NLO, np.int64)
+        self.stats = np.array([0.0, 0.0, 0.0, np.inf, 0.0])
+        self.prev_vd = np.zeros(m.nd)
+        self.control = (touts, ctl, cs, self.ls, self.lo, self.stats)
+        self.energy = (energy.eout, energy.gstart, energy.gdriver, energy.pin, energy.pd,
+                       energy.diss, energy.acc)
+        self.commits = (commits[0], commits[1], m.aux_all)
+        self.head = ((int(m.nn), int(m.nd), bool(every)),
+                     (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.prev_vd),
+                     (tr.x, tr.R, tr.v, tr.vd, tr.a, tr.lam, tr.es, stepper.hdq),
+                     stepper._state_args(st)[2])
+        self._entries: dict[tuple, Any] = {}
+
+    @classmethod
+    def create(cls, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
+               cs: np.ndarray, energy: EnergyAccount, every: bool) -> StepLoop | None:
+        """The loop for this run, or None if it cannot run the model (the caller then runs
+        the Python loop)."""
+        m = stepper.model
+        if not loop_allowed(m) or energy.eout is not m.eout_all:
+            return None
+        commits = commit_table(m)
+        if commits is None or stepper._compiled is False:
+            return None
+        if stepper._compiled is None:
+            stepper._compiled = stepper._compiled_step(st)
+        if not stepper._compiled:
+            return None
+        return cls(stepper, st, touts, ctl, cs, energy, commits, every)
+
+    def _call(self) -> int:
+        s = self.stepper
+        lin = s._linear_arrays()
+        args = (s._G, *self.head, *lin, s._par, s._istate, s._fstate, self.control,
+                self.energy, self.commits)
+        key = (int(s._istate[I_DENSE]), lin[1] is s._no_sparse)
+        entry = self._entries.get(key)
+        if entry is not None:
+            return entry(*args)
+        out = run_steps(*args)
+        try:
+            sig = tuple(run_steps.typeof_pyval(a) for a in args)
+            self._entries[key] = run_steps.overloads[sig].entry_point
+        except (AttributeError, KeyError, TypeError, ValueError):  # keep the dispatcher
+            self._entries[key] = run_steps
+        return out
+
+    def run(self) -> int:
+        """Run to the next return (RUN_END, RUN_OUTPUT, RUN_FAILED or RUN_ATTEMPT); the
+        accepted state's time is set on return."""
+        s = self.stepper
+        n0 = int(s._istate[I_NEVAL])
+        try:
+            while True:
+                code = self._call()
+                if code != RUN_NEED_FACTOR:
+                    return code
+                try:
+                    s.sys.factor(s.lin)
+                except (np.linalg.LinAlgError, ValueError):
+                    s._istate[I_PHASE] = 0
+                    s._forget()
+                    self.ls[LS_RESUME] = 2.0
+        finally:
+            self.st.t = float(self.ls[LS_T])
+            s.sys.nevals += int(s._istate[I_NEVAL]) - n0
+
+    def outcome(self) -> Any:
+        """The last attempt as a :class:`~drivedyn.solver.settings.StepOutcome`."""
+        from drivedyn.solver.settings import StepOutcome, StepStatus
+
+        code, it, nfac = int(self.lo[LO_CODE]), int(self.lo[LO_IT]), int(self.lo[LO_NFAC])
+        if code == ERROR_TOO_LARGE:
+            return StepOutcome(StepStatus.ERROR_TOO_LARGE, it, nfac,
+                               worst_eq=int(self.lo[LO_IERR]), residual=float(self.ls[LS_ERR]))
+        return self.stepper.outcome_of(code, it, nfac)
+
+    @property
+    def steps(self) -> int:
+        """Steps accepted so far by this loop."""
+        return int(self.stats[ST_STEPS])
+
+    def add_stats(self, stats: Any) -> None:
+        """Add this loop's counters to ``stats`` (a
+        :class:`~drivedyn.results.results.RunStats`)."""
+        s = self.stats
+        stats.steps += int(s[ST_STEPS])
+        stats.rejected += int(s[ST_REJECTED])
+        stats.newton_iterations += int(s[ST_NEWTON])
+        stats.h_min_used = min(stats.h_min_used, float(s[ST_HMIN]))
+        stats.h_max_used = max(stats.h_max_used, float(s[ST_HMAX]))
+
+    def pieces(self) -> tuple[float, bool, int, int]:
+        """Of the last attempt: step size [s], accepted, Newton iterations, factorisations."""
+        return (float(self.ls[LS_HTRY]), bool(self.lo[LO_ACCEPTED]), int(self.lo[LO_IT]),
+                int(self.lo[LO_NFAC]))
