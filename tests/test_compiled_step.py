@@ -176,17 +176,23 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     _assert_identical(slow, fast)
 
 
-def test_the_step_is_precompiled_for_the_types_it_runs_with(monkeypatch) -> None:
-    """The Stepper hands its compiled step's and its error norm's signatures, the System its
-    kernels' and time functions', to the first-evaluation precompile (parallel workers):
-    each must be the signature the run then calls, or the workers would compile an overload
-    nobody calls and the run would compile its own after them."""
+@pytest.mark.parametrize("loop", ["1", "0"])
+def test_the_step_is_precompiled_for_the_types_it_runs_with(monkeypatch, loop) -> None:
+    """The Stepper hands its compiled step's signature and simulate the step-size control's
+    (with ``DRIVEDYN_COMPILED_LOOP=0``), or simulate the compiled loop's (``run_steps``,
+    which inlines the step and calls the control), the System its kernels' and time
+    functions', to the first-evaluation precompile (parallel workers): each must be the
+    signature the run then calls, or the workers would compile an overload nobody calls and
+    the run would compile its own after them."""
     from drivedyn.solver import precompile
+    from drivedyn.solver import step_control as sc
     from drivedyn.solver.linear import SparseLU
+    from drivedyn.solver.step_loop import run_steps
     from drivedyn.solver.stepper import Stepper
     from drivedyn.timefunctions import SmoothStep, eval_time_functions
     from drivedyn.validation.engine import slider_crank_model
 
+    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", loop)
     handed = []
 
     def capture(calls, workers=None):
@@ -197,16 +203,24 @@ def test_the_step_is_precompiled_for_the_types_it_runs_with(monkeypatch) -> None
     model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
     for lin in (None, SparseLU()):
         stepper = Stepper(model, dd.GeneralizedAlpha(0.9), dd.Newton(), lin)
-        assert [d for d, _ in stepper.sys.precompile_also] == [nk.newton_iterations,
-                                                               nk.error_norm]
+        assert [d for d, _ in stepper.sys.precompile_also] == [nk.newton_iterations]
         handed.clear()
-        watched = (nk.newton_iterations, nk.error_norm, eval_time_functions)
-        before = {d: set(d.overloads) for d in watched}
+        if loop == "1":
+            watched, unused = (run_steps, eval_time_functions), (nk.newton_iterations,)
+        else:
+            watched = (nk.newton_iterations, sc.next_step, sc.step_error, sc.accept_step,
+                       sc.reject_step, eval_time_functions)
+            unused = (run_steps,)
+        before = {d: set(d.overloads) for d in watched + unused}
         # adaptive steps, so the error norm runs too
-        dd.simulate(model, 0.005, step=dd.AdaptiveStep(1e-3), linear_solver=lin)
+        res = dd.simulate(model, 0.005, step=dd.AdaptiveStep(1e-3), linear_solver=lin)
+        assert res.success
         (calls,) = handed
         for d in watched:
             sigs = {sig for disp, sig in calls if disp is d}
             assert len(sigs) == 1, d.py_func.__name__
             # the run compiled (or loaded) exactly the handed signature, no other
             assert set(d.overloads) == before[d] | sigs, d.py_func.__name__
+        for d in unused:  # neither handed nor compiled
+            assert not any(disp is d for disp, _ in calls), d.py_func.__name__
+            assert set(d.overloads) == before[d], d.py_func.__name__

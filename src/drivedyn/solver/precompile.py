@@ -35,7 +35,7 @@ log = logging.getLogger("drivedyn")
 #: measured first-compilation times [s] (2-core reference machine, one process), used only to
 #: start the longest compilations first; other kernels count 3 s
 COMPILE_SECONDS = {"gear_kernel": 20.0, "parallel_gear_kernel": 11.0, "constraint_kernel": 11.0,
-                   "journal_contact_kernel": 8.0, "newton_iterations": 7.0,
+                   "journal_contact_kernel": 8.0, "newton_iterations": 7.0, "run_steps": 8.0,
                    "washer_contact_kernel": 6.0}
 
 

@@ -38,7 +38,15 @@ from drivedyn.solver.step_control import (
     reject_step,
     step_error,
 )
-from drivedyn.solver.step_loop import RUN_END, RUN_FAILED, RUN_OUTPUT, StepLoop
+from drivedyn.solver.step_control import signatures as control_signatures
+from drivedyn.solver.step_loop import (
+    RUN_END,
+    RUN_FAILED,
+    RUN_OUTPUT,
+    StepLoop,
+    loop_allowed,
+    precompile_loop,
+)
 from drivedyn.solver.stepper import FLOOR_REL, Stepper, residual_norms
 
 log = logging.getLogger("drivedyn")
@@ -179,8 +187,13 @@ def simulate(
     wall0 = _time.perf_counter()
     st = (state or model.initial_state()).copy()
     lin = linear_solver or default_linear_solver(model.neq)
-    stepper = Stepper(model, integrator, newton, lin)
+    stepper = Stepper(model, integrator, newton, lin, loop=loop_allowed(model))
     sys = stepper.sys
+    energy = EnergyAccount(model)
+    if stepper.loop:
+        precompile_loop(stepper, st, energy)
+    else:
+        sys.precompile_also.extend(control_signatures(model.nd))
     if initialize:
         consistent_initial_state(model, st, sys, lin)
     sys.reset_tangent()
@@ -190,7 +203,6 @@ def simulate(
         i = int(np.argmax(viol))
         raise InitializationError(f"initial state violates {model.eq_labels[model.nd + i]} "
                                   f"by {viol[i]:.3g}")
-    energy = EnergyAccount(model)
     energy.start()
     rec = Recorder(model, energy)
     t0 = st.t

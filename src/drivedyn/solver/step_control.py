@@ -57,6 +57,18 @@ def control_arrays(step, beta: float, t_end: float) -> tuple[np.ndarray, np.ndar
     return ctl, cs
 
 
+def signatures(nd: int) -> list[tuple]:
+    """``(function, signature)`` of this module's compiled functions as the Python loop of
+    ``simulate`` calls them for a model of ``nd`` dofs (for the first-evaluation precompile,
+    :mod:`~drivedyn.solver.precompile`)."""
+    f = np.zeros(1)
+    q = np.zeros(nd)
+    calls = [(next_step, (f, f, 0.0, f)), (step_error, (f, q, q, q, 0.0)),
+             (accept_step, (f, f, 0.0, 0.0, 0.0, 1, f)),
+             (reject_step, (f, f, 0.0, 0.0, 0.0, True))]
+    return [(fn, tuple(fn.typeof_pyval(a) for a in args)) for fn, args in calls]
+
+
 @njit(cache=True)
 def next_step(cs, ctl, t, touts):
     """Size [s] of the next step from time ``t`` [s]; 0 when the run has reached ``t_end``.

@@ -207,6 +207,49 @@ def commit_table(model: Model) -> tuple[np.ndarray, np.ndarray] | None:
     return np.array(dst, np.int64), np.array(src, np.int64)
 
 
+def _head(stepper: Any, st: State, prev_vd: np.ndarray, every: bool) -> tuple:
+    """The ``sizes``, ``accepted``, ``trial`` and ``arrays`` arguments of run_steps."""
+    m, tr = stepper.model, stepper.trial
+    return ((int(m.nn), int(m.nd), bool(every)),
+            (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, prev_vd),
+            (tr.x, tr.R, tr.v, tr.vd, tr.a, tr.lam, tr.es, stepper.hdq),
+            stepper._state_args(st)[2])
+
+
+def _energy_args(energy: EnergyAccount) -> tuple:
+    return (energy.eout, energy.gstart, energy.gdriver, energy.pin, energy.pd, energy.diss,
+            energy.acc)
+
+
+def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
+    """Hand :func:`run_steps`' signature for this run (the stepper's model, its state ``st``
+    and energy account) to the System's first-evaluation precompile (parallel workers,
+    :mod:`~drivedyn.solver.precompile`), when the run will use the compiled loop: a first
+    run then compiles it while the kernels compile. Its types do not depend on the kernels'
+    addresses nor on the sizes of the arrays."""
+    from drivedyn.elements.base import MODE_DYN
+    from drivedyn.solver.kernel_calls import KernelTable
+
+    m, sys = stepper.model, stepper.sys
+    commits = commit_table(m)
+    if not stepper.loop or commits is None:
+        return
+    try:
+        G = KernelTable([(0, pre, post) for _k, pre, _mid, post
+                         in sys._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True)])
+        f = np.zeros(1)
+        control = (f, f, f, f, np.zeros(1, np.int64), f)
+        lu, piv, ib, tr = stepper._no_dense
+        args = (G, *_head(stepper, st, np.zeros(m.nd), False),
+                (lu, piv, ib, tr, stepper._delta, stepper.roff, stepper._no_roff),
+                stepper._no_sparse, stepper._par, stepper._istate, stepper._fstate, control,
+                _energy_args(energy), (*commits, m.aux_all))
+        sig = tuple(run_steps.typeof_pyval(a) for a in args)
+    except (AttributeError, TypeError, ValueError):  # not typeable: compiled on first use
+        return
+    sys.precompile_also.append((run_steps, sig))
+
+
 def loop_allowed(model: Model) -> bool:
     """The compiled loop can run ``model`` (unless ``DRIVEDYN_COMPILED_LOOP=0``); the
     stepper must also allow its compiled step."""
@@ -234,19 +277,15 @@ class StepLoop:
                  every: bool) -> None:
         self.stepper = stepper
         self.st = st
-        m, tr = stepper.model, stepper.trial
+        m = stepper.model
         self.ls = np.array([st.t, np.nan, 0.0, 0.0, 0.0])
         self.lo = np.zeros(NLO, np.int64)
         self.stats = np.array([0.0, 0.0, 0.0, np.inf, 0.0])
         self.prev_vd = np.zeros(m.nd)
         self.control = (touts, ctl, cs, self.ls, self.lo, self.stats)
-        self.energy = (energy.eout, energy.gstart, energy.gdriver, energy.pin, energy.pd,
-                       energy.diss, energy.acc)
+        self.energy = _energy_args(energy)
         self.commits = (commits[0], commits[1], m.aux_all)
-        self.head = ((int(m.nn), int(m.nd), bool(every)),
-                     (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.prev_vd),
-                     (tr.x, tr.R, tr.v, tr.vd, tr.a, tr.lam, tr.es, stepper.hdq),
-                     stepper._state_args(st)[2])
+        self.head = _head(stepper, st, self.prev_vd, every)
         self._entries: dict[tuple, Any] = {}
 
     @classmethod
@@ -255,7 +294,7 @@ class StepLoop:
         """The loop for this run, or None if it cannot run the model (the caller then runs
         the Python loop)."""
         m = stepper.model
-        if not loop_allowed(m) or energy.eout is not m.eout_all:
+        if not stepper.loop or energy.eout is not m.eout_all:
             return None
         commits = commit_table(m)
         if commits is None or stepper._compiled is False:

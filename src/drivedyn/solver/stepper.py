@@ -95,7 +95,7 @@ class Stepper:
     """
 
     def __init__(self, model: Model, integrator: GeneralizedAlpha, newton: Newton,
-                 linear_solver: LinearSolver | None = None) -> None:
+                 linear_solver: LinearSolver | None = None, loop: bool = False) -> None:
         self.model = model
         self.sys = System(model)
         self.integrator = integrator
@@ -130,15 +130,11 @@ class Stepper:
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
         self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
                            i0, f0)
-        if self._compiled_allowed():
+        # the compiled stepping loop (step_loop) will run the steps: it has its compiled step
+        # inlined, and simulate hands its signature to the precompile instead
+        self.loop = loop and self._compiled_allowed()
+        if self._compiled_allowed() and not self.loop:
             self._precompile_with_kernels()
-        # the error estimate's compiled norm (adaptive steps) goes to the same workers
-        try:
-            q = np.zeros(model.nd)
-            sig = tuple(error_norm.typeof_pyval(a) for a in (q, q, self.hdq, 1.0, 1.0, 1.0))
-            self.sys.precompile_also.append((error_norm, sig))
-        except (AttributeError, TypeError, ValueError):  # compiled on first use
-            pass
 
     @property
     def lu_h(self) -> float | None:
