@@ -4,6 +4,11 @@ Only this top level decides to stop: a step that fails is retried smaller; when 
 would fall below ``h_min`` (or too many consecutive rejections happen) the run stops, and the
 results up to that time are returned with ``success = False`` and a message naming the time,
 the worst equation (element and dof) and its residual.
+
+The steps run in the compiled loop of :mod:`~drivedyn.solver.step_loop`, one call per output
+interval, when it can run the model; otherwise in :func:`_python_loop`, one
+:meth:`~drivedyn.solver.stepper.Stepper.step` per attempt. Both take their step sizes from
+:mod:`~drivedyn.solver.step_control`.
 """
 
 from __future__ import annotations
@@ -161,7 +166,9 @@ def simulate(
         output_dt, output_times: when to record (default about 1000 outputs); steps are
             shortened to land on output times.
         linear_solver: default: dense LU up to 150 unknowns, sparse LU above.
-        progress: called as ``progress(t, h, steps)`` after every accepted step.
+        progress: called as ``progress(t, h, steps)`` after accepted steps: at output times
+            when the compiled loop runs the steps (:mod:`~drivedyn.solver.step_loop`), after
+            every one with DEBUG logging or in the Python loop.
         initialize: make velocities and accelerations consistent first (default True).
         variables: glob patterns of the sensors to keep (default all), e.g.
             ``["crank.*", "*.torque"]``; energy terms are always kept.
