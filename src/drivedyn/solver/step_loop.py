@@ -114,27 +114,24 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
         t = ls[LS_T]
         resume = ls[LS_RESUME]
         ls[LS_RESUME] = 0.0
-        if resume != 0.0:
+        w = 0.0
+        if resume != 0.0:  # the same attempt, after the caller's factorisation
             h_try = ls[LS_HTRY]
-            t1 = t + h_try
-            if resume == 2.0:  # the caller's factorisation failed: singular matrix
-                code, it, nfac = nk.SINGULAR, lo[LO_IT], lo[LO_NFAC]
-            else:
-                code, it, nfac = newton_iterations(
-                    G, (nn, nd, 0.0, t1, h_try), (x0, R0, v0, vd0, a0, prev_vd), trial,
-                    arrays, linear, sparse, par, istate, fstate)
         else:
             h_try = next_step(cs, ctl, t, touts)
             if h_try == 0.0:
                 return RUN_END
             _copy_state(x0, R0, v0, vd0, a0, lam0, es0, x, R, v, vd, a, lam, es)
-            t1 = t + h_try
             # predictor weight (Stepper.step)
-            w = 0.0
             pt = ls[LS_PREV_T]
             if pt == pt and t > pt:
                 w = min(h_try / (t - pt), 1.0)
             istate[I_PHASE] = 0
+        t1 = t + h_try
+        if resume == 2.0:  # the caller's factorisation failed: singular matrix
+            code, it, nfac = nk.SINGULAR, lo[LO_IT], lo[LO_NFAC]
+        else:
+            # one call site: the step is inlined, and each site would be a copy
             code, it, nfac = newton_iterations(
                 G, (nn, nd, w, t1, h_try), (x0, R0, v0, vd0, a0, prev_vd), trial, arrays,
                 linear, sparse, par, istate, fstate)
