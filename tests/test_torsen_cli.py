@@ -192,3 +192,26 @@ def test_torsen_b_commands(runner: CliRunner) -> None:
     res = runner.invoke(main, ["calibrate", "torsen-b", "--no-confirm", "--free",
                                "washers.mu,washers.mu"])
     assert res.exit_code == 2 and "washers.mu" in res.output
+
+
+def test_tdr_sides_in_parallel_give_the_same_results(runner: CliRunner, monkeypatch) -> None:
+    """With two CPUs the second bench side runs in a forked process at the same time as the
+    first (analysis.tdr.parallel_sides): the same deterministic runs, so the TDRs, metrics
+    and run statistics equal the one-after-the-other ones exactly."""
+    from drivedyn.analysis import tdr
+
+    out = {}
+    for flag in ("0", "1"):
+        monkeypatch.setenv("DRIVEDYN_PARALLEL_SIDES", flag)
+        if flag == "1" and not tdr.parallel_sides():
+            pytest.skip("one CPU, or no fork: the sides run one after the other")
+        res = runner.invoke(main, ["tdr", "torsen-c", "--mode", "all", "--json", *SHORT])
+        assert res.exit_code == 0, res.output
+        out[flag] = json.loads(res.output)
+    seq, par = out["0"], out["1"]
+    assert [m["tdr"] for m in seq["modes"]] == [m["tdr"] for m in par["modes"]]
+    assert all(math.isfinite(m["tdr"]) for m in par["modes"])
+    assert seq["metrics"] == par["metrics"]
+    strip = [{k: v for k, v in r.items() if k != "wall_s"} for r in seq["runs"]]
+    assert strip == [{k: v for k, v in r.items() if k != "wall_s"} for r in par["runs"]]
+    assert [r["side"] for r in par["runs"]] == ["rear", "front"]

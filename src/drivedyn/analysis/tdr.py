@@ -130,6 +130,60 @@ def run_bench(p, side: str, torque: float | None = None,
     return run
 
 
+def parallel_sides() -> bool:
+    """Whether :func:`evaluate` runs two bench sides at the same time, the second in a forked
+    process: with two or more CPUs, on Linux, from a process that is neither a daemon (a
+    Dask or pool worker) nor multi-threaded (forking a threaded process is unsafe), unless
+    ``DRIVEDYN_PARALLEL_SIDES=0``."""
+    import multiprocessing as mp
+    import os
+    import sys
+    import threading
+
+    return (os.environ.get("DRIVEDYN_PARALLEL_SIDES", "1") != "0"
+            and (os.cpu_count() or 1) >= 2 and sys.platform.startswith("linux")
+            and "fork" in mp.get_all_start_methods() and not mp.current_process().daemon
+            and threading.active_count() == 1)
+
+
+def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
+                speed_diff: float, friction_scale: float, on_run):
+    """``(side, BenchRun)`` of every side in ``sides``, in order. Two sides run at the same
+    time when :func:`parallel_sides` allows: the kernels are compiled (or loaded) here first
+    by a one-step run of the first side's model, then a forked process, which inherits them,
+    runs the second side while this one runs the first: the Type C bench's four modes take
+    the longer side's time (1.7 s) instead of both (2.9 s)."""
+    for side, pair in sides:
+        if on_run is not None:
+            on_run(side, pair)
+    if len(sides) == 2 and parallel_sides():
+        import multiprocessing as mp
+
+        from drivedyn.model.compile import compile_model
+        from drivedyn.solver.simulate import simulate
+
+        sp, _ = bench_spec(differentials.of(p), p, sides[0][0], torque, speed_diff,
+                           friction_scale)
+        simulate(compile_model(sp), 1e-6, **p.solver.settings(), output_dt=1e-6)
+        with mp.get_context("fork").Pool(1) as pool:
+            second = pool.apply_async(run_bench, (p, sides[1][0], torque, speed_diff,
+                                                  friction_scale))
+            first = run_bench(p, sides[0][0], torque, speed_diff, friction_scale)
+            if on_run is not None:
+                on_run(first)
+            yield sides[0][0], first
+            run = second.get()
+        if on_run is not None:
+            on_run(run)
+        yield sides[1][0], run
+        return
+    for side, _pair in sides:
+        run = run_bench(p, side, torque, speed_diff, friction_scale)
+        if on_run is not None:
+            on_run(run)
+        yield side, run
+
+
 def mode_name(p, mode: int) -> str:
     """``"drive, bias rear"`` etc. (``p``: parameters or a Differential)."""
     diff = p if isinstance(p, differentials.Differential) else differentials.of(p)
@@ -202,14 +256,8 @@ def evaluate(p, modes: list[int], torque: float | None = None,
                "newton_iterations": 0}
     if not analytic_only:
         metrics["dissipated_energy"] = 0.0
-        for side, pair in side_modes(p).items():
-            if not set(pair) & set(modes):
-                continue
-            if on_run is not None:
-                on_run(side, pair)
-            run = run_bench(p, side, T0, dw, friction_scale)
-            if on_run is not None:
-                on_run(run)
+        sides = [(s, pair) for s, pair in side_modes(p).items() if set(pair) & set(modes)]
+        for side, run in _bench_runs(p, sides, T0, dw, friction_scale, on_run):
             m = run_metrics(run.results)
             metrics["dissipated_energy"] += m["dissipated_energy"]
             if not metrics["peak_pressure"] >= m["peak_pressure"]:

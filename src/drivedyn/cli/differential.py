@@ -85,7 +85,8 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
     Housing held, torque on one output, speed of the other controlled for the speed
     difference; drive then coast in one run per side, TDR = applied / resistant torque
     averaged over the steady windows. Prints the simulated, analytic (quasi-static) and
-    measured TDR of each mode.
+    measured TDR of each mode. With two or more CPUs the two sides run at the same time
+    (DRIVEDYN_PARALLEL_SIDES=0: one after the other).
 
     \b
     Examples:
