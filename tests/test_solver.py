@@ -266,7 +266,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     constraint forces stalls at the round-off of the positions (|A| eps |x|). Each accepted
     step's residual, evaluated afresh, is within the tolerance beyond that level, computed
     here independently from the dense iteration matrix (the floor of each equation's scale
-    is 1e-4 of the largest force sum carried so far). Run by the Python loop, one
+    is FLOOR_REL of the largest force sum carried so far). Run by the Python loop, one
     Stepper.step per step (the compiled loop takes the same steps: test_step_loop.py)."""
     monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
     from drivedyn.elements.base import MODE_DYN
@@ -355,7 +355,8 @@ def test_residual_floor_is_the_largest_force_sum_carried() -> None:
     assert rq == pytest.approx(max(1e-9 / (1e-3 + 4.0 * FLOOR_REL), 2e-6 / (4.0 + 4.0 * FLOOR_REL)),
                                rel=1e-15)
     rq, _, _ = residual_norms(r, rabs, kscale, 2, FLOOR_REL, roff, 1e4)
-    assert rq == pytest.approx(max(1e-9 / (1e-3 + 1.0), 2e-6 / (4.0 + 1.0)), rel=1e-15)
+    fl = FLOOR_REL * 1e4
+    assert rq == pytest.approx(max(1e-9 / (1e-3 + fl), 2e-6 / (4.0 + fl)), rel=1e-15)
 
 
 def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
