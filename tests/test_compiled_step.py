@@ -12,40 +12,15 @@ import pytest
 
 import drivedyn as dd
 from drivedyn.solver import newton_kernel as nk
+from same_runs import assert_identical, run_both
 
 
 def _run_both(monkeypatch, run):
-    """``run()`` with the Python loop and with the compiled step; returns both Results and
-    the number of compiled step calls."""
-    calls = []
-    compiled = nk.newton_iterations
-
-    def counting(*args):
-        calls.append(1)
-        return compiled(*args)
-
-    monkeypatch.setattr(nk, "newton_iterations", counting)
-    # one Stepper.step per attempt (the compiled loop, tests/test_step_loop.py, inlines the
-    # compiled step)
+    """``run()`` with the Python Newton loop and with the compiled step; returns both Results
+    and the number of compiled step calls. One Stepper.step per attempt: the compiled loop
+    (tests/test_step_loop.py) inlines the compiled step."""
     monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
-    monkeypatch.setenv("DRIVEDYN_COMPILED_NEWTON", "0")
-    slow = run()
-    assert not calls
-    monkeypatch.setenv("DRIVEDYN_COMPILED_NEWTON", "1")
-    fast = run()
-    return slow, fast, len(calls)
-
-
-def _assert_identical(slow, fast) -> None:
-    assert (slow.success, slow.message) == (fast.success, fast.message)
-    for k in ("steps", "rejected", "newton_iterations", "factorizations",
-              "residual_evaluations", "h_min_used", "h_max_used"):
-        assert getattr(slow.stats, k) == getattr(fast.stats, k), k
-    a, b = slow.dataset, fast.dataset
-    assert sorted(a.data_vars) == sorted(b.data_vars)
-    assert np.array_equal(a["time"].values, b["time"].values)
-    for name in a.data_vars:
-        assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+    return run_both(monkeypatch, run, nk, "newton_iterations", "DRIVEDYN_COMPILED_NEWTON")
 
 
 def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch) -> None:
@@ -62,7 +37,7 @@ def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch) -> None:
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert slow.success and slow.stats.rejected > 0  # rejections are part of the case
     assert ncalls == fast.stats.steps + fast.stats.rejected
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_dead_centre_round_off_stagnation_is_the_same(monkeypatch) -> None:
@@ -80,7 +55,7 @@ def test_dead_centre_round_off_stagnation_is_the_same(monkeypatch) -> None:
 
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert slow.success and ncalls >= 50
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_a_failing_run_fails_the_same_way(monkeypatch) -> None:
@@ -98,7 +73,7 @@ def test_a_failing_run_fails_the_same_way(monkeypatch) -> None:
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert not slow.success and "worst equation:" in slow.message
     assert ncalls == fast.stats.steps + fast.stats.rejected
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_full_newton_is_the_same(monkeypatch) -> None:
@@ -114,7 +89,7 @@ def test_full_newton_is_the_same(monkeypatch) -> None:
 
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert ncalls > 0 and slow.stats.factorizations >= slow.stats.newton_iterations
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_superlu_factorised_between_calls_is_the_same(monkeypatch) -> None:
@@ -138,7 +113,7 @@ def test_superlu_factorised_between_calls_is_the_same(monkeypatch) -> None:
     # one call per attempt, and one more per factorisation done in between
     assert slow.success and slow.stats.rejected > 0
     assert ncalls == attempts + fast.stats.factorizations
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_kernel_table_refuses_arguments_it_cannot_pass() -> None:
@@ -173,7 +148,7 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert all(lin.dense is not None for lin in lins)
     assert slow.success and ncalls == fast.stats.steps + fast.stats.rejected
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 @pytest.mark.parametrize("loop", ["1", "0"])

@@ -15,37 +15,13 @@ import pytest
 
 import drivedyn as dd
 from drivedyn.solver import step_loop
+from same_runs import assert_identical, run_both
 
 
 def _run_both(monkeypatch, run):
     """``run()`` with the Python loop and with the compiled loop; returns both Results and
     the number of compiled loop calls."""
-    calls = []
-    compiled = step_loop.run_steps
-
-    def counting(*args):
-        calls.append(1)
-        return compiled(*args)
-
-    monkeypatch.setattr(step_loop, "run_steps", counting)
-    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
-    slow = run()
-    assert not calls
-    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "1")
-    fast = run()
-    return slow, fast, len(calls)
-
-
-def _assert_identical(slow, fast) -> None:
-    assert (slow.success, slow.message) == (fast.success, fast.message)
-    for k in ("steps", "rejected", "newton_iterations", "factorizations",
-              "residual_evaluations", "h_min_used", "h_max_used"):
-        assert getattr(slow.stats, k) == getattr(fast.stats, k), k
-    a, b = slow.dataset, fast.dataset
-    assert sorted(a.data_vars) == sorted(b.data_vars)
-    assert np.array_equal(a["time"].values, b["time"].values)
-    for name in a.data_vars:
-        assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+    return run_both(monkeypatch, run, step_loop, "run_steps", "DRIVEDYN_COMPILED_LOOP")
 
 
 def _torsen_c_bench(side: str):
@@ -67,7 +43,7 @@ def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch) -> None:
     assert slow.success and slow.stats.rejected > 0  # rejections are part of the case
     # one call per output interval (30) and one that finds the end, not one per step
     assert ncalls == 31 and fast.stats.steps > 10 * ncalls
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
     # the energy account is part of the recorded outputs
     assert np.any(fast.dataset["energy.dissipated"].values > 0)
 
@@ -87,7 +63,7 @@ def test_sparse_lu_factorised_between_calls_is_the_same(monkeypatch) -> None:
     # one call per output interval and one at the end, and one more per factorisation done
     # in between
     assert ncalls == 21 + fast.stats.factorizations
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_a_tyre_commits_the_step_time_the_same_way(monkeypatch) -> None:
@@ -105,7 +81,7 @@ def test_a_tyre_commits_the_step_time_the_same_way(monkeypatch) -> None:
 
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert slow.success and ncalls == 21
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 @pytest.mark.parametrize("step", [dd.AdaptiveStep(h0=1e-3, h_min=1e-4, h_max=1e-2),
@@ -123,7 +99,7 @@ def test_a_failing_run_fails_the_same_way(monkeypatch, step) -> None:
 
     slow, fast, _ = _run_both(monkeypatch, run)
     assert not slow.success and "worst equation:" in slow.message
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_debug_logging_runs_step_by_step_with_the_same_lines(monkeypatch, caplog) -> None:
@@ -147,7 +123,7 @@ def test_debug_logging_runs_step_by_step_with_the_same_lines(monkeypatch, caplog
     assert any("rejected" in line for line in logs[0])
     assert logs[0] == logs[1]
     assert marks[0] == marks[1] and len(marks[0]) == fast.stats.steps
-    _assert_identical(slow, fast)
+    assert_identical(slow, fast)
 
 
 def test_progress_is_called_at_output_times(monkeypatch) -> None:
