@@ -100,8 +100,7 @@ def instrument() -> None:
         if hasattr(stepper_mod, name):
             setattr(stepper_mod, name, _timed(f"Newton bookkeeping: {name}",
                                                getattr(stepper_mod, name)))
-    stepper_mod.Stepper.error_estimate = _timed("step control: error estimate",
-                                                stepper_mod.Stepper.error_estimate)
+    simulate_mod.step_error = _timed("step control: error estimate", simulate_mod.step_error)
     EnergyAccount.advance = _timed("step bookkeeping: energy account", EnergyAccount.advance)
     Recorder.record = _timed("recording", Recorder.record)
     default = simulate_mod.default_linear_solver

@@ -636,7 +636,7 @@ def test_adaptive_step_stays_below_a_size_that_failed_newton(caplog):
     import logging
     import re
 
-    from drivedyn.solver.simulate import LIMIT_AFTER_FAILURE, LIMIT_RELAX
+    from drivedyn.solver.step_control import LIMIT_AFTER_FAILURE, LIMIT_RELAX
 
     b, w0 = 1e-4, -20.0
     spec, _ = two_gears(stiffness=1e9, backlash=b, damping=30.0)

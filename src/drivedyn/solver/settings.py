@@ -86,7 +86,7 @@ class AdaptiveStep:
     weighted by ``atol + rtol |h dq|`` (the step's own increment), so rtol is the relative
     accuracy of the motion within a step. After a Newton failure at ``h`` the step is retried
     at ``h / 4`` and then stays below ``h / 2``, a cap that grows by 5 % per accepted step
-    (:data:`drivedyn.solver.simulate.LIMIT_AFTER_FAILURE`, ``LIMIT_RELAX``).
+    (:data:`drivedyn.solver.step_control.LIMIT_AFTER_FAILURE`, ``LIMIT_RELAX``).
 
     Attributes:
         h0: first step [s].

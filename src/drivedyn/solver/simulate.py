@@ -35,8 +35,6 @@ from drivedyn.solver.settings import (
 )
 from drivedyn.solver.step_control import (
     CS_IOUT,
-    LIMIT_AFTER_FAILURE,  # noqa: F401 (re-exported: tests, settings docs)
-    LIMIT_RELAX,  # noqa: F401
     accept_step,
     control_arrays,
     next_step,

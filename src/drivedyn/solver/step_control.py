@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from drivedyn.solver.newton_kernel import error_norm
+from drivedyn.solver.settings import AdaptiveStep
 
 # After a Newton failure at h the adaptive step stays below LIMIT_AFTER_FAILURE h, a cap that
 # grows by LIMIT_RELAX per accepted step: the error estimate alone would double h back to the
@@ -42,7 +43,7 @@ def control_arrays(step, beta: float, t_end: float) -> tuple[np.ndarray, np.ndar
     """``(ctl, cs)`` for a :class:`~drivedyn.solver.settings.FixedStep` or
     :class:`~drivedyn.solver.settings.AdaptiveStep` ``step``, the integrator's ``beta`` and
     the final time ``t_end`` [s]."""
-    adaptive = hasattr(step, "rtol")
+    adaptive = isinstance(step, AdaptiveStep)
     if adaptive:
         h, h_min, h_max = step.h0, step.h_min, step.h_max
         rtol, atol, max_rej = step.rtol, step.atol, step.max_rejections

@@ -55,7 +55,6 @@ from drivedyn.solver.newton_kernel import (
     ROUNDOFF_ULPS,
     STALL_ULPS,
     absmax,
-    error_norm,
     newton_update,
     predict,
     residual_norms,
@@ -474,13 +473,6 @@ class Stepper:
             return StepOutcome(StepStatus.NEWTON_DIVERGED, it, nfac, worst_eq=worst,
                                residual=wval, message="corrections grow")
         return StepOutcome(StepStatus.NEWTON_MAX_ITER, it, nfac, worst_eq=worst, residual=wval)
-
-    def error_estimate(self, sn: State, h: float, rtol: float, atol: float) -> tuple[float, int]:
-        """Weighted max norm of the local position error estimate of the last trial step
-        and the dof where it is largest (-1 if there are no dofs)."""
-        q, i = error_norm(self.trial.a, sn.a, self.hdq, abs(self.beta - 1.0 / 6.0) * h * h,
-                          atol, rtol)
-        return float(q), int(i)
 
 
 def _worst(sys: System, sq: np.ndarray, sphi: np.ndarray) -> tuple[int, float]:
