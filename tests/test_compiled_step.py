@@ -170,7 +170,7 @@ def test_the_step_is_precompiled_for_the_types_it_runs_with(monkeypatch, loop) -
     monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", loop)
     handed = []
 
-    def capture(calls, workers=None):
+    def capture(calls, workers=None, while_waiting=None):
         handed.append(list(calls))
         return {"missing": 0, "compiled_in_workers": 0, "wall_s": 0.0}
 

@@ -36,6 +36,7 @@ def g(a, b):
 
 SCRIPT = """
 import json
+import os
 import numpy as np
 from numba import njit, typeof
 from numba.core import event
@@ -53,10 +54,17 @@ class Count(event.Listener):
 def caller(a, b):
     return kmod.g(a, b) + 1.0
 
+waited = []
+
+def wait():
+    # called in this process while the workers compile; what it raises is only logged
+    waited.append(os.getpid())
+    raise RuntimeError("ignored")
+
 def main():
     calls = [(kmod.f, (typeof(np.zeros(3)),)), (kmod.g, (typeof(1.0), typeof(2.0)))]
     with event.install_listener("numba:compile", Count()):
-        first = precompile_kernels(calls, WORKERS)
+        first = precompile_kernels(calls, WORKERS, while_waiting=wait)
         values = [float(kmod.f(np.array([3.0, 4.0]))), float(kmod.g(2.0, 3.0))]
         # a compiled function calling a kernel loaded from the cache (the compiled Newton
         # step calls kernels; a cache load without registering the kernel's lowering made
@@ -64,7 +72,8 @@ def main():
         values.append(float(caller(2.0, 3.0)))
         second = precompile_kernels(calls, WORKERS)
     print(json.dumps({"first": first, "second": second, "values": values,
-                      "compiled_here": compiled}))
+                      "compiled_here": compiled,
+                      "waited": [pid == os.getpid() for pid in waited]}))
 
 if __name__ == "__main__":
     main()
@@ -90,6 +99,8 @@ def test_missing_kernels_compile_in_workers_and_load_from_the_cache(tmp_path) ->
     assert out["compiled_here"] == ["caller"]
     assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
+    # the work handed over for the wait ran once, here, and its exception was only logged
+    assert out["waited"] == [True]
 
 
 def test_without_workers_the_kernels_compile_on_first_call(tmp_path) -> None:
@@ -98,3 +109,4 @@ def test_without_workers_the_kernels_compile_on_first_call(tmp_path) -> None:
     assert sorted(out["compiled_here"]) == ["caller", "f", "g"]
     assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
+    assert out["waited"] == []  # nothing compiles in parallel: nothing to wait for

@@ -51,6 +51,17 @@ def advance_energy(eout, gstart, gdriver, pin, pd, diss, acc, h):
     acc[E_POTENTIAL] = ep
 
 
+def import_dataset_stack() -> None:
+    """Import what :meth:`Recorder.dataset` imports on first use: xarray, pandas, and the
+    duck-array modules xarray looks for when it wraps the first array (``dask.array``, when
+    dask is installed). 0.9 s on the 2-core reference machine, which the first compilation
+    of a model's kernels does while its workers compile
+    (:func:`drivedyn.solver.precompile.precompile_kernels`), not after them."""
+    import xarray as xr
+
+    xr.Variable(("time",), np.zeros(1))
+
+
 def _fields(m: Model, g, ei: int, en: str, A: np.ndarray) -> dict[str, tuple]:
     """Field variables of element ``ei`` of group ``g`` (meshed flexible parts and their
     contacts) from its aux history ``A`` (nt, naux)."""

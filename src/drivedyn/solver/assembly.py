@@ -166,6 +166,7 @@ class System:
                     want: bool) -> None:
         """Before the first evaluation: compile the kernels that are neither compiled nor
         cached in parallel processes (:mod:`drivedyn.solver.precompile`)."""
+        from drivedyn.results.recorder import import_dataset_stack
         from drivedyn.solver.precompile import precompile_kernels
 
         self._precompiled = True
@@ -182,7 +183,7 @@ class System:
                 for a in (float(st.t), tf.kind, tf.par, tf.fstart, tf.tab, self.tfv))))
         except (AttributeError, TypeError, ValueError):  # compiled on first use
             pass
-        precompile_kernels(calls + self.precompile_also)
+        precompile_kernels(calls + self.precompile_also, while_waiting=import_dataset_stack)
 
     def _bind(self, st: State, cM: float, cC: float, cK: float, mode: int,
               want: bool) -> list | bool:

@@ -176,6 +176,13 @@ def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
 # 8.8e-7 of E0 (tolerance 3e-7; 6.8e-8 with four): converged to the tolerance, not below.
 H_REUSE = 0.1
 REFACTOR_AFTER = 4
+# A correction that did not contract (ratio above Newton.contraction) marks the factorisation
+# stale; it is refreshed at the next iteration only if that iteration has not converged. A
+# converged step keeps it: near a zero-torque hold's convergence the last correction is
+# small and its ratio to the one before is noise (the gear flanks within their onset).
+# Refreshing there cost the Type C's zero holds 0.42 factorisations per step against 0.13 in
+# loaded holds; deferred, 0.10 (benchmarks/README.md, issue 16 sixth round). The price: a
+# stale step that has not converged assembles its matrix in an evaluation of its own.
 
 # outcome codes of newton_iterations (mapped to StepStatus by the stepper)
 SUCCESS = 0
@@ -287,6 +294,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         _factorised(istate, fstate, h)
         fresh = True
         since_factor = 0
+        stale = False
     else:
         predict(vd0, a0, v0, prev_vd, w, h, af, am, gamma, beta, vd, a, v, hdq)
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
@@ -304,6 +312,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         since_factor = 0
         stall = stall_ulps * EPS * max(1.0, absmax(x))
         last = np.inf
+        stale = False
     while True:
         if not resumed:
             rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, no_roff,
@@ -327,6 +336,9 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                 return SUCCESS, it, istate[I_NFAC] - nfac0
             if it == max_iter:
                 break
+            if stale:
+                _forget(istate, roff)
+                stale = False
             if full or istate[I_LU] == 0 or since_factor >= REFACTOR_AFTER:
                 if not assembled:
                     _clear(r, rabs, data, True, hdq, nn, Tn, istate)
@@ -361,7 +373,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         if it > 0 and ratio > contraction:
             if ratio > 2.0 and fresh:
                 return DIVERGED, it + 1, istate[I_NFAC] - nfac0
-            _forget(istate, roff)  # refactor at the next iteration
+            # refactor at the next iteration unless it has converged (STALE_AT_CONVERGENCE)
+            stale = True
         if nrm > 0:
             prev = nrm
         last = nrm

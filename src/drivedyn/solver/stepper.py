@@ -254,6 +254,7 @@ class Stepper:
         kscale = sys.kscale
         stall = STALL_ULPS * EPS * max(1.0, absmax(st.x))
         last = np.inf
+        stale = False
         for it in range(nw.max_iter + 1):
             rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
                                                     self._no_roff, self.force_scale)
@@ -278,6 +279,9 @@ class Stepper:
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break
+            if stale:  # newton_kernel's note on the deferred refresh
+                self._forget()
+                stale = False
             # modified Newton: a factorisation that needed several iterations already is
             # stale (the configuration moved on); refresh it rather than creep along
             if full or self.lu_h is None or since_factor >= REFACTOR_AFTER:
@@ -302,14 +306,14 @@ class Stepper:
                     return StepOutcome(StepStatus.NEWTON_DIVERGED, it + 1,
                                        self.factorizations - nfac0, worst_eq=worst,
                                        residual=wval, message="corrections grow")
-                self._forget()  # refactor at the next iteration
+                stale = True  # refactor at the next iteration unless it has converged
             prev = nrm if nrm > 0 else prev
             last = nrm
             fresh = False
             lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
             # the matrix with the residual when the next iteration factorises for certain
-            # (a correction that did not contract); not after three iterations on one
-            # factorisation, where the next check often converges
+            # (no factorisation); not after a correction that did not contract or after
+            # three iterations on one factorisation, where the next check often converges
             assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
         sq, sphi = scaled_residual(sys)
         worst, wval = _worst(sys, sq, sphi)
