@@ -2,7 +2,9 @@
 ``torsen_b_bench.py``): all four modes on the seed 003 protocol of the model file, with the
 simulated, analytic and measured TDR, then per run the wall time of ``simulate``, the model
 build time, steps, rejected steps, Newton iterations, LU factorizations, and the total wall
-time and peak memory; one JSON line at the end."""
+time and peak memory; then the wall time of the same four modes computed as ``drivedyn tdr``
+does (``analysis.tdr.evaluate``: both sides at the same time on two or more CPUs), checked to
+give the same TDRs; one JSON line at the end."""
 
 from __future__ import annotations
 
@@ -14,7 +16,14 @@ import time
 
 from _common import warmup
 
-from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes
+from drivedyn.analysis.tdr import (
+    evaluate,
+    experimental,
+    mode_name,
+    parallel_sides,
+    run_bench,
+    side_modes,
+)
 from drivedyn.config import read_library_file
 from drivedyn.library.differentials import of
 from drivedyn.library.differentials.protocol import bench_spec
@@ -107,6 +116,16 @@ def main(default_model: str, description: str) -> None:
               f"{f['build_s']:9.3f} {f['steps']:6d} {f['rejected']:8d} "
               f"{f['newton_iterations']:10d} {f['factorizations']:6d} {f['success']!s:>7}")
     print(f"total wall {total:.2f} s (both runs, build included); peak RSS {rss} MB")
+    # the same four modes the way `drivedyn tdr` computes them: both sides at the same time
+    # (the second in a forked process) when analysis.tdr.parallel_sides() allows
+    t1 = time.perf_counter()
+    ev = evaluate(p, [1, 2, 3, 4])
+    tdr_wall = time.perf_counter() - t1
+    tdr_of = {row["mode"]: row["tdr"] for row in ev.rows}
+    same = all(tdr_of[m] == runs[s_].tdr[m] for s_ in diff.sides for m in side_modes(p)[s_])
+    print(f"four modes as `drivedyn tdr` runs them (both sides at once: "
+          f"{'yes' if parallel_sides() else 'no'}): {tdr_wall:.2f} s wall, build and a one-step "
+          f"warm-up included; TDRs equal to the runs above: {same}")
     print(json.dumps({
         "benchmark": f"{diff.library}_bench",
         "model": source,
@@ -115,6 +134,9 @@ def main(default_model: str, description: str) -> None:
         "runs": figures,
         "modes": modes,
         "total_wall_s": round(total, 3),
+        "tdr_wall_s": round(tdr_wall, 3),
+        "tdr_parallel_sides": parallel_sides(),
+        "tdr_same": same,
         "peak_rss_mb": rss,
-        "success": all(f["success"] for f in figures),
+        "success": all(f["success"] for f in figures) and same,
     }), flush=True)

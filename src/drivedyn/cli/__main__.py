@@ -1,5 +1,5 @@
 """``python -m drivedyn.cli``: the ``drivedyn`` command."""
 
-from drivedyn.cli import main
+from drivedyn.cli import console
 
-main()
+console()

@@ -178,8 +178,10 @@ H_REUSE = 0.1
 REFACTOR_AFTER = 4
 # A correction that did not contract (ratio above Newton.contraction) marks the factorisation
 # stale; it is refreshed at the next iteration only if that iteration has not converged. A
-# converged step keeps it: near a zero-torque hold's convergence the last correction is
-# small and its ratio to the one before is noise (the gear flanks within their onset).
+# step converged on a factorisation of an earlier step keeps it: near a zero-torque hold's
+# convergence the last correction is small and its ratio to the one before is noise (the
+# gear flanks within their onset). One converged on its own new factorisation does not: the
+# matrix changed within the step (a block sticking on a slope failed without this).
 # Refreshing there cost the Type C's zero holds 0.42 factorisations per step against 0.13 in
 # loaded holds; deferred, 0.10 (benchmarks/README.md, issue 16 sixth round). The price: a
 # stale step that has not converged assembles its matrix in an evaluation of its own.
@@ -329,7 +331,11 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                 rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, roff,
                                                         fstate[F_FORCE])
             if rq_max <= tol and ph_max <= phi_tol:
-                if it >= 3 and istate[I_NFAC] == nfac0:
+                if stale and istate[I_NFAC] != nfac0:
+                    # no contraction on this step's own factorisation: an event (contact,
+                    # stick-slip) within the step; refresh it next step
+                    _forget(istate, roff)
+                elif it >= 3 and istate[I_NFAC] == nfac0:
                     _forget(istate, roff)  # slow convergence on an old factorisation: stale
                 if nd:
                     fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))

@@ -270,7 +270,11 @@ class Stepper:
                 rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
                                                    self._roundoff(st), self.force_scale)
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
-                if it >= 3 and self.factorizations == nfac0:
+                if stale and self.factorizations != nfac0:
+                    # no contraction on this step's own factorisation: an event (contact,
+                    # stick-slip) within the step (newton_kernel's note on the deferral)
+                    self._forget()
+                elif it >= 3 and self.factorizations == nfac0:
                     # converged, but slowly, on a factorisation from an earlier step: it is
                     # stale (contacts or gear flanks changed since); refresh it next step
                     self._forget()
