@@ -208,11 +208,13 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
     Type C costs about eight iterations: its matrix and LU against a residual and a solve;
     newton_kernel's note on REFACTOR_AFTER) over each hold's window, from the step log. The
     profile is the shipped one's first three levels: 125 N m, 60 N m, then zero torque after
-    a 0.25 s ramp. Measured: 27 700 and 27 300 per simulated second in the loaded holds,
-    28 400 in the zero hold (1.04 times the lesser: as many iterations, 1.75 against 2.1 per
-    step, but 0.49 factorisations per step against 0.43: the meshes at zero load change their
-    stiffness within the 20 nm flank onset). With newton_kernel.FLOOR_REL at 1e-4, as
-    before, the zero hold took 96 500 (3.8 times): the bound below, 1.1, catches that."""
+    a 0.25 s ramp. Measured: 15 000 and 14 800 per simulated second in the loaded holds,
+    14 350 in the zero hold (0.97 times the lesser; 2.1 iterations and 0.10 factorisations per
+    step against 1.9 and 0.13). The bound below, 1.1, catches each of the regressions seen:
+    with newton_kernel.FLOOR_REL at 1e-4 the zero hold took 3.8 times the loaded ones' work;
+    with the factorisation refreshed after every correction that did not contract, even when
+    the next check converged (before issue 16's sixth round), 1.66 times (0.42 factorisations
+    per step: the ratio of two tiny last corrections is noise at zero load)."""
     p = read_library_file("torsen-c", ["vehicle.torque_levels=[125.0, 60.0, 0.0]",
                                        "vehicle.speed_diff=[-2.0, -2.0, -2.0]"])[0]
     with caplog.at_level(logging.DEBUG, logger="drivedyn"):

@@ -379,7 +379,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         if it > 0 and ratio > contraction:
             if ratio > 2.0 and fresh:
                 return DIVERGED, it + 1, istate[I_NFAC] - nfac0
-            # refactor at the next iteration unless it has converged (STALE_AT_CONVERGENCE)
+            # refactor at the next iteration unless it has converged (note at REFACTOR_AFTER)
             stale = True
         if nrm > 0:
             prev = nrm
