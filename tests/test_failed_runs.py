@@ -78,3 +78,32 @@ def test_same_command_twice_is_bit_identical(tmp_path: Path, model: str,
         assert va.dtype == vb.dtype and va.shape == vb.shape, name
         assert va.tobytes() == vb.tobytes(), f"{name} differs between two identical runs"
     assert a["time"].values.tobytes() == b["time"].values.tobytes()
+
+
+def test_ctrl_c_within_a_snapshot_keeps_consistent_partial_results(monkeypatch) -> None:
+    """A KeyboardInterrupt can arrive between two appends of Recorder.record (a cold
+    `drivedyn run` interrupted at an output time wrote no partial file: "cannot reshape array
+    of size 35 into shape (6, 7)"). The incomplete snapshot is dropped and the state reached
+    is recorded whole."""
+    import drivedyn as dd
+    from drivedyn.results.recorder import Recorder
+
+    calls = {"n": 0}
+    record = Recorder.record
+
+    def interrupted(self, st, h=0.0):
+        calls["n"] += 1
+        if calls["n"] == 6:  # half a snapshot, then Ctrl-C
+            self.t.append(st.t)
+            self.x.append(st.x[: self.model.nn].copy())
+            raise KeyboardInterrupt
+        record(self, st, h)
+
+    monkeypatch.setattr(Recorder, "record", interrupted)
+    res = dd.simulate(dd.load_model("pendulum"), 1.0, output_dt=0.01)
+    assert not res.success and "interrupted by the user" in res.message
+    ds = res.dataset
+    assert ds.sizes["time"] == 6  # five whole snapshots and the state reached, recorded whole
+    assert np.all(np.diff(res.time) > 0)
+    for name in ds.data_vars:
+        assert np.all(np.isfinite(ds[name].values)), name

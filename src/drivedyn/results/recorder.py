@@ -180,6 +180,17 @@ class Recorder:
         self.diss.append([d.copy() for d in e.dissipated])
         self.h.append(h)
 
+    def _series(self) -> tuple[list, ...]:
+        return self.t, self.x, self.R, self.v, self.aux, self.en, self.diss, self.h
+
+    def drop_partial(self) -> None:
+        """Drop a snapshot that :meth:`record` left incomplete: a Ctrl-C (KeyboardInterrupt)
+        can arrive between two of its appends, and the partial results are then written
+        from snapshots of unequal lengths otherwise."""
+        n = min(len(s) for s in self._series())
+        for s in self._series():
+            del s[n:]
+
     def __len__(self) -> int:
         return len(self.t)
 
@@ -190,6 +201,7 @@ class Recorder:
         the energy terms are always kept. None keeps everything."""
         import xarray as xr
 
+        self.drop_partial()
         m = self.model
         t = np.asarray(self.t, dtype=float)
         nt = len(t)

@@ -238,6 +238,7 @@ def simulate(
     stats.factorizations = stepper.factorizations
     stats.residual_evaluations = sys.nevals
     stats.wall_s = _time.perf_counter() - wall0
+    rec.drop_partial()  # a Ctrl-C within a snapshot
     if not success and (not rec.t or rec.t[-1] < st.t):
         rec.record(st, 0.0)
     attrs = {
