@@ -19,11 +19,12 @@ the favoured axle's torque over the other's: in drive -- power from the housing 
 differential's analytic model at the same speeds and housing torque.
 
 Cost: the shipped profile (12 loaded levels and 3 zero-torque holds) is timed in the README
-and in ``benchmarks/README.md``: 0.48 of real time on two cores. At exactly zero torque the
+and in ``benchmarks/README.md``: 0.38 of real time on two cores (the example's short
+profile, with its quicker tip-ins: 0.66). At exactly zero torque the
 gears float in their clearances (the planets' centrifugal force opens the sun meshes by
 nanometres) and the internal gear floats axially between its washers; the steps stay at the
 0.2 ms cap and a zero-torque hold costs no more than a loaded one per simulated second
-(0.34 s against 0.37 s; 0.62 against 0.49-0.57 s before Newton's deferred refresh, issue 16's
+(0.29 s against 0.30 s; 0.62 against 0.49-0.57 s before Newton's deferred refresh, issue 16's
 sixth round). It cost 10-15 minutes per simulated second
 before issue 16 (the gear element lent its mesh stiffness to the iteration matrix for gaps up
 to 10 nm, where Newton then converged only linearly), 4.4-5.2 s before the model files' 20 nm

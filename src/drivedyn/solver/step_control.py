@@ -82,7 +82,7 @@ def next_step(cs, ctl, t, touts):
     step size twice per interval, and each change costs a factorisation of the iteration
     matrix (``newton_kernel.H_REUSE``). Measured (benchmarks/README.md, issue 16 seventh
     round): the Type C vehicle profile with 1.44 ms output intervals at a 0.2 ms cap went
-    from 14 168 to 6 044 factorisations. Fixed steps keep their size and shorten or
+    from 14 168 to 6 072 factorisations. Fixed steps keep their size and shorten or
     stretch (by up to 25 %, not right after a rejection) the one that reaches the output
     time."""
     adaptive = ctl[CT_ADAPTIVE] != 0.0

@@ -1,0 +1,87 @@
+"""Step-size control (``solver/step_control.py``): how steps reach the output times.
+
+Adaptive steps divide each output interval evenly, so that a run at its ``h_max`` keeps one
+step size (every change of size costs a factorisation); fixed steps keep their size and
+shorten or stretch the one that reaches an output time.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import drivedyn as dd
+from drivedyn.solver.step_control import CS_H, accept_step, control_arrays, next_step
+
+
+def _walk(step, touts: np.ndarray, t_end: float, t0: float = 0.0) -> list[float]:
+    """Step sizes from ``t0`` to ``t_end`` with every step accepted at zero error (the
+    controller would grow the size: only ``h_max`` and the output times limit it)."""
+    ctl, cs = control_arrays(step, 0.25, t_end)
+    t = t0
+    sizes = []
+    while True:
+        h = next_step(cs, ctl, t, touts)
+        if h == 0.0:
+            return sizes
+        sizes.append(h)
+        t, _ = accept_step(cs, ctl, t + h, h, 0.0, 2, touts)
+
+
+def test_adaptive_steps_divide_each_output_interval_evenly():
+    """1.44 ms output intervals at a 0.2 ms cap (the Type C vehicle's example profile): eight
+    steps of 0.18 ms in every interval, one size throughout (before: six of 0.2 ms and a
+    stretched one of 0.24 ms, two changes of size per interval)."""
+    dt = 1.44e-3
+    touts = dt * np.arange(1, 51)
+    sizes = np.array(_walk(dd.AdaptiveStep(h0=0.2e-3, h_max=0.2e-3), touts, touts[-1]))
+    assert len(sizes) == 8 * 50
+    assert np.allclose(sizes, dt / 8, rtol=1e-9, atol=0.0)
+
+
+def test_an_interval_of_exactly_n_steps_stays_n_steps_late_in_a_run():
+    """At t = 2 s the time carries the round-off of its sum of steps (about 1e-12 of a 1 ms
+    interval); an interval of exactly five 0.2 ms steps must not become six (the changes of
+    size made a TORSEN zero-torque hold's Newton chatter)."""
+    dt = 1e-3
+    t0 = 2.0
+    touts = t0 + dt * np.arange(1, 201)
+    sizes = np.array(_walk(dd.AdaptiveStep(h0=0.2e-3, h_max=0.2e-3), touts, touts[-1], t0))
+    assert len(sizes) == 5 * 200
+    assert np.allclose(sizes, 0.2e-3, rtol=1e-9, atol=0.0)
+
+
+def test_adaptive_steps_never_exceed_the_controllers_size():
+    """A size that does not divide the interval: the fewest steps of at most that size."""
+    dt = 5e-3
+    touts = dt * np.arange(1, 11)
+    sizes = np.array(_walk(dd.AdaptiveStep(h0=2e-3, h_max=2e-3), touts, touts[-1]))
+    assert len(sizes) == 3 * 10
+    assert sizes.max() <= 2e-3 * (1 + 1e-6)
+    assert np.allclose(sizes, dt / 3, rtol=1e-9, atol=0.0)
+
+
+def test_a_shortened_step_lets_the_size_grow_but_never_shrinks_it():
+    """The controller's size after a step shortened to reach an output time: grown by the
+    step's error estimate when that allows more than the current size, else unchanged."""
+    touts = np.array([1.0])
+    ctl, cs = control_arrays(dd.AdaptiveStep(h0=1e-3, h_max=1.0, rtol=1e-3), 0.25, 1.0)
+    cs[CS_H] = 1e-3
+    accept_step(cs, ctl, 0.5e-3, 0.5e-3, 1.0, 2, touts)     # error at tolerance: keep
+    assert cs[CS_H] == pytest.approx(1e-3)
+    accept_step(cs, ctl, 1.0e-3, 0.5e-3, 1e-6, 2, touts)    # tiny error: 2 x the step taken
+    assert cs[CS_H] == pytest.approx(1e-3)                   # 2 x 0.5 ms is not more
+    accept_step(cs, ctl, 1.9e-3, 0.9e-3, 1e-6, 2, touts)
+    assert cs[CS_H] == pytest.approx(1.8e-3)
+
+
+def test_fixed_steps_keep_their_size_and_stretch_the_last_one():
+    """Fixed steps of 0.2 ms to 1.44 ms output intervals: six of 0.2 ms and one of 0.24 ms
+    (stretched by 20 %, within the 25 % allowed) per interval."""
+    dt = 1.44e-3
+    touts = dt * np.arange(1, 11)
+    sizes = np.array(_walk(dd.FixedStep(0.2e-3), touts, touts[-1]))
+    assert len(sizes) == 7 * 10
+    per = sizes.reshape(10, 7)
+    assert np.allclose(per[:, :6], 0.2e-3, rtol=1e-9, atol=0.0)
+    assert np.allclose(per[:, 6], 0.24e-3, rtol=1e-9, atol=0.0)
