@@ -85,3 +85,31 @@ def test_fixed_steps_keep_their_size_and_stretch_the_last_one():
     per = sizes.reshape(10, 7)
     assert np.allclose(per[:, :6], 0.2e-3, rtol=1e-9, atol=0.0)
     assert np.allclose(per[:, 6], 0.24e-3, rtol=1e-9, atol=0.0)
+
+
+def test_rotation_coordinates_take_their_own_absolute_tolerance():
+    """``AdaptiveStep.atol_rot`` weighs the rotation dofs (6 i + 3..5) of the nodes; the
+    translations, and coordinates beyond the nodes (modal ones), keep ``atol``."""
+    from drivedyn.solver.step_control import step_error
+
+    n = 2 * 6 + 1                      # two nodes and one modal coordinate
+    hdq = np.zeros(n)
+    a0 = np.zeros(n)
+    step = dd.AdaptiveStep(h0=1e-3, h_max=1e-3, rtol=1e-3, atol=1e-6, atol_rot=1e-5)
+    ctl, _ = control_arrays(step, 0.25, 1.0, nnode=2)
+    same, _ = control_arrays(dd.AdaptiveStep(h0=1e-3, h_max=1e-3, rtol=1e-3, atol=1e-6),
+                             0.25, 1.0, nnode=2)
+    h = 1e-3
+    for i in range(n):
+        a1 = np.zeros(n)
+        a1[i] = 1.0
+        err, where = step_error(ctl, a1, a0, hdq, h)
+        ref, _ = step_error(same, a1, a0, hdq, h)
+        assert where == i
+        rot = i < 12 and i % 6 >= 3
+        assert err == pytest.approx(ref / 10.0 if rot else ref, rel=1e-12), i
+
+
+def test_atol_rot_must_be_positive():
+    with pytest.raises(ValueError, match="atol_rot"):
+        dd.AdaptiveStep(atol_rot=0.0)

@@ -125,6 +125,8 @@ class AdaptiveStepFile(Strict):
     h_max: Time = 1e-2
     rtol: float = Field(default=1e-3, gt=0, allow_inf_nan=False)
     atol: float = Field(default=1e-7, gt=0, allow_inf_nan=False)
+    # [rad] absolute tolerance of the nodes' rotations; none: atol (AdaptiveStep.atol_rot)
+    atol_rot: Annotated[float, scalar(U.ANGLE, positive=True)] | None = None
 
     @model_validator(mode="after")
     def _ordered(self) -> AdaptiveStepFile:

@@ -327,7 +327,7 @@ def scenario_of(mf: S.ModelFile) -> Scenario:
 
     st = mf.solver.step
     if isinstance(st, AdaptiveStepFile):
-        step = AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol)
+        step = AdaptiveStep(st.h0, st.h_min, st.h_max, st.rtol, st.atol, atol_rot=st.atol_rot)
     else:
         step = FixedStep(st.h)
     nw = mf.solver.newton

@@ -129,14 +129,18 @@ def predict(vd, a, v, vd_prev, w, h, af, am, gamma, beta, vd1, a1, v1, hdq):
 
 
 @njit(cache=True)
-def error_norm(a1, a0, hdq, c, atol, rtol):
+def error_norm(a1, a0, hdq, c, atol, rtol, atol_rot=-1.0, nnode=0):
     """Weighted max norm of the local position error estimate ``c |a1 - a0|`` (``c`` =
-    |beta - 1/6| h^2) with weights ``atol + rtol |hdq|``, and the first dof where it is
-    largest (a NaN counts as largest); (0, -1) for no dofs."""
+    |beta - 1/6| h^2) with weights ``atol + rtol |hdq|`` (``atol_rot`` instead of ``atol``
+    for the rotation coordinates of the ``nnode`` nodes, dofs ``6 i + 3..5``; a negative
+    ``atol_rot``: ``atol``), and the first dof where it is largest (a NaN counts as largest);
+    (0, -1) for no dofs."""
     qmax = 0.0
     imax = -1
+    arot = atol_rot if atol_rot > 0.0 else atol
     for i in range(a1.shape[0]):
-        q = c * abs(a1[i] - a0[i]) / (atol + rtol * abs(hdq[i]))
+        at = arot if i < 6 * nnode and i % 6 >= 3 else atol
+        q = c * abs(a1[i] - a0[i]) / (at + rtol * abs(hdq[i]))
         if imax < 0 or q > qmax or (q != q and qmax == qmax):
             qmax = q
             imax = i

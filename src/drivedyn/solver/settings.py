@@ -93,6 +93,10 @@ class AdaptiveStep:
         h_min, h_max: bounds [s].
         rtol, atol: relative tolerance and absolute tolerance [m or rad].
         max_rejections: consecutive rejections before the run stops.
+        atol_rot: absolute tolerance of the nodes' rotation coordinates [rad]; None: ``atol``.
+            One ``atol`` for both treats 1 um and 1 urad alike, 10 nm of arc on a 10 mm
+            planet gear: a rotation tolerance of ``atol`` divided by the parts' radius
+            weighs the two alike (the TORSEN files: 1e-5 rad for 1e-6 m).
     """
 
     h0: float = 1e-4
@@ -101,8 +105,11 @@ class AdaptiveStep:
     rtol: float = 1e-3
     atol: float = 1e-7
     max_rejections: int = 30
+    atol_rot: float | None = None
 
     def __post_init__(self) -> None:
+        if self.atol_rot is not None and not self.atol_rot > 0:
+            raise ValueError(f"AdaptiveStep needs atol_rot > 0 (or None), got {self.atol_rot}")
         if not (0 < self.h_min <= self.h0 <= self.h_max):
             raise ValueError("AdaptiveStep needs 0 < h_min <= h0 <= h_max, got "
                              f"{self.h_min}, {self.h0}, {self.h_max}")

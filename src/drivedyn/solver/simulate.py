@@ -217,7 +217,7 @@ def simulate(
         rec.record(st)
         iout = 1
     stats = RunStats()
-    ctl, cs = control_arrays(step, stepper.beta, t_end)
+    ctl, cs = control_arrays(step, stepper.beta, t_end, model.nn)
     cs[CS_IOUT] = iout
     debug = log.isEnabledFor(logging.DEBUG)
     loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug)

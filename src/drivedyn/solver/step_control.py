@@ -8,7 +8,8 @@ goes into both, and the two stay equal bit for bit: ``tests/test_step_loop.py``)
 ``ctl`` (float64, NCTL): the settings of a run::
 
     adaptive (0/1), h_min [s], h_max [s], rtol, atol [m or rad], max_rejections, eps_t [s],
-    t_end [s], |beta - 1/6| (the error estimate's coefficient)
+    t_end [s], |beta - 1/6| (the error estimate's coefficient), atol_rot [rad] (-1: atol),
+    number of nodes (their rotation dofs take atol_rot)
 
 ``cs`` (float64, NCS): the controller's memory::
 
@@ -33,27 +34,32 @@ LIMIT_RELAX = 1.05
 # fixed steps: a run stops after this many consecutive rejections
 MAX_REJECTIONS_FIXED = 12
 
-CT_ADAPTIVE, CT_HMIN, CT_HMAX, CT_RTOL, CT_ATOL, CT_MAXREJ, CT_EPS_T, CT_TEND, CT_ERRC = range(9)
-NCTL = 9
+(CT_ADAPTIVE, CT_HMIN, CT_HMAX, CT_RTOL, CT_ATOL, CT_MAXREJ, CT_EPS_T, CT_TEND, CT_ERRC,
+ CT_ATOL_ROT, CT_NNODE) = range(11)
+NCTL = 11
 CS_H, CS_LIMIT, CS_SUBSTEP, CS_REJ, CS_IOUT = range(5)
 NCS = 5
 
 
-def control_arrays(step, beta: float, t_end: float) -> tuple[np.ndarray, np.ndarray]:
+def control_arrays(step, beta: float, t_end: float,
+                   nnode: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """``(ctl, cs)`` for a :class:`~drivedyn.solver.settings.FixedStep` or
-    :class:`~drivedyn.solver.settings.AdaptiveStep` ``step``, the integrator's ``beta`` and
-    the final time ``t_end`` [s]."""
+    :class:`~drivedyn.solver.settings.AdaptiveStep` ``step``, the integrator's ``beta``, the
+    final time ``t_end`` [s] and the model's number of nodes ``nnode`` (their rotation
+    coordinates take ``step.atol_rot``)."""
     adaptive = isinstance(step, AdaptiveStep)
     if adaptive:
         h, h_min, h_max = step.h0, step.h_min, step.h_max
         rtol, atol, max_rej = step.rtol, step.atol, step.max_rejections
+        atol_rot = step.atol_rot if step.atol_rot is not None else -1.0
     else:
+        atol_rot = -1.0
         h = h_max = step.h
         h_min = step.h_min if step.h_min is not None else step.h / 1024
         rtol, atol, max_rej = 0.0, 0.0, MAX_REJECTIONS_FIXED
     eps_t = 1e-9 * (h_min if h_min > 0 else 1e-12)
     ctl = np.array([1.0 if adaptive else 0.0, h_min, h_max, rtol, atol, float(max_rej), eps_t,
-                    t_end, abs(beta - 1.0 / 6.0)])
+                    t_end, abs(beta - 1.0 / 6.0), atol_rot, float(nnode)])
     cs = np.array([h, np.inf, -np.inf, 0.0, 0.0])
     return ctl, cs
 
@@ -121,7 +127,8 @@ def step_error(ctl, a1, a0, hdq, h):
     largest; (0, -1) for fixed steps (no estimate)."""
     if ctl[CT_ADAPTIVE] == 0.0:
         return 0.0, -1
-    return error_norm(a1, a0, hdq, ctl[CT_ERRC] * h * h, ctl[CT_ATOL], ctl[CT_RTOL])
+    return error_norm(a1, a0, hdq, ctl[CT_ERRC] * h * h, ctl[CT_ATOL], ctl[CT_RTOL],
+                      ctl[CT_ATOL_ROT], int(ctl[CT_NNODE]))
 
 
 @njit(cache=True)

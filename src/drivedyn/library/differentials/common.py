@@ -185,7 +185,8 @@ class Solver(Strict):
         st, nw = self.step, self.newton
         hm = st.h_max if h_max is None else min(st.h_max, h_max)
         return {"integrator": GeneralizedAlpha(self.rho_inf),
-                "step": AdaptiveStep(st.h0, st.h_min, hm, st.rtol, st.atol),
+                "step": AdaptiveStep(st.h0, st.h_min, hm, st.rtol, st.atol,
+                                     atol_rot=st.atol_rot),
                 "newton": Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter)}
 
 
