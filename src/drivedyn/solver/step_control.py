@@ -82,7 +82,8 @@ def next_step(cs, ctl, t, touts):
     Steps land on the output times ``touts`` (sorted).
 
     Adaptive steps divide the rest of the output interval evenly: the fewest steps of at most
-    the controller's size that reach the next output time, all of one size. Once the size
+    the controller's size (to 1e-6 of it, below) that reach the next output time, all of one
+    size. Once the size
     is capped by ``h_max``, every interval is then stepped at one constant size; a short or
     stretched last step before each output time (as fixed steps still have) changes the
     step size twice per interval, and each change costs a factorisation of the iteration
