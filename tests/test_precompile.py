@@ -35,6 +35,7 @@ def g(a, b):
 """
 
 SCRIPT = """
+import gc
 import json
 import os
 import numpy as np
@@ -65,6 +66,7 @@ def main():
     calls = [(kmod.f, (typeof(np.zeros(3)),)), (kmod.g, (typeof(1.0), typeof(2.0)))]
     with event.install_listener("numba:compile", Count()):
         first = precompile_kernels(calls, WORKERS, while_waiting=wait)
+        by_precompile = list(compiled)
         values = [float(kmod.f(np.array([3.0, 4.0]))), float(kmod.g(2.0, 3.0))]
         # a compiled function calling a kernel loaded from the cache (the compiled Newton
         # step calls kernels; a cache load without registering the kernel's lowering made
@@ -72,7 +74,8 @@ def main():
         values.append(float(caller(2.0, 3.0)))
         second = precompile_kernels(calls, WORKERS)
     print(json.dumps({"first": first, "second": second, "values": values,
-                      "compiled_here": compiled,
+                      "compiled_here": compiled, "gc": [gc.isenabled(), *gc.get_threshold()],
+                      "by_precompile": by_precompile,
                       "waited": [pid == os.getpid() for pid in waited]}))
 
 if __name__ == "__main__":
@@ -96,17 +99,21 @@ def test_missing_kernels_compile_in_workers_and_load_from_the_cache(tmp_path) ->
     out = _run(tmp_path, 2)
     assert out["first"]["missing"] == 2 and out["first"]["compiled_in_workers"] == 2
     # both kernels loaded from the cache the workers wrote; only the caller compiles here
-    assert out["compiled_here"] == ["caller"]
+    assert out["compiled_here"] == ["caller"] and out["by_precompile"] == []
     assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
+    assert out["gc"] == [True, 700, 10, 10]  # as Python starts
     # the work handed over for the wait ran once, here, and its exception was only logged
     assert out["waited"] == [True]
 
 
-def test_without_workers_the_kernels_compile_on_first_call(tmp_path) -> None:
+def test_without_workers_the_kernels_compile_in_this_process(tmp_path) -> None:
     out = _run(tmp_path, 0)
     assert out["first"]["missing"] == 2 and out["first"]["compiled_in_workers"] == 0
+    # compiled by precompile_kernels itself (the collector's thresholds restored afterwards)
+    assert sorted(out["by_precompile"]) == ["f", "g"]
     assert sorted(out["compiled_here"]) == ["caller", "f", "g"]
+    assert out["gc"] == [True, 700, 10, 10]  # as Python starts
     assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
     assert out["waited"] == []  # nothing compiles in parallel: nothing to wait for

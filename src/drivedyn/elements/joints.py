@@ -114,18 +114,19 @@ def _constraints(P, C, W, full):
             typ = rtype[e, i]
             phit = 0.0
             phitt = 0.0
-            if typ == ROW_AXIAL:
-                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, ai[e, i]], g, H,
+            # one inlined copy of prim_axial for the axial and the screw rows (each copy is
+            # typed and lowered again at first compilation)
+            if typ == ROW_AXIAL or typ == ROW_SCREW:
+                col = 2 if typ == ROW_SCREW else ai[e, i]
+                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, col], g, H,
                                  full, ws, wv)
+                if typ == ROW_SCREW:
+                    c = pitch[e] / (2.0 * np.pi)
+                    val -= c * th + c0[e]
+                    add_scaled(-c, gth, Hth, g, H, full)
             elif typ == ROW_DOT:
                 val = prim_dot(RA, RB, RmA[e, :, ai[e, i]], RmB[e, :, bj[e, i]], g, H, full,
                                ws, wv)
-            elif typ == ROW_SCREW:
-                val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, 2], g, H,
-                                 full, ws, wv)
-                c = pitch[e] / (2.0 * np.pi)
-                val -= c * th + c0[e]
-                add_scaled(-c, gth, Hth, g, H, full)
             else:  # ROW_DRIVE
                 f = tfid[e]
                 if tfmode[e] == 0:
