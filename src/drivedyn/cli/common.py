@@ -19,8 +19,8 @@ import click
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 
-COMPILE_NOTE = ("note: the first run compiles the numba kernels (about half a minute for a "
-                "TORSEN model on 2 cores); they are cached afterwards.")
+COMPILE_NOTE = ("note: the first run compiles the numba kernels (20-80 s for a TORSEN "
+                "model on 2 cores, depending on its load); they are cached afterwards.")
 
 
 class BadInput(click.ClickException):

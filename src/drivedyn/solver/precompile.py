@@ -3,14 +3,17 @@
 A kernel is compiled by numba on its first call, for the argument types of that call, and
 kept in numba's on-disk cache (``cache=True``): later runs load it in milliseconds. The first
 run after an install compiles every kernel the model uses, one after the other, in the
-process that runs the simulation (about 50 s of CPU for the Type C bench: gear pairs 11 s,
-joints 11 s, journal contacts 8 s, the compiled Newton step 7 s, thrust washers 6 s).
+process that runs the simulation (for the Type C bench 50 s of CPU at a fast hour of the
+2-core reference machine, 120-180 s at a slow one: gear pairs, joints, the stepping loop,
+journal contacts and thrust washers the longest).
 :func:`precompile_kernels` finds the kernels that are neither compiled in this
 process nor in the cache and, when there are two or more and more than one CPU, compiles them
 in worker processes at the same time (each worker writes numba's cache); the process then
 loads them from the cache. Anything that goes wrong on the way (no process pool in a daemonic
 worker, a cache directory that cannot be written, a numba without the cache API used here)
 leaves the kernels to numba's usual compilation on first call: slower, same machine code.
+Workers compile with Python's cyclic garbage collector off, and a compilation in the process
+itself with rare collections (10-20 % of the compilation's CPU, see :func:`_compile_one`).
 
 ``DRIVEDYN_COMPILE_WORKERS`` sets the number of worker processes (default: the number of
 CPUs; 0 or 1 compiles in the process itself). Workers are forked, so this runs on Linux and from a
