@@ -51,13 +51,14 @@ COMPILE_SECONDS = {"gear_kernel": 20.0, "parallel_gear_kernel": 12.5, "constrain
 #: resident memory [MB] above which a compile worker collects garbage before its next kernel
 #: (its collector is off otherwise). Type C bench: a worker holds 390-400 MB after its first
 #: kernel, 60-140 MB more after each next one, 670 MB after its four (no collection); a
-#: larger model's workers stay near this bound plus one kernel's garbage (below 900 MB)
+#: model with more kernels keeps its workers near this bound plus one kernel's growth
 WORKER_RSS_MB = 700.0
 
 #: the cyclic garbage collector's thresholds while kernels compile in the process itself
 #: (Python's default is (700, 10, 10); two Type C kernels in one process: 10-20 % less CPU,
 #: +45 MB, where the collector off saved as much for +85 MB)
 GC_THRESHOLDS = (100_000, 50, 100)
+_GC_LOCK = threading.Lock()
 
 _FORK = sys.platform.startswith("linux") and "fork" in mp.get_all_start_methods()
 
@@ -125,16 +126,17 @@ def _rss_mb() -> float:
 def _compile_here(todo: dict) -> None:
     """Compile the missing kernels in this process, the cyclic garbage collector run rarely
     meanwhile (as in :func:`_compile_one`; its thresholds are restored afterwards)."""
-    thresholds = gc.get_threshold()
-    gc.set_threshold(*GC_THRESHOLDS)
-    try:
-        for disp, sig in todo.values():
-            try:
-                disp.compile(sig)
-            except Exception as exc:  # compiled (and its error raised) on first call instead
-                log.debug("precompile: %s failed (%s)", disp.py_func.__qualname__, exc)
-    finally:
-        gc.set_threshold(*thresholds)
+    with _GC_LOCK:  # the thresholds are the process's: two threads must not interleave
+        thresholds = gc.get_threshold()
+        gc.set_threshold(*GC_THRESHOLDS)
+        try:
+            for disp, sig in todo.values():
+                try:
+                    disp.compile(sig)
+                except Exception as exc:  # compiled (its error raised) on first call instead
+                    log.debug("precompile: %s failed (%s)", disp.py_func.__qualname__, exc)
+        finally:
+            gc.set_threshold(*thresholds)
 
 
 def precompile_kernels(calls: list[tuple[Any, tuple]], workers: int | None = None,
