@@ -72,3 +72,126 @@ def test_callee_ir_is_built_once_per_function(monkeypatch) -> None:
 
     assert three_sites(0.25, -3.0, 7.0) == 0.5 - 20.0 + 200.0
     assert built.count("_twice_clipped") == 1
+
+
+# --- element loops compiled once, inlined by LLVM (jit.outlined) ------------------------------
+
+
+@njit(_dbg_optnone=True)  # optnone + noinline: stays a call, whose sites the test counts
+def _matrix_part(K, i, xi):
+    K[i, i] += xi * xi
+
+
+@jit.outlined(cache=False)
+def _loop(x, r, K, full):
+    for i in range(x.shape[0]):
+        r[i] += 2.0 * x[i]
+        if full:
+            _matrix_part(K, i, x[i])
+
+
+@njit
+def _kernel(x, r, K, want):
+    full = want
+    if full:
+        _loop(x, r, K, full)
+    else:
+        _loop(x, r, K, full)
+
+
+def _calls(llvm: str, name: str) -> int:
+    return sum(1 for line in llvm.splitlines() if " call " in line and f"@{name}(" in line)
+
+
+def test_outlined_loop_is_inlined_specialised_and_computes_the_same() -> None:
+    """The loop is inlined at both call sites of the kernel (no call left), the copy where
+    ``full`` is false has no matrix code (one call of the matrix part: the full copy's), the
+    loop itself counts no references, and both copies compute what Python computes."""
+    x = np.array([1.0, -2.0, 3.0])
+    for want in (False, True):
+        r = np.ones(3)
+        K = np.zeros((3, 3))
+        _kernel(x, r, K, want)
+        assert np.array_equal(r, 1.0 + 2.0 * x)
+        assert np.array_equal(K, np.diag(x * x) if want else np.zeros((3, 3)))
+    sig = _kernel.signatures[0]
+    ll = _kernel.inspect_llvm(sig)
+    loop_name = next(iter(_loop.overloads.values())).fndesc.mangled_name
+    part_name = next(iter(_matrix_part.overloads.values())).fndesc.mangled_name
+    assert _calls(ll, loop_name) == 0
+    assert _calls(ll, part_name) == 1
+    loop_ll = _loop.inspect_llvm(_loop.signatures[0])
+    assert "NRT_incref" not in loop_ll and "NRT_decref" not in loop_ll
+
+
+@njit
+def _fresh_copy(a):
+    return a.copy()
+
+
+def test_outlined_loop_that_allocates_does_not_compile() -> None:
+    """Without reference counting an allocation cannot be freed: a loop that allocates, or
+    gets a new array from a call or an operator (here from functions already compiled with
+    reference counting, which numba would call silently), is refused at compile time."""
+    a = np.arange(3.0)
+    assert np.zeros(2)[0] == 0.0 and _fresh_copy(a)[1] == 1.0  # compiled with counting
+    njit(lambda n: np.zeros(n))(2)
+
+    @jit.outlined(cache=False)
+    def allocating(n, full):
+        return np.zeros(n)[0] if full else 0.0
+
+    @jit.outlined(cache=False)
+    def copying(x, full):
+        return _fresh_copy(x)[0] if full else 0.0
+
+    @jit.outlined(cache=False)
+    def negating(x, out, full):
+        out[0] = (-x)[0]
+
+    for fn, args in ((allocating, (3, True)), (copying, (a, True)),
+                     (negating, (a, np.zeros(1), True))):
+        with pytest.raises(Exception, match="makes a new array"):
+            fn(*args)
+
+
+# --- the memo of call signatures -----------------------------------------------------------------
+
+
+def test_remembered_signatures_are_what_numba_resolves_again() -> None:
+    """Every signature the memo holds (after compiling the kernels above and whatever the
+    session compiled before) is the one numba's own resolution computes again for the same
+    function and argument types; a fresh call site of a remembered pair is a hit."""
+    from numba.core.types.functions import Function
+
+    jit.apply()
+    assert Function.get_call_type is not getattr(Function.get_call_type, "__wrapped__", None)
+    resolve = Function.get_call_type.__wrapped__
+    x = np.array([1.0, 2.0])
+    _kernel(x, np.zeros(2), np.zeros((2, 2)), True)
+    assert len(jit._call_types) > 20
+    for (fnty, ctx, args, kws), sig in list(jit._call_types.items())[:500]:
+        assert resolve(fnty, ctx, args, dict(kws)) == sig
+
+    import operator
+
+    from numba import types
+
+    def is_float_add(k):
+        return k[0].typing_key is operator.add and k[2] == (types.float64, types.float64)
+
+    @njit
+    def first(a, b):
+        return a + b
+
+    assert first(1.5, 2.0) == 3.5
+    assert sum(1 for k in jit._call_types if is_float_add(k)) == 1
+    hits, misses = jit.memo_counts
+
+    @njit
+    def again(a, b):
+        return a + b + a  # two float additions: remembered
+
+    assert again(1.5, 2.0) == 5.0
+    assert jit.memo_counts[1] == misses
+    assert jit.memo_counts[0] >= hits + 2

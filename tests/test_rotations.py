@@ -14,6 +14,7 @@ from scipy.spatial.transform import Rotation
 from drivedyn.rotations import (
     compose,
     exp_so3,
+    exp_so3_into,
     frame_from_axis,
     log_so3,
     orthonormalize,
@@ -158,6 +159,17 @@ def test_exp_orthonormal_and_matches_scipy(angle: float) -> None:
 @given(vectors)
 def test_exp_orthonormal_random(phi: np.ndarray) -> None:
     assert_rotation(exp_so3(phi))
+
+
+@SETTINGS
+@given(vectors)
+def test_exp_into_is_exp(phi: np.ndarray) -> None:
+    """The allocation-free form (element loops) gives exp_so3's matrix to round-off (it
+    forms S S as phi phi^T - |phi|^2 I instead of a matrix product): entries within 3 ulp of
+    1 (measured: 2 ulp at most over 20 000 random vectors of 1e-9 to 17 rad)."""
+    out = np.full((3, 3), np.nan)
+    exp_so3_into(phi, out)
+    assert_allclose(out, exp_so3(phi), atol=7e-16, rtol=0)
 
 
 def test_exp_rotates_as_expected() -> None:

@@ -29,6 +29,12 @@ stepping costs the same, and the Type C bench's first compilation fell from 76 s
 CPU. Helpers LLVM would not inline (the projections, the scatter, the contact laws) or whose
 literal ``full`` argument matters stay ``inline="always"``: left to LLVM they cost 12-15 % of
 the stepping (measured).
+
+The element loops themselves are compiled once each by numba and inlined by LLVM
+(:func:`outlined`): numba's IR inlining with a literal ``full`` typed and lowered each loop
+twice. And numba's typing is spared its repeats: the signature a call of a function (an
+operator, a builtin, a numpy function) resolves to is remembered by argument types
+(:func:`_install_call_type_memo`).
 """
 
 from __future__ import annotations
@@ -70,10 +76,64 @@ def _inline_function(self, caller_ir, block, i, function, arg_typs=None):
                           arg_typs=arg_typs)
 
 
+#: signatures of resolved calls, by (function type, typing context, argument types): see
+#: :func:`_install_call_type_memo`
+_call_types: dict = {}
+#: [hits, misses] of that memo (for the tests and a compile profile)
+memo_counts = [0, 0]
+
+
+def _install_call_type_memo() -> None:
+    """Remember the signatures numba's typing resolves for calls of functions (operators,
+    builtins, numpy functions, overloads), by function type and argument types.
+
+    numba resolves a call by trying the function's templates one after the other (a float
+    addition tries dozens, each failure recorded with its message) at every call site and
+    every pass of type inference; the element kernels have thousands of sites with a few
+    hundred distinct (function, argument types) pairs. In the Type C bench's first
+    compilation 95 % of the resolutions were repeats, 8.6 s of its 89 s of CPU (measured).
+    A repeat now returns the signature of the first resolution. That is what numba computes
+    again: the templates' result depends only on the argument types (literal values
+    included: they are part of the types), and the first resolution did the side effects
+    (the implementation key of the signature, the compiled ``@overload``). Failures are not
+    remembered (they raise, as before)."""
+    if _state.get("memo") is not None:
+        return
+    _state["memo"] = False
+    try:
+        from numba.core.types.functions import Function
+
+        resolve = Function.get_call_type
+    except (ImportError, AttributeError):  # pragma: no cover - other numba
+        return
+
+    def get_call_type(self, context, args, kws):
+        try:
+            key = (self, context, args, tuple(sorted(kws.items())) if kws else ())
+            sig = _call_types.get(key)
+        except TypeError:  # an unhashable argument type: resolve as numba does
+            return resolve(self, context, args, kws)
+        if sig is None:
+            sig = resolve(self, context, args, kws)
+            if sig is not None:
+                _call_types[key] = sig
+            memo_counts[1] += 1
+        else:
+            memo_counts[0] += 1
+        return sig
+
+    get_call_type.__wrapped__ = resolve
+    get_call_type.__doc__ = resolve.__doc__
+    Function.get_call_type = get_call_type
+    _state["memo"] = True
+
+
 def apply() -> bool:
-    """Install the fixed ``InlineWorker.inline_ir`` (once); True if it is installed."""
+    """Install the fixed ``InlineWorker.inline_ir`` (once); True if it is installed. Also
+    installs the memo of call signatures (:func:`_install_call_type_memo`)."""
     if _state["applied"] is not None:
         return _state["applied"]
+    _install_call_type_memo()
     ok = False
     try:
         from numba.core import inline_closurecall as icc
@@ -97,3 +157,146 @@ def apply() -> bool:
         ok = False
     _state["applied"] = ok
     return ok
+
+
+# --- element loops: compiled once by numba, inlined by LLVM ------------------------------------
+
+#: dispatchers whose call sites LLVM must inline (:func:`outlined`)
+_OUTLINED: list = []
+
+
+def outlined(fn=None, *, cache: bool = True):
+    """``njit(cache=True)`` for an element loop: numba compiles it once, without reference
+    counting, and LLVM inlines it at every call site (the call carries LLVM's
+    ``alwaysinline``).
+
+    A kernel calls its loop at two sites, where ``full`` (matrices wanted) is true at one and
+    false at the other (:func:`drivedyn.elements.scaffold.run`). Inlined at numba's IR level
+    with ``full`` a literal, the loop was typed and lowered twice, once per copy. Compiled
+    once with ``full`` a run-time flag and inlined by LLVM at both sites, each copy is
+    specialised by LLVM's constant propagation (the branches on ``full`` fold, the
+    residual-only copy loses the matrix code) as numba specialised it before: the results
+    are the same bit for bit (the Type C bench's TDRs and step counts), numba's work halves.
+
+    The loop compiles without numba's reference counting (``_nrt=False``): it allocates
+    nothing (its work arrays come from the kernel, which holds every array it touches for
+    the whole call), so the counting only cost time, on entry (two atomic operations per
+    array argument) and on every array view in the loop. A loop that allocates fails to
+    compile, it does not leak: numba refuses an allocation it lowers itself ("NRT required"),
+    and a pass added to numba's pipeline refuses any call or operator whose result holds an
+    array (:func:`_install_new_array_check`: a function compiled earlier with reference
+    counting would hand over a new array that nothing frees). Non-inlined helpers compiled
+    from a loop inherit the setting; one that allocates internally says ``_nrt=True``.
+
+    Measured on the Type C bench (benchmarks/README.md, issue 16 ninth round): first
+    compilation of its kernels -20 to -25 % of CPU with :func:`_install_call_type_memo`,
+    residual-only and matrix evaluations -15 %."""
+    if fn is None:  # @outlined(cache=False)
+        return lambda f: outlined(f, cache=cache)
+    from numba import njit
+
+    _install_new_array_check()
+    disp = njit(cache=cache, _nrt=False)(fn)
+    _OUTLINED.append(disp)
+    _install_call_site_inlining()
+    return disp
+
+
+def _holds_array(ty) -> bool:
+    """True if a value of numba type ``ty`` is or contains an array."""
+    from numba.core import types
+
+    if isinstance(ty, types.Array):
+        return True
+    if isinstance(ty, types.BaseTuple):
+        return any(_holds_array(t) for t in ty.types)
+    return False
+
+
+def _install_new_array_check() -> None:
+    """Add one pass after type inference to numba's nopython pipeline (once): in a function
+    compiled without reference counting (an :func:`outlined` loop, and the non-inlined
+    helpers it compiles, which inherit the setting) it refuses a call or an arithmetic
+    operator whose result holds an array. Such a result is a new array (views come from
+    indexing, which is not a call), and nothing would free it. Functions compiled with
+    reference counting (all others) are not looked at."""
+    if _state.get("new_array_check") is not None:
+        return
+    _state["new_array_check"] = False
+    from numba.core import ir
+    from numba.core.compiler import DefaultPassBuilder
+    from numba.core.compiler_machinery import FunctionPass, register_pass
+    from numba.core.errors import TypingError
+    from numba.core.typed_passes import NopythonTypeInference
+
+    @register_pass(mutates_CFG=False, analysis_only=True)
+    class NoNewArrays(FunctionPass):
+        _name = "drivedyn_no_new_arrays"
+
+        def __init__(self):
+            FunctionPass.__init__(self)
+
+        def run_pass(self, state):
+            if state.flags.nrt:
+                return False
+            for expr, sig in state.calltypes.items():
+                if (isinstance(expr, ir.Expr)
+                        and expr.op in ("call", "binop", "inplace_binop", "unary")
+                        and sig is not None and _holds_array(sig.return_type)):
+                    raise TypingError(
+                        f"{state.func_id.func_qualname} makes a new array "
+                        f"({sig.return_type}) but compiles without reference counting (an "
+                        "element loop, or a helper it calls: drivedyn.jit.outlined), so "
+                        "nothing would free it; write into a work array allocated by the "
+                        "kernel, or give a helper that allocates internally _nrt=True",
+                        loc=expr.loc)
+            return False
+
+    define = DefaultPassBuilder.define_nopython_pipeline
+
+    def define_nopython_pipeline(state, name="nopython"):
+        pm = define(state, name)
+        pm.add_pass_after(NoNewArrays, NopythonTypeInference)
+        pm.finalize()  # numba finalised it; adding a pass un-finalises it
+        return pm
+
+    DefaultPassBuilder.define_nopython_pipeline = staticmethod(define_nopython_pipeline)
+    _state["new_array_check"] = True
+
+
+def _outlined_names() -> set:
+    """LLVM names of every compiled overload of the :func:`outlined` functions."""
+    return {cres.fndesc.mangled_name for d in _OUTLINED for cres in list(d.overloads.values())}
+
+
+def _install_call_site_inlining() -> None:
+    """Wrap numba's ``CPUCodeLibrary.add_ir_module`` (once) so that a module calling an
+    :func:`outlined` function marks those calls ``alwaysinline``. The callee's code is linked
+    into the caller's final module, where LLVM's inliner honours the mark. Without this
+    wrapper (a numba without ``add_ir_module``) the loops are plain calls: same results,
+    slower residual-only evaluations."""
+    if _state.get("inlining") is not None:
+        return
+    _state["inlining"] = False
+    try:
+        from llvmlite import ir as llvmir
+        from numba.core import codegen
+
+        orig = codegen.CPUCodeLibrary.add_ir_module
+    except (ImportError, AttributeError):  # pragma: no cover - other numba
+        return
+
+    def add_ir_module(self, ir_module):
+        names = _outlined_names()
+        if names and any(n in ir_module.globals for n in names):
+            for f in ir_module.functions:
+                for bb in f.blocks:
+                    for ins in bb.instructions:
+                        if (isinstance(ins, llvmir.CallInstr)
+                                and getattr(ins.callee, "name", None) in names):
+                            ins.attributes.add("alwaysinline")
+        return orig(self, ir_module)
+
+    add_ir_module.__wrapped__ = orig
+    codegen.CPUCodeLibrary.add_ir_module = add_ir_module
+    _state["inlining"] = True

@@ -80,6 +80,25 @@ def exp_so3(phi: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
+def exp_so3_into(phi: np.ndarray, out: np.ndarray) -> None:
+    """:func:`exp_so3` written into ``out`` (3, 3): no allocation (element loops)."""
+    t = np.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2)
+    a, b, _ = _coeffs(t)
+    # S = phi~, S S = phi phi^T - |phi|^2 I
+    t2 = phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = b * (phi[i] * phi[j] - (t2 if i == j else 0.0))
+        out[i, i] += 1.0
+    out[0, 1] -= a * phi[2]
+    out[0, 2] += a * phi[1]
+    out[1, 0] += a * phi[2]
+    out[1, 2] -= a * phi[0]
+    out[2, 0] -= a * phi[1]
+    out[2, 1] += a * phi[0]
+
+
+@njit(cache=True)
 def log_so3(R: np.ndarray) -> np.ndarray:
     """Rotation vector (3,) [rad], with angle in [0, pi], of the rotation matrix ``R`` (3, 3).
 

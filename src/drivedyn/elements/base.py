@@ -102,14 +102,11 @@ def scatter_element(
     rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, full, r, rabs,
     data,
 ):
-    """:func:`scatter_local` from an element loop specialised on the literal ``full``: the
-    residual-only copy (``full=False``) carries no matrix code (see primitives' docstring)."""
-    if full:
-        scatter_local(rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode,
-                      want, r, rabs, data)
-    else:
-        scatter_local(rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode,
-                      False, r, rabs, data)
+    """:func:`scatter_local` from an element loop: with ``full`` false no matrix is
+    scattered, and the residual-only copy of the loop (where LLVM knows ``full`` is false,
+    :func:`~drivedyn.jit.outlined`) carries no matrix code."""
+    scatter_local(rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode,
+                  want and full, r, rabs, data)
 
 
 @njit(cache=True, inline="always")

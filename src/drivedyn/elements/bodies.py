@@ -18,9 +18,10 @@ from numba import njit
 import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import Family, Group, local_arrays, register
 from drivedyn.elements.building import make_group, node_dofs
+from drivedyn.jit import outlined
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _rigid_bodies(P, C, W, full):
     mass, inertia, gravity = P
     L, JOm, JOd = W

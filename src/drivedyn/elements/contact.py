@@ -93,11 +93,12 @@ from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.primitives import add_scaled, prim_axial
 from drivedyn.errors import ModelError
+from drivedyn.jit import outlined
 
 # --- point / sphere on plane ----------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _plane_contacts(P, C, W, full):
     (pA, pB, RmA, radius), law, fric, na = P
     (L, (gn, Hn), (J1, dJ1), (J2, dJ2), (Go, Do), vl, Hv, S1, S2, (dFq, dFv), (df1q, df2q),
@@ -191,7 +192,7 @@ def plane_contact_kernel(
 # --- annular face on thrust washer ----------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _washer_contacts(P, C, W, full):
     (pA, pB, RmA, rm, area), law, fric, na = P
     L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
@@ -248,7 +249,7 @@ def washer_contact_kernel(
 # --- journal: pin in bore -------------------------------------------------------------------
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _journal_contacts(P, C, W, full):
     (pA, pB, RmA, clear, rpin), law, fric, na = P
     (L, (g1, H1), (g2, H2), (gd, Hd), (Js, dJs), (Gz, Dz), vl, Hv, Jv, (dFq, dFv), (ws, wv),

@@ -35,6 +35,7 @@ from drivedyn.elements.building import make_group, what_of
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
 from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
 from drivedyn.errors import ModelError
+from drivedyn.jit import outlined
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
 
@@ -112,7 +113,7 @@ class JointDriverFamily(Family):
         return g
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _speed_differences(P, C, W, full):
     RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid = P
     L, (g1, H1), (g2, H2), (w1, w2, w3, w4), (g, H), vl, al, (ws, wv) = W
@@ -128,11 +129,15 @@ def _speed_differences(P, C, W, full):
         o = sc.state_offset(C, e)
         th1 = unwrap(raw1, es[o])
         th2 = unwrap(raw2, es[o + 1])
-        g[:12] = g1
-        g[12:] = -g2
-        H[:, :] = 0.0
-        H[:12, :12] = H1
-        H[12:, 12:] = -H2
+        for a in range(12):  # loops: a slice copy of -g2 would allocate per element
+            g[a] = g1[a]
+            g[12 + a] = -g2[a]
+        if full:  # H1, H2 exist only then (MODE_ACC is a full pass)
+            H[:, :] = 0.0
+            for a in range(12):
+                for b in range(12):
+                    H[a, b] = H1[a, b]
+                    H[12 + a, 12 + b] = -H2[a, b]
         f = tfid[e]
         val = th1 - th2 - c0[e] - tfv[f, 3]
         phit = -tfv[f, 0]

@@ -62,6 +62,7 @@ from drivedyn.elements.primitives import (
     unwrap,
 )
 from drivedyn.errors import ModelError
+from drivedyn.jit import outlined
 
 ROW_AXIAL = 0  # d . a_i
 ROW_DOT = 1  # a_i . b_j
@@ -80,7 +81,7 @@ JOINT_OUTPUTS = (
 )
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _constraints(P, C, W, full):
     rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
     L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (ws, wv) = W

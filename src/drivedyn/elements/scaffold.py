@@ -3,7 +3,7 @@
 A family writes the loop over its elements (the physics) and a thin kernel with the calling
 convention of :mod:`drivedyn.elements.base` (its parameters, then the common arguments)::
 
-    @njit(cache=True, inline="always")
+    @outlined                                   # drivedyn.jit.outlined
     def _springs(P, C, W, full):
         stiff, damp = P                         # the family's parameter arrays
         L, vl, (ws, wv) = W                     # work arrays, allocated once per call
@@ -29,24 +29,28 @@ contract (fields named by the constants below, read through the helpers), ``W`` 
 work arrays: allocated once per kernel call, never inside the element loop (small
 allocations cost more than the maths).
 
-:func:`run` calls the loop in two copies, with the literal ``full = True`` (a matrix is
-wanted, or consistent accelerations) and ``full = False`` (residual only). The loop is inlined
-(``inline="always"``), so ``full`` is a compile-time constant in each copy and the
+:func:`run` calls the loop at two sites, one where ``full`` is true (a matrix is wanted,
+or consistent accelerations) and one where it is false (residual only). The loop is an
+:func:`~drivedyn.jit.outlined` function: numba compiles it once, with ``full`` a run-time
+flag and without reference counting (a loop allocates nothing; the kernel holds its arrays),
+and LLVM inlines it at both sites, where constant propagation specialises each copy: the
 residual-only copy carries no matrix code (see :mod:`drivedyn.elements.primitives`). The loop
 is a dispatcher argument of an inlined function, so it is resolved at compile time inside the
 family's own kernel: the kernel's signature holds only arrays and scalars and numba's cache
 (``cache=True``) keeps working (a non-inlined generic function taking the loop, or a kernel
-made by a closure, recompiles in every process: measured). The kernel stays a module-level
-function of the family's module, so editing the physics invalidates its cache.
+made by a closure, recompiles in every process: measured). The loop and the kernel stay
+module-level functions of the family's module, so editing the physics invalidates the cache.
 
-Two rules keep the loop fast (measured: breaking them doubled the time of a spring group):
-unpack ``P``, ``W`` and the arrays of ``C`` (:func:`state`) *before* the element loop, not
-per element (a tuple unpacked inside the loop costs reference counting on every element);
-the per-element helpers below read only scalars and rows of ``C``, as the hand-written loops
-did. A helper that takes a tuple (``C``, a law table row...) reads it in a straight-line prefix
-only: a tuple still needed after a branch is reference-counted on every call (measured: a
-``full_pass(C)`` with a short-circuit ``or`` cost 0.2 us per kernel call; it takes the two
-scalars instead). No Python runs per element: one kernel call evaluates the whole group.
+Two rules kept the loop fast while loops counted references (measured then: breaking them
+doubled the time of a spring group): unpack ``P``, ``W`` and the arrays of ``C``
+(:func:`state`) *before* the element loop, not per element (a tuple unpacked inside the loop
+cost reference counting on every element); the per-element helpers below read only scalars
+and rows of ``C``, as the hand-written loops did. A helper that takes a tuple (``C``, a law
+table row...) reads it in a straight-line prefix only (a tuple still needed after a branch
+was reference-counted on every call: a ``full_pass(C)`` with a short-circuit ``or`` cost
+0.2 us per kernel call; it takes the two scalars instead). The loops follow them still: they
+cost nothing and keep a loop valid if it is ever compiled with reference counting. No Python
+runs per element: one kernel call evaluates the whole group.
 
 Numba's cache checks only the source file of the cached function: after editing this module
 (or :mod:`~drivedyn.elements.base`, :mod:`~drivedyn.elements.primitives`), kernels cached
@@ -80,12 +84,16 @@ def full_pass(want, mode):
 
 @njit(cache=True, inline="always")
 def run(elements, P, C, W):
-    """``elements(P, C, W, full)`` in the copy with the literal ``full`` this evaluation
-    needs."""
-    if full_pass(C[WANT], C[MODE]):
-        elements(P, C, W, True)
+    """``elements(P, C, W, full)`` at two call sites, one per value of ``full``.
+
+    ``elements`` is an :func:`~drivedyn.jit.outlined` loop: compiled once with ``full`` a
+    run-time flag, inlined by LLVM at both sites, where ``full`` is known (the branch it sits
+    in), so each copy is specialised: the residual-only one carries no matrix code."""
+    full = full_pass(C[WANT], C[MODE])
+    if full:
+        elements(P, C, W, full)
     else:
-        elements(P, C, W, False)
+        elements(P, C, W, full)
 
 
 @njit(cache=True, inline="always")

@@ -55,8 +55,10 @@ from drivedyn.elements.base import (
 )
 from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.checks import check_number
+from drivedyn.elements.primitives import mm
 from drivedyn.errors import ModelError
-from drivedyn.rotations import exp_so3
+from drivedyn.jit import outlined
+from drivedyn.rotations import exp_so3_into
 from drivedyn.tyres import Tyre, resolve_tyre
 from drivedyn.tyres.magic_formula import (
     NOUT,
@@ -323,10 +325,10 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     return pot, dis
 
 
-@njit(cache=True, inline="always")
+@outlined
 def _tyres(P, C, W, full):
     params, opts, patches, npatch, pm, Rm = P
-    L, (out, ax, axd, rp, rm, Rp, vp, Op, xp, ph) = W
+    L, (out, ax, axd, rp, rm, Rp, vp, Op, xp, ph, Eph) = W
     rq, _, _, Cd, K, _ = L
     x, R, v, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -345,7 +347,8 @@ def _tyres(P, C, W, full):
             for j in range(6):
                 for sgn in (1.0, -1.0):
                     for i in range(3):
-                        Rp[i, :] = R[n, i, :]
+                        for k in range(3):  # element-wise: a slice copy allocates
+                            Rp[i, k] = R[n, i, k]
                         vp[i] = vn[i]
                         Op[i] = Om[i]
                     for i in range(3):
@@ -357,7 +360,8 @@ def _tyres(P, C, W, full):
                         for i in range(3):
                             ph[i] = 0.0
                         ph[j - 3] = sgn * FD_POS
-                        Rp[:, :] = R[n] @ exp_so3(ph)
+                        exp_so3_into(ph, Eph)
+                        mm(R[n], Eph, Rp)
                     _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], xp,
                                 Rp, vn, Om, es0, t, out, axd, rp)
                     for i in range(6):
@@ -386,7 +390,7 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
             r, rabs, data, eout, aux),
            (local_arrays(6, 0), (np.zeros(NOUT), np.zeros(NAUX), np.zeros(NAUX), np.zeros(6),
                                  np.zeros(6), np.zeros((3, 3)), np.zeros(3), np.zeros(3),
-                                 np.zeros(3), np.zeros(3))))
+                                 np.zeros(3), np.zeros(3), np.zeros((3, 3)))))
 
 
 OUTPUTS = (

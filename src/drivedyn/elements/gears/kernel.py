@@ -42,6 +42,7 @@ from drivedyn.elements.gears.kinematics import (
 )
 from drivedyn.elements.gears.stiffness import mesh_stiffness
 from drivedyn.elements.primitives import cross
+from drivedyn.jit import outlined
 
 TANGENT_BAND = 1e-12  # [m] flank gap within which contact is anticipated in the matrix
 
@@ -87,9 +88,10 @@ def _onset(u, d):
 
 @njit(cache=True, inline="always")
 def _gears(P, C, W, full, skew, idx):
-    """Loop over the elements ``idx``. ``full`` and ``skew`` are literals; the copy with
-    ``skew=False`` handles parallel pairs only, with the kind a compile-time constant (fixed
-    loop lengths, ~1.5x faster) and without the call to the bevel/crossed code."""
+    """Loop over the elements ``idx``. ``skew`` is a literal (:func:`_parallel_gears`,
+    :func:`_any_gears`); the copy with ``skew=False`` handles parallel pairs only, with the
+    kind a compile-time constant (fixed loop lengths, ~1.5x faster) and without the
+    bevel/crossed code (pruned by numba before typing: it is never compiled)."""
     (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
      onset) = P
     (L, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap, Bp, Tm, AG, gx, gr, gu,
@@ -325,6 +327,19 @@ def _gears(P, C, W, full, skew, idx):
         aux[e, 18] = s[1]
 
 
+@outlined
+def _parallel_gears(P, C, W, full, idx):
+    """:func:`_gears` over parallel-axis pairs only (``full`` a run-time flag:
+    :func:`~drivedyn.jit.outlined`)."""
+    _gears(P, C, W, full, False, idx)
+
+
+@outlined
+def _any_gears(P, C, W, full, idx):
+    """:func:`_gears` over pairs of any kind."""
+    _gears(P, C, W, full, True, idx)
+
+
 @njit(cache=True, inline="always")
 def _work():
     """The gear loop's work arrays (allocated once per kernel call)."""
@@ -372,12 +387,13 @@ def gear_kernel(
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
          rabs, data, eout, aux)
     W = _work()
-    if sc.full_pass(want, mode):
-        _gears(P, C, W, True, True, np.arange(kind.shape[0]))
+    full = sc.full_pass(want, mode)
+    if full:
+        _any_gears(P, C, W, full, np.arange(kind.shape[0]))
     else:
-        _gears(P, C, W, False, False, idx_par)
+        _parallel_gears(P, C, W, full, idx_par)
         if idx_skew.shape[0] > 0:
-            _gears(P, C, W, False, True, idx_skew)
+            _any_gears(P, C, W, full, idx_skew)
 
 
 @njit(cache=True)
@@ -399,7 +415,8 @@ def parallel_gear_kernel(
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
          rabs, data, eout, aux)
     W = _work()
-    if sc.full_pass(want, mode):
-        _gears(P, C, W, True, False, idx_par)
+    full = sc.full_pass(want, mode)
+    if full:
+        _parallel_gears(P, C, W, full, idx_par)
     else:
-        _gears(P, C, W, False, False, idx_par)
+        _parallel_gears(P, C, W, full, idx_par)
