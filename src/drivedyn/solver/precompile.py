@@ -3,9 +3,9 @@
 A kernel is compiled by numba on its first call, for the argument types of that call, and
 kept in numba's on-disk cache (``cache=True``): later runs load it in milliseconds. The first
 run after an install compiles every kernel the model uses, one after the other, in the
-process that runs the simulation (for the Type C bench 50 s of CPU at a fast hour of the
-2-core reference machine, 120-180 s at a slow one: gear pairs, joints, the stepping loop,
-journal contacts and thrust washers the longest).
+process that runs the simulation (for the Type C bench 63-72 s of CPU on the 2-core reference
+machine at a middle hour, issue 16 ninth round: the stepping loop, gear pairs and joints the
+longest).
 :func:`precompile_kernels` finds the kernels that are neither compiled in this
 process nor in the cache and, when there are two or more and more than one CPU, compiles them
 in worker processes at the same time (each worker writes numba's cache); the process then
