@@ -42,6 +42,8 @@ from __future__ import annotations
 import inspect
 import textwrap
 
+from drivedyn import jit_linked
+
 _COPY_PER_BLOCK = """\
         kernel_copy.blocks = {}
         for block_label, block in the_ir.blocks.items():
@@ -134,6 +136,7 @@ def apply() -> bool:
     if _state["applied"] is not None:
         return _state["applied"]
     _install_call_type_memo()
+    jit_linked.install()
     ok = False
     try:
         from numba.core import inline_closurecall as icc

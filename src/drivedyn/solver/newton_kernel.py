@@ -108,7 +108,7 @@ EPS = float(np.finfo(float).eps)
 def absmax(x):
     """max |x| over all entries (0 for an empty array)."""
     m = 0.0
-    for v in x.ravel():
+    for v in x.flat:
         if abs(v) > m:
             m = abs(v)
     return m
