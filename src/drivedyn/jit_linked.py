@@ -29,11 +29,13 @@ third of the first compilation's CPU (measured, issue 16 tenth round).
 A function compiled from Python (a call, ``Dispatcher.compile`` in the process or in a
 compile worker) is compiled as before, with its wrappers, machine code and usual cache entry;
 if the dispatcher only holds a linked overload for those argument types, the linked one is
-replaced by a complete one (compiled, or loaded from the cache). The caller's machine code is
-the same either way: the callee's code reaches it through the same linking, and the caller's
-module passes optimise it as they did (the Type C bench takes the same steps and Newton
-iterations to the same TDRs, all digits printed; element unit costs unchanged, see
-benchmarks/README.md).
+replaced by a complete one (compiled, or loaded from the cache). The caller gets the callee's
+code through the same linking and optimises it with the same module passes; only their order
+of application differs (the callee's code was optimised twice before, once alone), so the
+instructions differ in detail (register choices, layout) but compute the same numbers: LLVM
+does not reassociate floating-point arithmetic without fast-math, which drivedyn does not
+use. The Type C bench takes the same steps and Newton iterations to the same TDRs, all digits
+printed, at the same element unit costs (benchmarks/README.md, issue 16 tenth round).
 
 Everything is a wrapper of a numba method; if one of them is missing (another numba),
 nothing is installed and numba compiles as before.

@@ -39,6 +39,8 @@ from numba.extending import (
 )
 from numba.np.arrayobj import populate_array
 
+from drivedyn.jit_linked import callable_overload
+
 
 class KernelTableType(types.Type):
     """numba type of a :class:`KernelTable`: the argument types of every group's fixed
@@ -176,5 +178,9 @@ def call_groups(typingctx, G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode
 def entry_address(kernel: Any, signature: tuple) -> int:
     """Address of the C entry point of ``kernel``'s overload for ``signature`` (numba
     types of every argument); KeyError if there is none."""
-    cres = kernel.overloads[signature]
+    if signature not in kernel.overloads:
+        raise KeyError(signature)
+    # a kernel compiled only to be linked into a caller has no C entry point: compile it
+    # complete (drivedyn.jit_linked)
+    cres = callable_overload(kernel, signature)
     return int(cres.library.get_pointer_to_function(cres.fndesc.llvm_cfunc_wrapper_name))

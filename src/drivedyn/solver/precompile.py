@@ -35,6 +35,8 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from drivedyn.jit_linked import is_linked
+
 log = logging.getLogger("drivedyn")
 
 #: measured first-compilation times [s] (2-core reference machine, one process, issue 16
@@ -80,7 +82,8 @@ def workers_default() -> int:
 
 def _loaded(disp: Any, sig: tuple) -> bool:
     """True if ``disp`` has an overload for ``sig`` in memory, or loads it from the cache."""
-    if sig in disp.overloads:
+    cres = disp.overloads.get(sig)
+    if cres is not None and not is_linked(cres):  # a linked overload cannot be called
         return True
     cache = getattr(disp, "_cache", None)
     if cache is None:
