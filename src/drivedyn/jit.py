@@ -35,6 +35,11 @@ The element loops themselves are compiled once each by numba and inlined by LLVM
 twice. And numba's typing is spared its repeats: the signature a call of a function (an
 operator, a builtin, a numpy function) resolves to is remembered by argument types
 (:func:`_install_call_type_memo`).
+
+Finally, a function compiled because a compiled caller calls it is compiled only to be linked
+into that caller: no entry points, no module passes and no machine code of its own
+(:mod:`drivedyn.jit_linked`, installed by :func:`apply`): a third of the Type C bench's first
+compilation.
 """
 
 from __future__ import annotations
@@ -132,7 +137,9 @@ def _install_call_type_memo() -> None:
 
 def apply() -> bool:
     """Install the fixed ``InlineWorker.inline_ir`` (once); True if it is installed. Also
-    installs the memo of call signatures (:func:`_install_call_type_memo`)."""
+    installs the memo of call signatures (:func:`_install_call_type_memo`) and the linked
+    compilation of nested functions (:func:`drivedyn.jit_linked.install`;
+    ``DRIVEDYN_JIT_LINKED=0`` leaves it out)."""
     if _state["applied"] is not None:
         return _state["applied"]
     _install_call_type_memo()

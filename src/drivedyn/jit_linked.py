@@ -38,7 +38,9 @@ use. The Type C bench takes the same steps and Newton iterations to the same TDR
 printed, at the same element unit costs (benchmarks/README.md, issue 16 tenth round).
 
 Everything is a wrapper of a numba method; if one of them is missing (another numba),
-nothing is installed and numba compiles as before.
+nothing is installed and numba compiles as before. ``DRIVEDYN_JIT_LINKED=0`` (read when the
+first kernel module is imported) leaves numba as it is too: slower first compilation, same
+results.
 """
 
 from __future__ import annotations
@@ -96,6 +98,7 @@ def install() -> bool:
         return False
     try:
         from numba.core import caching, codegen, cpu, dispatcher, typed_passes
+        from numba.core.compiler_lock import global_compiler_lock
 
         Dispatcher = dispatcher.Dispatcher
         Library = codegen.JITCodeLibrary
@@ -114,6 +117,12 @@ def install() -> bool:
      get_executable, index_key, set_env) = originals
 
     def compile(self, sig):
+        # numba's (re-entrant) compiler lock around the whole: another thread must not
+        # compile this dispatcher between the change of its options and their restoration
+        with global_compiler_lock:
+            return _compile(self, sig)
+
+    def _compile(self, sig):
         depth = getattr(_tls, "depth", 0)
         saved = None
         if depth == 0:

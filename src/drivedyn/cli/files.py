@@ -107,7 +107,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     target = out or Path(f"{name}.nc")
     check_output_path(target, "--out")
     if not kernels_cached():
-        err("note: first run: compiling the numba kernels (20-60 s for a TORSEN model "
+        err("note: first run: compiling the numba kernels (15-45 s for a TORSEN model "
             "on 2 cores, cached afterwards)")
     for g in model.groups:
         for part in g.extra.get("parts", ()):

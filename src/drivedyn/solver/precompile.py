@@ -3,9 +3,9 @@
 A kernel is compiled by numba on its first call, for the argument types of that call, and
 kept in numba's on-disk cache (``cache=True``): later runs load it in milliseconds. The first
 run after an install compiles every kernel the model uses, one after the other, in the
-process that runs the simulation (for the Type C bench 63-72 s of CPU on the 2-core reference
-machine at a middle hour, issue 16 ninth round: the stepping loop, gear pairs and joints the
-longest).
+process that runs the simulation (for the Type C bench 33-46 s of CPU on the 2-core reference
+machine at a middle hour, issue 16 tenth round: the stepping loop and gear pairs the
+longest; functions compiled for a compiled caller are linked, :mod:`drivedyn.jit_linked`).
 :func:`precompile_kernels` finds the kernels that are neither compiled in this
 process nor in the cache and, when there are two or more and more than one CPU, compiles them
 in worker processes at the same time (each worker writes numba's cache); the process then
@@ -39,14 +39,15 @@ from drivedyn.jit_linked import is_linked
 
 log = logging.getLogger("drivedyn")
 
-#: measured first-compilation times [s] (2-core reference machine, one process, issue 16
-#: ninth round), used only to start the longest compilations first; other kernels count 3 s.
-#: The Type C bench's kernels on two workers: stepping loop, journal contacts, washers, loads
-#: (32 s) | gear pairs, joints, rigid bodies, time functions (30 s)
-COMPILE_SECONDS = {"run_steps": 14.3, "gear_kernel": 17.0, "parallel_gear_kernel": 12.6,
-                   "constraint_kernel": 12.0, "journal_contact_kernel": 8.3,
-                   "newton_iterations": 7.0, "washer_contact_kernel": 6.7,
-                   "rigid_body_kernel": 4.9, "load_kernel": 2.7,
+#: measured first-compilation times [s] (2-core reference machine, the first kernel of a
+#: compile worker, issue 16 tenth round; the general gear kernel and the Newton step alone
+#: as measured in the ninth round), used only to start the longest compilations first;
+#: other kernels count 3 s. The Type C bench's kernels on two workers: stepping loop, journal
+#: contacts, washers, time functions (25.5 s) | gear pairs, joints, rigid bodies, loads (25.5 s)
+COMPILE_SECONDS = {"run_steps": 12.1, "gear_kernel": 17.0, "parallel_gear_kernel": 13.9,
+                   "constraint_kernel": 6.9, "journal_contact_kernel": 7.9,
+                   "newton_iterations": 7.0, "washer_contact_kernel": 5.0,
+                   "rigid_body_kernel": 2.6, "load_kernel": 2.1,
                    # compiled with the stepping loop (its worker writes it to the cache first)
                    "eval_time_functions": 0.5}
 
