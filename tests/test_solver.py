@@ -190,6 +190,28 @@ def test_dense_and_sparse_lu_solve_the_assembled_pattern(n: int, m: int) -> None
     assert np.allclose(A @ lin.solve(b), 0.5 * b, rtol=1e-10, atol=1e-10)
 
 
+def test_linear_solvers_name_the_compiled_calls_they_make() -> None:
+    """``compiled_calls`` (handed to the first-run precompile) names exactly the overloads
+    that factor_csc and solve compile: each predicted signature is one the dispatcher holds
+    after a factorisation and a solve (a wrong one would be compiled in the workers for
+    nothing, and the right one after them)."""
+    from drivedyn.solver.linear import AutoLU, DenseLU, SparseLU
+
+    data, indices, indptr, _ = _saddle_csc(5, 2, 3)
+    b = np.arange(1.0, 8.0)
+    predicted = set()
+    for lin in (DenseLU(), SparseLU()):
+        calls = lin.compiled_calls(indices, indptr)
+        assert calls
+        lin.factor_csc(data, indices, indptr, 7)
+        lin.solve(b)
+        for disp, sig in calls:
+            assert sig in disp.overloads, (disp.py_func.__name__, sig)
+            predicted.add((disp, sig))
+    auto = AutoLU().compiled_calls(indices, indptr)
+    assert set(auto) == predicted
+
+
 def test_dense_lu_refuses_a_singular_matrix() -> None:
     from drivedyn.solver.linear import DenseLU
 

@@ -30,6 +30,14 @@ class LinearSolver(abc.ABC):
         ``data`` is not kept."""
         self.factor(sp.csc_matrix((data.copy(), indices, indptr), shape=(n, n)))
 
+    def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
+        """``(dispatcher, argument types)`` of the compiled functions that ``factor_csc`` and
+        ``solve`` call from Python for a matrix of this CSC pattern, for the first-run
+        precompile (:mod:`~drivedyn.solver.precompile`): the compiled stepping loop links
+        the same functions without entry points (:mod:`drivedyn.jit_linked`), so without
+        this the first run would compile them in its own process after the workers."""
+        return []
+
 
 @njit(cache=True)
 def sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
@@ -355,6 +363,11 @@ class SparseLU(LinearSolver):
         sparse_lu_solve(*self._f, np.ascontiguousarray(b, dtype=float), self._z, x)
         return x
 
+    def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
+        i, f = np.zeros(1, np.int64), np.zeros(1)
+        args = (i, i, f, i, i, f, i, i, f, f, f)  # the factors as _compact keeps them
+        return [(sparse_lu_solve, tuple(sparse_lu_solve.typeof_pyval(a) for a in args))]
+
 
 class DenseLU(LinearSolver):
     """LAPACK LU (getrf/getrs with partial pivoting); faster than SuperLU up to about 150
@@ -392,6 +405,15 @@ class DenseLU(LinearSolver):
         lu, piv, ib, tr = self.ws
         lapack.dense_solve(lu, piv, x, ib, tr)
         return x
+
+    def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
+        lu, piv, ib, tr = lapack.workspace(2)  # 2 x 2: a 1 x 1 array would type as 'C'
+        x = np.zeros(2)
+        ty = lapack.dense_factor_csc.typeof_pyval
+        return [(lapack.dense_factor_csc,
+                 tuple(ty(a) for a in (x, indices, indptr, lu, piv, ib))),
+                (lapack.dense_solve,
+                 tuple(lapack.dense_solve.typeof_pyval(a) for a in (lu, piv, x, ib, tr)))]
 
 
 #: largest system solved by the dense LU: the TORSEN benches (92 and 113 unknowns) run 1.7-1.8x
@@ -440,6 +462,11 @@ class AutoLU(LinearSolver):
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         return self.active.solve(b)
+
+    def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
+        # sparse first; dense for good if the first factors fill the matrix
+        return (SparseLU().compiled_calls(indices, indptr)
+                + DenseLU().compiled_calls(indices, indptr))
 
 
 def default_linear_solver(neq: int) -> LinearSolver:

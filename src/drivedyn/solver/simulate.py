@@ -199,6 +199,8 @@ def simulate(
         precompile_loop(stepper, st, energy)
     else:
         sys.precompile_also.extend(control_signatures(model.nd))
+    if initialize or not stepper.loop:  # the linear solver's Python calls
+        sys.precompile_also.extend(lin.compiled_calls(model.indices, model.indptr))
     if initialize:
         consistent_initial_state(model, st, sys, lin)
     sys.reset_tangent()
