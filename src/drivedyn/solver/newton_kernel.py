@@ -108,7 +108,7 @@ EPS = float(np.finfo(float).eps)
 def absmax(x):
     """max |x| over all entries (0 for an empty array)."""
     m = 0.0
-    for v in x.flat:
+    for v in x.ravel():
         if abs(v) > m:
             m = abs(v)
     return m
@@ -215,9 +215,9 @@ NFSTATE = 5
 def _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, want):
     """All groups' contributions at the trial state (``call_groups`` in dynamics mode). One
     function for the Newton loop's three call sites: the calls through the kernel table are
-    generated once (for the Type C bench a third of the stepping loop's code, and of its
-    first compilation) and LLVM keeps it a call (one per evaluation, nanoseconds against
-    the 13 us of the groups)."""
+    generated once (Type C bench: the stepping loop's final module 18 688 -> 12 372 LLVM
+    instructions) and LLVM keeps it a call (one per evaluation, nanoseconds against the
+    13 us of the groups)."""
     call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, want)
 
 
