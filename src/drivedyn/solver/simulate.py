@@ -199,8 +199,9 @@ def simulate(
         precompile_loop(stepper, st, energy)
     else:
         sys.precompile_also.extend(control_signatures(model.nd))
-    if initialize or not stepper.loop:  # the linear solver's Python calls
-        sys.precompile_also.extend(lin.compiled_calls(model.indices, model.indptr))
+    calls = getattr(lin, "compiled_calls", None)  # a solver of the user's may not say
+    if calls is not None and (initialize or not stepper.loop):  # its Python calls
+        sys.precompile_also.extend(calls(model.indices, model.indptr))
     if initialize:
         consistent_initial_state(model, st, sys, lin)
     sys.reset_tangent()
