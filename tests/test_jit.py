@@ -195,3 +195,88 @@ def test_remembered_signatures_are_what_numba_resolves_again() -> None:
     assert again(1.5, 2.0) == 5.0
     assert jit.memo_counts[1] == misses
     assert jit.memo_counts[0] >= hits + 2
+
+
+# --- lean lowering of uncounted variables, plain markup -----------------------------------------
+
+
+@njit(_nrt=False, cache=False)
+def _lean_loop(a, n):
+    s = 0.0
+    last = 0.0
+    for i in range(n):
+        row = a[i]  # an array view held across blocks
+        if row[0] > 0.0:
+            last = row[1]
+        s += row[0] * last
+    return s
+
+
+@njit(cache=False)
+def _counted_loop(a, n):
+    s = 0.0
+    for i in range(n):
+        row = a[i]
+        if row[0] > 0.0:
+            s += row[1]
+    return s
+
+
+def _zero_filled_variables(monkeypatch, fn, *args) -> tuple[set, set]:
+    """(user variables with a stack slot, those of them stored zeros) in the unoptimised
+    LLVM IR numba hands to LLVM when compiling ``fn(*args)``."""
+    import re
+
+    from numba.core import codegen
+
+    texts = []
+    add = codegen.CPUCodeLibrary.add_ir_module
+
+    def grab(self, ir_module):
+        if fn.py_func.__name__ in self.name:
+            texts.append(str(ir_module))
+        return add(self, ir_module)
+
+    monkeypatch.setattr(codegen.CPUCodeLibrary, "add_ir_module", grab)
+    fn(*args)
+    ir = "\n".join(texts)
+    slots = {n for n in re.findall(r'%"([A-Za-z_]\w*(?:\.\d+)?)" = alloca', ir)
+             if n not in ("excinfo", "try_state")}
+    zeroed = {n for n in slots if re.search(rf'zeroinitializer, [^\n]*%"{re.escape(n)}"$', ir,
+                                            re.M)}
+    return slots, zeroed
+
+
+def test_uncounted_variables_are_lowered_without_zero_fills(monkeypatch) -> None:
+    """Without reference counting no variable slot is zero-filled or nulled at its ``del``;
+    with it, only the slots of counted values (arrays) are; both compute what Python
+    computes, a loop not entered included."""
+    jit.apply()
+    assert jit._state["lean"] is True
+    a = np.array([[1.0, 2.0], [-1.0, 5.0], [3.0, 4.0], [0.5, -2.0]])
+    slots, zeroed = _zero_filled_variables(monkeypatch, _lean_loop, a, 4)
+    assert {"a", "row"} <= slots and any(s.startswith("last") for s in slots)
+    assert zeroed == set()
+    slots, zeroed = _zero_filled_variables(monkeypatch, _counted_loop, a, 4)
+    assert {"a", "row"} <= zeroed  # counted: numba's own lowering
+    assert any(s.startswith("s.") for s in slots)
+    assert not any(s.startswith("s.") for s in zeroed)  # a float: lean
+    for n in (0, 1, 3, 4):
+        assert _lean_loop(a, n) == _lean_loop.py_func(a, n)
+        assert _counted_loop(a, n) == _counted_loop.py_func(a, n)
+
+
+def test_markup_builds_the_strings_numba_builds() -> None:
+    """numba's message highlighting gives the same strings without colorama's stream
+    wrapping."""
+    errors = pytest.importorskip("numba.core.errors")
+    jit.apply()
+    if not jit._state["markup"]:
+        pytest.skip("numba does not use colorama here")
+    scheme = errors.termcolor()
+    plain = type(scheme)._markup
+    for msg in ("Cannot determine Numba type of <class 'module'>", "", "a\nb"):
+        for color in (None, "\x1b[31m"):
+            assert plain(scheme, msg, color) == plain.__wrapped__(scheme, msg, color)
+        assert plain(scheme, msg, None, None) == plain.__wrapped__(scheme, msg, None, None)
+    assert scheme.errmsg("x").endswith("x\x1b[0m")
