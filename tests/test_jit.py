@@ -222,9 +222,9 @@ def _counted_loop(a, n):
     return s
 
 
-def _zero_filled_variables(monkeypatch, fn, *args) -> tuple[set, set]:
-    """(user variables with a stack slot, those of them stored zeros) in the unoptimised
-    LLVM IR numba hands to LLVM when compiling ``fn(*args)``."""
+def _zero_filled_variables(monkeypatch, fn, *args) -> tuple[set, set, dict]:
+    """(user variables with a stack slot, those of them stored zeros, zero stores per slot)
+    in the unoptimised LLVM IR numba hands to LLVM when compiling ``fn(*args)``."""
     import re
 
     from numba.core import codegen
@@ -244,20 +244,28 @@ def _zero_filled_variables(monkeypatch, fn, *args) -> tuple[set, set]:
              if n not in ("excinfo", "try_state")}
     zeroed = {n for n in slots if re.search(rf'zeroinitializer, [^\n]*%"{re.escape(n)}"$', ir,
                                             re.M)}
-    return slots, zeroed
+    stores: dict = {}
+    for m in re.finditer(r'zeroinitializer, [^\n]*\* (%"?[^"\s]+"?)$', ir, re.M):
+        stores[m.group(1)] = stores.get(m.group(1), 0) + 1
+    return slots, zeroed, stores
 
 
 def test_uncounted_variables_are_lowered_without_zero_fills(monkeypatch) -> None:
-    """Without reference counting no variable slot is zero-filled or nulled at its ``del``;
-    with it, only the slots of counted values (arrays) are; both compute what Python
-    computes, a loop not entered included."""
+    """Without reference counting no variable slot is zero-filled or nulled at its ``del``,
+    and the structures numba builds are zero-filled once; with reference counting, only the
+    slots of counted values (arrays) are; both compute what Python computes, a loop not
+    entered included."""
     jit.apply()
     assert jit._state["lean"] is True
     a = np.array([[1.0, 2.0], [-1.0, 5.0], [3.0, 4.0], [0.5, -2.0]])
-    slots, zeroed = _zero_filled_variables(monkeypatch, _lean_loop, a, 4)
+    slots, zeroed, stores = _zero_filled_variables(monkeypatch, _lean_loop, a, 4)
     assert {"a", "row"} <= slots and any(s.startswith("last") for s in slots)
     assert zeroed == set()
-    slots, zeroed = _zero_filled_variables(monkeypatch, _counted_loop, a, 4)
+    # the structures numba builds (views, the range iterator...) are zero-filled once, where
+    # they are made, not also in the entry block
+    assert jit._state["struct_slots"] is True
+    assert len(stores) >= 5 and set(stores.values()) == {1}
+    slots, zeroed, _ = _zero_filled_variables(monkeypatch, _counted_loop, a, 4)
     assert {"a", "row"} <= zeroed  # counted: numba's own lowering
     assert any(s.startswith("s.") for s in slots)
     assert not any(s.startswith("s.") for s in zeroed)  # a float: lean
