@@ -40,6 +40,16 @@ Finally, a function compiled because a compiled caller calls it is compiled only
 into that caller: no entry points, no module passes and no machine code of its own
 (:mod:`drivedyn.jit_linked`, installed by :func:`apply`): a third of the Type C bench's first
 compilation.
+
+The IR numba hands to LLVM is leaner where reference counting has nothing to do
+(:func:`_install_lean_variables`): a variable whose decref is a no-op (every variable of a
+loop compiled without reference counting, numbers elsewhere) gets no zero fill, no load
+before a store and nothing at its ``del``, and a structure numba builds (a view, a slice)
+is zero-filled once, where it is made, not also in the entry block. Those dead memory
+operations made LLVM's SROA and instruction combiner carry zeros through phi nodes of whole
+array structures: LLVM's share of the Type C bench's first compilation fell by a fifth
+(26.9 -> 21.2 s of CPU), the whole by 11-15 %, with the same machine behaviour (same steps,
+iterations and TDRs to all printed digits).
 """
 
 from __future__ import annotations

@@ -4,8 +4,9 @@ A kernel is compiled by numba on its first call, for the argument types of that 
 kept in numba's on-disk cache (``cache=True``): later runs load it in milliseconds. The first
 run after an install compiles every kernel the model uses, one after the other, in the
 process that runs the simulation (for the Type C bench 33-45 s of CPU on the 2-core reference
-machine, issue 16 tenth round, fast to slow hour: the stepping loop and gear pairs the
-longest; functions compiled for a compiled caller are linked, :mod:`drivedyn.jit_linked`).
+machine, issue 16 tenth round, fast to slow hour, and 11-15 % less since the eleventh round's
+leaner IR, :mod:`drivedyn.jit`: the stepping loop and gear pairs the longest; functions
+compiled for a compiled caller are linked, :mod:`drivedyn.jit_linked`).
 :func:`precompile_kernels` finds the kernels that are neither compiled in this
 process nor in the cache and, when there are two or more and more than one CPU, compiles them
 in worker processes at the same time (each worker writes numba's cache); the process then
