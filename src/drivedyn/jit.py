@@ -145,7 +145,8 @@ def _install_call_type_memo() -> None:
     _state["memo"] = True
 
 
-#: numba types whose values hold no reference-counted memory (:func:`_install_lean_variables`)
+#: (data model manager id, numba type) -> the type's values hold no reference-counted
+#: memory (:func:`_install_lean_variables`)
 _uncounted: dict = {}
 
 
@@ -198,10 +199,11 @@ def _install_lean_variables() -> None:
             return False
         if not self.context.enable_nrt:
             return True
-        flag = _uncounted.get(fetype)
+        dmm = self.context.data_model_manager  # one per target: part of the key
+        key = (id(dmm), fetype)
+        flag = _uncounted.get(key)
         if flag is None:
-            flag = _uncounted[fetype] = not self.context.data_model_manager[
-                fetype].contains_nrt_meminfo()
+            flag = _uncounted[key] = not dmm[fetype].contains_nrt_meminfo()
         return flag
 
     def lean_delvar(self, name):
