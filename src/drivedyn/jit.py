@@ -57,7 +57,7 @@ from __future__ import annotations
 import inspect
 import textwrap
 
-from drivedyn import jit_linked
+from drivedyn import jit_linked, jit_passes
 
 _COPY_PER_BLOCK = """\
         kernel_copy.blocks = {}
@@ -330,6 +330,7 @@ def apply() -> bool:
     _install_call_type_memo()
     _install_lean_variables()
     _install_plain_markup()
+    jit_passes.install()
     jit_linked.install()
     ok = False
     try:

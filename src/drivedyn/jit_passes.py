@@ -1,0 +1,290 @@
+"""Two of numba's IR passes without their repeated work (a compile-time saving, installed by
+:func:`drivedyn.jit.apply`).
+
+numba's untyped and typed pipelines spend a fifth of the Type C bench's first compilation in
+two analyses that do far more work than their results need (measured, issue 16 twelfth
+round):
+
+- **SSA reconstruction** (``numba.core.ssa``). For every variable assigned more than once
+  (hundreds in an element loop after inlining) numba rewrites *every* block of the function
+  twice, once to give the assignments fresh names and once to point each use at its reaching
+  definition: its cost is the number of such variables times the number of statements. Only
+  the blocks that name the variable can change, plus the blocks where a phi node of it is
+  placed. :func:`_run_ssa` gives numba's two rewrites only those blocks (in the same order,
+  so the fresh names and phi nodes are numbered as numba numbers them) and adds the phi nodes
+  of the others as numba does. The IR is the same, statement for statement
+  (``tests/test_jit_passes.py`` compares the dumps).
+- **Liveness after each IR change** (``numba.core.postproc.PostProcessor.run``). About ten
+  passes per function end with a post-processing run, and each run computes the variables
+  alive at every block entry (the CFG, use-def maps, live map, dead maps and a fix point).
+  That result is read only by the object-mode lowering and the generator analysis, and each
+  run overwrites the previous one. The run now stores it as a mapping computed when first
+  read (:class:`LazyEntryVars`), from the same analyses at the same point; generators get
+  it at once, as before. What a run must do is unchanged: the canonical CFG, the variable
+  lifetimes (themselves computed lazily by numba) and the ``del`` statements when asked.
+
+Each replacement is installed only if numba's source contains the passages it replaces (the
+post-processor is rebuilt from numba's own source with one passage edited, as
+:func:`drivedyn.jit.apply` does for the inliner); otherwise numba is left as it is: slower
+first compilation, same results.
+"""
+
+from __future__ import annotations
+
+import inspect
+import textwrap
+from collections import defaultdict
+from typing import Any
+
+_state: dict = {"installed": None}
+
+
+class LazyEntryVars(dict):
+    """``FunctionIR.block_entry_vars`` (block -> names possibly alive at its entry), computed
+    on first access by ``compute()`` and added to the entries ``previous`` holds."""
+
+    __slots__ = ("_compute",)
+
+    def __init__(self, previous: dict, compute: Any) -> None:
+        super().__init__(previous)
+        self._compute = compute
+
+    @property
+    def pending(self) -> bool:
+        """True while the entries are not computed."""
+        return self._compute is not None
+
+    def fill(self) -> LazyEntryVars:
+        """Compute the entries now (once); returns self."""
+        compute, self._compute = self._compute, None
+        if compute is not None:
+            dict.update(self, compute())
+        return self
+
+    def __getitem__(self, key):
+        return dict.__getitem__(self.fill(), key)
+
+    def __contains__(self, key) -> bool:
+        return dict.__contains__(self.fill(), key)
+
+    def __iter__(self):
+        return dict.__iter__(self.fill())
+
+    def __len__(self) -> int:
+        return dict.__len__(self.fill())
+
+    def __eq__(self, other) -> bool:
+        return dict.__eq__(self.fill(), other)
+
+    __hash__ = None  # a dict
+
+    def __repr__(self) -> str:
+        return dict.__repr__(self.fill())
+
+    def get(self, key, default=None):
+        return dict.get(self.fill(), key, default)
+
+    def keys(self):
+        return dict.keys(self.fill())
+
+    def values(self):
+        return dict.values(self.fill())
+
+    def items(self):
+        return dict.items(self.fill())
+
+    def copy(self) -> dict:
+        return dict(self.fill())
+
+    def __reduce__(self):  # pickled and deep-copied as numba's plain mapping
+        return dict, (dict(self.fill()),)
+
+
+def _computed(entries: dict) -> dict:
+    """The entries of ``entries`` already known, without computing a pending lazy part."""
+    if isinstance(entries, LazyEntryVars) and entries.pending:
+        return {k: v for k, v in dict.items(entries)}
+    return entries
+
+
+def lazy_entry_vars(func_ir) -> LazyEntryVars:
+    """The block-entry liveness of ``func_ir`` as numba's post-processor computes it, for
+    the function's blocks when first read (the same value as at the run if the IR has not
+    changed since, as for numba's readers, which lower the IR the last run saw).
+
+    numba's own run adds to the mapping: earlier entries are kept, except those a pending
+    lazy mapping never computed (they describe blocks that are gone)."""
+    from numba.core import analysis, postproc
+
+    def compute() -> dict:
+        blocks = func_ir.blocks
+        vlt = postproc.VariableLifetime(blocks)
+        bev = analysis.compute_live_variables(vlt.cfg, blocks, vlt.usedefs.defmap,
+                                              vlt.deadmaps.combined)
+        return {block: bev[offset] for offset, block in blocks.items()}
+
+    entry = LazyEntryVars(_computed(func_ir.block_entry_vars), compute)
+    if func_ir.is_generator:  # the generator analysis reads it at once: as numba does
+        entry.fill()
+    return entry
+
+
+_EAGER_ENTRY_VARS = """\
+    bev = analysis.compute_live_variables(vlt.cfg, self.func_ir.blocks,
+                                          vlt.usedefs.defmap,
+                                          vlt.deadmaps.combined)
+    for offset, ir_block in self.func_ir.blocks.items():
+        self.func_ir.block_entry_vars[ir_block] = bev[offset]
+"""
+_LAZY_ENTRY_VARS = """\
+    # drivedyn.jit_passes: computed when first read (only object mode and generators do)
+    self.func_ir.block_entry_vars = _drivedyn_lazy_entry_vars(self.func_ir)
+"""
+
+
+def _install_lazy_entry_liveness() -> bool:
+    """Replace ``PostProcessor.run`` by numba's own source with the block-entry liveness made
+    lazy (:func:`lazy_entry_vars`), and let ``FunctionIR.copy`` keep it lazy; True if
+    installed."""
+    try:
+        from numba.core import ir, postproc
+
+        src = textwrap.dedent(inspect.getsource(postproc.PostProcessor.run))
+        src_copy = inspect.getsource(ir.FunctionIR.copy)
+    except (ImportError, AttributeError, OSError, TypeError):  # pragma: no cover - other numba
+        return False
+    if (src.count(_EAGER_ENTRY_VARS) != 1
+            or "block_entry_vars" in src.replace(_EAGER_ENTRY_VARS, "")
+            or "if block in self.block_entry_vars:" not in src_copy):
+        return False  # pragma: no cover - another numba: its own post-processor
+    ns = dict(vars(postproc))
+    ns["_drivedyn_lazy_entry_vars"] = lazy_entry_vars
+    exec(compile(src.replace(_EAGER_ENTRY_VARS, _LAZY_ENTRY_VARS), postproc.__file__, "exec"),
+         ns)  # numba's own source, edited above
+    run = ns["run"]
+    run.__wrapped__ = postproc.PostProcessor.run
+    run.__doc__ = postproc.PostProcessor.run.__doc__
+    postproc.PostProcessor.run = run
+    copy = ir.FunctionIR.copy
+
+    def copy_ir(self):
+        # numba's copy maps each block's entries to the copied block: with entries not yet
+        # computed, the copy gets its own pending mapping (the liveness of the same blocks)
+        entries = self.block_entry_vars
+        if not (isinstance(entries, LazyEntryVars) and entries.pending):
+            return copy(self)
+        self.block_entry_vars = {}
+        try:
+            new = copy(self)
+        finally:
+            self.block_entry_vars = entries
+        new.block_entry_vars = lazy_entry_vars(new)
+        return new
+
+    copy_ir.__wrapped__ = copy
+    copy_ir.__doc__ = copy.__doc__
+    ir.FunctionIR.copy = copy_ir
+    return True
+
+
+# --- SSA reconstruction over the blocks that name each variable --------------------------------
+
+#: passages of numba's SSA module that :func:`_run_ssa` reproduces with fewer blocks
+_SSA_PASSAGES = {
+    "_run_ssa": ("blocks, defmap = _fresh_vars(blocks, varname)",
+                 "blocks = _fix_ssa_vars(blocks, varname, defmap, cfg, df_plus,",
+                 "violators = _find_defs_violators(blocks, cfg)",
+                 "cache_list_vars = _CacheListVars()",
+                 'raise errors.CompilerError("CFG mutated in SSA pass")'),
+    "_fresh_vars": ("newblocks = _run_block_rewrite(blocks, states, _FreshVarHandler())",),
+    "_fix_ssa_vars": ("states['phi_locations'] = _compute_phi_locations(df_plus, defmap)",
+                      "newblocks = _run_block_rewrite(blocks, states, "
+                      "_FixSSAVars(cache_list_vars))",
+                      "curblk.body = philist + curblk.body"),
+}
+
+
+def _naming_blocks(blocks: dict) -> dict:
+    """Variable name -> labels of the blocks that assign or use it, in block order."""
+    where: dict = defaultdict(list)
+    for label, block in blocks.items():
+        names = set()
+        for stmt in block.body:
+            names.update(var.name for var in stmt.list_vars())
+        for name in names:
+            where[name].append(label)
+    return where
+
+
+def _run_ssa(blocks: dict) -> dict:
+    """numba's ``ssa._run_ssa`` with each violating variable's two rewrites run over the
+    blocks that name it, not over all blocks (same statements, names and phi nodes)."""
+    from numba.core import errors, ir, ssa
+
+    if not blocks:
+        return {}
+    cfg = ssa.compute_cfg_from_blocks(blocks)
+    df_plus = ssa._iterated_domfronts(cfg)
+    violators = ssa._find_defs_violators(blocks, cfg)
+    cache_list_vars = ssa._CacheListVars()
+    # a rewrite for one variable changes only its own names: what the others name stays
+    where = _naming_blocks(blocks) if violators else {}
+    for varname in violators:
+        labels = where[varname]
+        # fresh names for the assignments (numba's _fresh_vars over those blocks)
+        states = ssa._make_states(blocks)
+        states["varname"] = varname
+        states["defmap"] = defmap = defaultdict(list)
+        fresh = ssa._run_block_rewrite({k: blocks[k] for k in labels}, states,
+                                       ssa._FreshVarHandler())
+        blocks = {k: fresh.get(k, b) for k, b in blocks.items()}
+        # uses to reaching definitions, phi nodes where needed (numba's _fix_ssa_vars)
+        states = ssa._make_states(blocks)
+        states["varname"] = varname
+        states["defmap"] = defmap
+        states["phimap"] = phimap = defaultdict(list)
+        states["cfg"] = cfg
+        states["phi_locations"] = ssa._compute_phi_locations(df_plus, defmap)
+        fixed = ssa._run_block_rewrite({k: blocks[k] for k in labels}, states,
+                                       ssa._FixSSAVars(cache_list_vars))
+        for label, philist in phimap.items():
+            block = fixed.get(label)
+            if block is None:  # a phi in a block that does not name the variable
+                old = blocks[label]
+                block = fixed[label] = ir.Block(scope=old.scope, loc=old.loc)
+                block.body = list(old.body)
+            block.body = philist + block.body
+        blocks = {k: fixed.get(k, b) for k, b in blocks.items()}
+    if ssa.compute_cfg_from_blocks(blocks) != cfg:
+        raise errors.CompilerError("CFG mutated in SSA pass")
+    return blocks
+
+
+def _install_sparse_ssa() -> bool:
+    """Replace ``numba.core.ssa._run_ssa`` by :func:`_run_ssa`; True if installed."""
+    try:
+        from numba.core import ssa
+
+        for name, passages in _SSA_PASSAGES.items():
+            src = inspect.getsource(getattr(ssa, name))
+            if not all(p in src for p in passages):
+                return False  # pragma: no cover - another numba: its own SSA
+        for name in ("compute_cfg_from_blocks", "_iterated_domfronts", "_make_states",
+                     "_run_block_rewrite", "_FreshVarHandler", "_FixSSAVars",
+                     "_compute_phi_locations", "_CacheListVars", "reconstruct_ssa"):
+            getattr(ssa, name)
+    except (ImportError, AttributeError, OSError, TypeError):  # pragma: no cover - other numba
+        return False
+    _run_ssa.__wrapped__ = ssa._run_ssa
+    ssa._run_ssa = _run_ssa  # reconstruct_ssa reads the module global at each call
+    return True
+
+
+def install() -> bool:
+    """Install both replacements (once); True if both are installed."""
+    if _state["installed"] is not None:
+        return _state["installed"]
+    _state["lazy_entry_liveness"] = _install_lazy_entry_liveness()
+    _state["sparse_ssa"] = _install_sparse_ssa()
+    _state["installed"] = _state["lazy_entry_liveness"] and _state["sparse_ssa"]
+    return _state["installed"]
