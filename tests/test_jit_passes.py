@@ -131,3 +131,26 @@ def test_compiled_code_computes_what_python_computes() -> None:
         assert njit(_branches)(a, n) == _branches(a, n)
         assert njit(_phi_in_loop_header)(n, True) == _phi_in_loop_header(n, True)
         assert njit(_phi_in_loop_header)(n, False) == 0
+
+
+def test_position_before_the_last_instruction_is_llvmlites() -> None:
+    """Positioning before a block's last instruction (the entry block's terminator, where
+    numba puts stack slots) gives the index llvmlite's search gives, and so does any other
+    instruction (searched as before)."""
+    from llvmlite import ir as llir
+    from llvmlite.ir.builder import IRBuilder
+
+    jit.apply()
+    assert IRBuilder.position_before is not IRBuilder.position_before.__wrapped__
+    fn = llir.Function(llir.Module(), llir.FunctionType(llir.VoidType(), []), "f")
+    b = IRBuilder(fn.append_basic_block("entry"))
+    slots = [b.alloca(llir.DoubleType()) for _ in range(5)]
+    term = b.ret_void()
+    for instr in (term, slots[0], slots[3]):
+        for method in (IRBuilder.position_before, IRBuilder.position_before.__wrapped__):
+            method(b, instr)
+            got = (b.block, b._anchor)
+            assert got == (instr.parent, instr.parent.instructions.index(instr))
+    b.position_before(term)
+    new = b.alloca(llir.DoubleType())  # inserted before the terminator, as numba's slots
+    assert b.block.instructions[-2:] == [new, term]

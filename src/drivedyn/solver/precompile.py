@@ -4,9 +4,10 @@ A kernel is compiled by numba on its first call, for the argument types of that 
 kept in numba's on-disk cache (``cache=True``): later runs load it in milliseconds. The first
 run after an install compiles every kernel the model uses, one after the other, in the
 process that runs the simulation (for the Type C bench 33-45 s of CPU on the 2-core reference
-machine, issue 16 tenth round, fast to slow hour, and 11-15 % less since the eleventh round's
-leaner IR, :mod:`drivedyn.jit`: the stepping loop and gear pairs the longest; functions
-compiled for a compiled caller are linked, :mod:`drivedyn.jit_linked`).
+machine, issue 16 tenth round, fast to slow hour, 11-15 % less since the eleventh round's
+leaner IR, :mod:`drivedyn.jit`, and about 10 % less again since the twelfth round's lighter
+SSA and liveness passes, :mod:`drivedyn.jit_passes`: the stepping loop and gear pairs the
+longest; functions compiled for a compiled caller are linked, :mod:`drivedyn.jit_linked`).
 :func:`precompile_kernels` finds the kernels that are neither compiled in this
 process nor in the cache and, when there are two or more and more than one CPU, compiles them
 in worker processes at the same time (each worker writes numba's cache); the process then
@@ -50,7 +51,10 @@ COMPILE_SECONDS = {"run_steps": 12.1, "gear_kernel": 17.0, "parallel_gear_kernel
                    "newton_iterations": 7.0, "washer_contact_kernel": 5.0,
                    "rigid_body_kernel": 2.6, "load_kernel": 2.1,
                    # compiled with the stepping loop (its worker writes it to the cache first)
-                   "eval_time_functions": 0.5}
+                   "eval_time_functions": 0.5,
+                   # the dense LU of small models (its helpers compiled with the stepping
+                   # loop's): last, after the element kernels (issue 16 twelfth round)
+                   "dense_factor_csc": 0.5, "dense_solve": 0.3}
 
 
 #: resident memory [MB] above which a compile worker collects garbage before its next kernel
