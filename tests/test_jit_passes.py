@@ -111,6 +111,32 @@ def test_entry_liveness_is_computed_when_read_and_is_numbas() -> None:
         assert type(copy.deepcopy(dup).block_entry_vars) is dict
 
 
+def test_a_pending_mapping_reads_and_changes_as_the_computed_dict() -> None:
+    calls = []
+    made = []
+
+    def compute():
+        calls.append(1)
+        return {"b": {2}, "c": {3}}
+
+    def fresh():
+        made.append(1)
+        return jit_passes.LazyEntryVars({"a": {1}}, compute)
+
+    full = {"a": {1}, "b": {2}, "c": {3}}
+    assert fresh() == full and not (fresh() != full) and len(fresh()) == 3
+    assert list(fresh()) == list(full) and dict(fresh()) == full and "c" in fresh()
+    assert fresh().get("b") == {2} and fresh().pop("c") == {3}
+    m = fresh()
+    m.update({"d": set()})
+    assert m == {**full, "d": set()} and not m.pending
+    m = fresh()
+    m["b"] = {9}  # a change after the computation, not overwritten by it
+    assert m["b"] == {9}
+    assert (fresh() | {"e": {5}}) == {**full, "e": {5}}
+    assert len(calls) == len(made) == 11  # once per mapping
+
+
 def _squares(n):
     for i in range(n):
         yield i * i

@@ -68,43 +68,33 @@ class LazyEntryVars(dict):
             dict.update(self, compute())
         return self
 
-    def __getitem__(self, key):
-        return dict.__getitem__(self.fill(), key)
-
-    def __contains__(self, key) -> bool:
-        return dict.__contains__(self.fill(), key)
-
-    def __iter__(self):
-        return dict.__iter__(self.fill())
-
-    def __len__(self) -> int:
-        return dict.__len__(self.fill())
-
-    def __eq__(self, other) -> bool:
-        return dict.__eq__(self.fill(), other)
-
     __hash__ = None  # a dict
-
-    def __repr__(self) -> str:
-        return dict.__repr__(self.fill())
-
-    def get(self, key, default=None):
-        return dict.get(self.fill(), key, default)
-
-    def keys(self):
-        return dict.keys(self.fill())
-
-    def values(self):
-        return dict.values(self.fill())
-
-    def items(self):
-        return dict.items(self.fill())
 
     def copy(self) -> dict:
         return dict(self.fill())
 
     def __reduce__(self):  # pickled and deep-copied as numba's plain mapping
         return dict, (dict(self.fill()),)
+
+
+def _filled(name: str):
+    """``dict.<name>`` applied after :meth:`LazyEntryVars.fill`."""
+    method = getattr(dict, name)
+
+    def filled(self, *args, **kwargs):
+        return method(self.fill(), *args, **kwargs)
+
+    filled.__name__ = name
+    filled.__doc__ = method.__doc__
+    return filled
+
+
+# every way of reading or changing a dict sees the computed entries
+for _name in ("__getitem__", "__setitem__", "__delitem__", "__contains__", "__iter__",
+              "__reversed__", "__len__", "__eq__", "__ne__", "__or__", "__ior__", "__repr__",
+              "get", "keys", "values", "items", "pop", "popitem", "setdefault", "update",
+              "clear"):
+    setattr(LazyEntryVars, _name, _filled(_name))
 
 
 def _computed(entries: dict) -> dict:
