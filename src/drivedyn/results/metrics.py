@@ -22,8 +22,11 @@ def run_metrics(results) -> dict:
         return float(ds[name].values[-1]) if n and name in ds else float("nan")
 
     peak, where = float("nan"), ""
-    for name, var in ds.data_vars.items():
-        if str(name).endswith(".pressure") and var.attrs.get("units") == "Pa" and var.size:
+    # the dataset's variables as stored: ``data_vars.items()`` builds a DataArray for each of
+    # them (0.13 s for the Type C bench's 401, on every ``drivedyn tdr`` run)
+    for name, var in ds.variables.items():
+        if (str(name).endswith(".pressure") and name not in ds.coords
+                and var.attrs.get("units") == "Pa" and var.size):
             value = float(np.nanmax(np.abs(var.values)))
             if not peak >= value:
                 peak, where = value, str(name).rsplit(".", 1)[0]
