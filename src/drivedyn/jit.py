@@ -62,7 +62,7 @@ from __future__ import annotations
 import inspect
 import textwrap
 
-from drivedyn import jit_linked, jit_passes
+from drivedyn import jit_linked, jit_passes, jit_structs
 
 _COPY_PER_BLOCK = """\
         kernel_copy.blocks = {}
@@ -337,6 +337,7 @@ def apply() -> bool:
     _install_lean_variables()
     _install_plain_markup()
     jit_passes.install()
+    jit_structs.install()
     jit_linked.install()
     ok = False
     try:
