@@ -274,6 +274,56 @@ def test_uncounted_variables_are_lowered_without_zero_fills(monkeypatch) -> None
         assert _counted_loop(a, n) == _counted_loop.py_func(a, n)
 
 
+def _meminfo_paths(found: list) -> list:
+    """``(type, extractvalue index path from the argument)`` of each meminfo found."""
+    from llvmlite import ir as llir
+
+    out = []
+    for ty, v in found:
+        path = []
+        while isinstance(v, llir.ExtractValue):
+            path = [*v.indices, *path]
+            v = v.aggregate
+        out.append((ty, tuple(path), type(v).__name__))
+    return out
+
+
+def test_meminfos_are_found_without_reading_uncounted_members(monkeypatch) -> None:
+    """numba's reference counting of a tuple of arrays, numbers and nested tuples finds the
+    same meminfos (types, places, order) with the members that hold none left unread."""
+    from llvmlite import ir as llir
+    from numba.core import types
+    from numba.core.registry import cpu_target
+
+    jit.apply()
+    assert jit._state["meminfos"] is True
+    ctx = cpu_target.target_context
+    arr = types.Array(types.float64, 2, "C")
+    ty = types.Tuple((arr, types.float64, types.UniTuple(types.intp, 3),
+                      types.Tuple((types.int64, arr, types.UniTuple(arr, 2))), arr))
+    nrt = type(ctx.nrt)
+    ours = nrt.get_meminfos
+
+    def find() -> tuple[list, int]:
+        fn = llir.Function(llir.Module(), llir.FunctionType(llir.VoidType(),
+                                                            [ctx.get_value_type(ty)]), "f")
+        b = llir.IRBuilder(fn.append_basic_block("entry"))
+        found = ctx.nrt.get_meminfos(b, ty, fn.args[0])
+        return (_meminfo_paths(found),
+                sum(isinstance(i, llir.ExtractValue) for i in b.block.instructions))
+
+    found, reads = find()
+    monkeypatch.setattr(nrt, "get_meminfos", ours.__wrapped__)  # numba's, recursion included
+    numbas, numba_reads = find()
+    assert found == numbas and len(found) == 5
+    meminfo = types.MemInfoPointer(types.float64)
+    assert [(t, kind) for t, _, kind in found] == [(meminfo, "Argument")] * 5
+    assert [p for _, p, _ in found] == [(0, 0), (3, 1, 0), (3, 2, 0, 0), (3, 2, 1, 0), (4, 0)]
+    # one read per meminfo and per tuple on its path, against every member of everything
+    # (numba: 11 reads per 2-d array: 7 fields, 2 shape, 2 strides)
+    assert reads == 12 and numba_reads == 68
+
+
 def test_markup_builds_the_strings_numba_builds() -> None:
     """numba's message highlighting gives the same strings without colorama's stream
     wrapping."""
