@@ -180,3 +180,44 @@ def test_position_before_the_last_instruction_is_llvmlites() -> None:
     b.position_before(term)
     new = b.alloca(llir.DoubleType())  # inserted before the terminator, as numba's slots
     assert b.block.instructions[-2:] == [new, term]
+
+
+def test_list_vars_is_numbas() -> None:
+    """The variables of every statement (expressions, calls with keyword arguments, phis,
+    nested instructions) of the joint and gear loops, and of odd values (dict and tuple
+    subclasses, instructions inside containers), in numba's order."""
+    from collections import OrderedDict, namedtuple
+
+    jit.apply()
+    assert jit_passes._state["list_vars"] is True
+    ours = ir.Inst._rec_list_vars
+    numbas = ours.__wrapped__
+
+    def numba_list(stmt, val):
+        # numba's recursion calls the method through the instance: numba's all the way down
+        ir.Inst._rec_list_vars = numbas
+        try:
+            return numbas(stmt, val)
+        finally:
+            ir.Inst._rec_list_vars = ours
+
+    n = 0
+    for func in (_constraints.py_func, _gears.py_func, _branches):
+        func_ir = run_frontend(func)
+        for block in func_ir.blocks.values():
+            for stmt in block.body:
+                got = stmt.list_vars()
+                want = numba_list(stmt, stmt.__dict__ if not isinstance(stmt, ir.Expr)
+                                  else stmt._kws)
+                assert [v.name for v in got] == [v.name for v in want]
+                assert all(a is b for a, b in zip(got, want, strict=True))
+                n += 1
+    assert n > 2000
+    scope = ir.Scope(None, ir.Loc("f", 1))
+    a, b, c = (ir.Var(scope, name, ir.Loc("f", 1)) for name in "abc")
+    pair = namedtuple("pair", "x y")
+    inner = ir.Assign(b, c, ir.Loc("f", 1))
+    odd = {"k": OrderedDict(p=pair(a, [inner, 3.0]), q="s"), "t": (None, (c, {1: a}))}
+    stmt = ir.Assign(a, a, ir.Loc("f", 1))
+    assert [v.name for v in ours(stmt, odd)] == [v.name for v in numba_list(stmt, odd)] \
+        == ["a", "b", "c", "c", "a"]
