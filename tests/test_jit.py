@@ -297,7 +297,9 @@ def test_meminfos_are_found_without_reading_uncounted_members(monkeypatch) -> No
 
     jit.apply()
     assert jit._state["meminfos"] is True
-    ctx = cpu_target.target_context
+    # a copy with reference counting on: the target's own context caches its runtime
+    # context (``nrt``) when first read, and its copies inherit that one
+    ctx = cpu_target.target_context.subtarget(enable_nrt=True)
     arr = types.Array(types.float64, 2, "C")
     ty = types.Tuple((arr, types.float64, types.UniTuple(types.intp, 3),
                       types.Tuple((types.int64, arr, types.UniTuple(arr, 2))), arr))
