@@ -34,8 +34,8 @@ or from a given slot is numba's as before.
 The optimised LLVM IR of the Type C element kernels is numba's own up to the names of
 values. The stepping loop and the time functions differ only in the order of independent
 instructions (the slots are made in another order), so the same numbers are computed. The
-Type C kernels compile with 10-13 % less CPU (measured in simultaneous pairs, issue 16
-thirteenth round).
+Type C kernels compile with 7 % less CPU (ten simultaneous pairs, issue 16 thirteenth
+round, benchmarks/README.md).
 
 Each replacement checks that numba's (llvmlite's) source contains the passages it relies
 on; otherwise nothing is installed and numba lowers as before. ``DRIVEDYN_JIT_VALUES=0``
