@@ -117,26 +117,19 @@ def _materialise(proxy: Any) -> None:
     STATS["materialised"] += 1
 
 
-def _get_ref(self: Any) -> Any:
-    d = self.__dict__
-    if _VALUE in d:
-        _materialise(self)
-    return d[_REF]
+def _slot_property(key: str) -> property:
+    """numba's ``_value`` or ``_outer_ref`` attribute (``key``): the slot, made (and filled)
+    on first access if the proxy still holds a value."""
+    def get(self: Any) -> Any:
+        d = self.__dict__
+        if _VALUE in d:
+            _materialise(self)
+        return d[key]
 
+    def set_(self: Any, ref: Any) -> None:
+        self.__dict__[key] = ref
 
-def _set_ref(self: Any, ref: Any) -> None:
-    self.__dict__[_REF] = ref
-
-
-def _get_outer(self: Any) -> Any:
-    d = self.__dict__
-    if _VALUE in d:
-        _materialise(self)
-    return d[_OUTER]
-
-
-def _set_outer(self: Any, ref: Any) -> None:
-    self.__dict__[_OUTER] = ref
+    return property(get, set_)
 
 
 def _passages_found() -> bool:
@@ -230,8 +223,8 @@ def install() -> bool:
         fn.__doc__ = orig.__doc__
     _state["originals"] = (init, getitem, getvalue, make_array)
     Proxy.__init__, Proxy.__getitem__, Proxy._getvalue = init_, getitem_, getvalue_
-    Proxy._value = property(_get_ref, _set_ref)
-    Proxy._outer_ref = property(_get_outer, _set_outer)
+    Proxy._value = _slot_property(_REF)
+    Proxy._outer_ref = _slot_property(_OUTER)
     _set_make_array(make_array, make_array_)
     _state["make_array"] = make_array_
     _state["installed"] = True
