@@ -258,7 +258,8 @@ def evaluate(p, modes: list[int], torque: float | None = None,
 
     def analytic() -> None:
         for m in modes:
-            ana.setdefault(m, diff.analytic_bench(p, m, T0, dw, friction_scale))
+            if m not in ana:
+                ana[m] = diff.analytic_bench(p, m, T0, dw, friction_scale)
 
     if not analytic_only:
         metrics["dissipated_energy"] = 0.0
