@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
 from numba import njit
 
 from drivedyn.elements.base import MODE_DYN
@@ -14,6 +13,8 @@ from drivedyn.rotations import tangent_into
 from drivedyn.timefunctions import eval_time_functions
 
 if TYPE_CHECKING:
+    import scipy.sparse as sp
+
     from drivedyn.solver.kernel_calls import KernelTable
 
 
@@ -221,8 +222,10 @@ class System:
             return None
 
     def matrix(self) -> sp.csc_matrix:
+        from drivedyn.solver.linear import _csc
+
         m = self.model
-        return sp.csc_matrix((self.data.copy(), m.indices, m.indptr), shape=(m.neq, m.neq))
+        return _csc((self.data.copy(), m.indices, m.indptr), shape=(m.neq, m.neq))
 
     def factor(self, lin) -> None:
         """Factorise the last assembled matrix with ``lin`` (a

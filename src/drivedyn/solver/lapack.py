@@ -17,10 +17,55 @@ from __future__ import annotations
 
 import ctypes
 
+import glob
+import importlib.machinery
+import importlib.util
+import os
+import sys
+from types import ModuleType
+
 import llvmlite.binding as llb
 import numpy as np
 from numba import njit, types
-from scipy.linalg import cython_lapack
+
+_CYTHON_LAPACK = "scipy.linalg.cython_lapack"
+
+
+def _cython_lapack() -> ModuleType:
+    """``scipy.linalg.cython_lapack``, loaded from its file without running
+    ``scipy.linalg``'s ``__init__``: that imports the whole of ``scipy.linalg`` and
+    ``scipy._lib``'s array-API layer (0.3-0.4 s, on the way of every command that simulates,
+    before its compile workers are forked), none of which this module uses. The module is
+    entered in ``sys.modules`` under its own name, as an import would, so a later
+    ``import scipy.linalg`` finds it there. Any difference from what this expects (another
+    layout of SciPy, a module already imported) falls back to the usual import."""
+    mod = sys.modules.get(_CYTHON_LAPACK)
+    if mod is not None:
+        return mod
+    try:
+        spec = importlib.util.find_spec("scipy")  # the top-level package only
+        folder = os.path.join(os.path.dirname(spec.origin), "linalg")
+        suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
+        files = [f for f in glob.glob(os.path.join(folder, "cython_lapack.*"))
+                 if f.endswith(suffixes)]
+        if len(files) != 1:
+            raise ImportError(f"{len(files)} cython_lapack extension files in {folder}")
+        loader = importlib.machinery.ExtensionFileLoader(_CYTHON_LAPACK, files[0])
+        spec = importlib.util.spec_from_file_location(_CYTHON_LAPACK, files[0],
+                                                      loader=loader)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[_CYTHON_LAPACK] = mod
+        try:
+            loader.exec_module(mod)
+        except BaseException:
+            sys.modules.pop(_CYTHON_LAPACK, None)
+            raise
+        mod.__pyx_capi__["dgetrf"]  # noqa: B018 - what this module needs from it
+        return mod
+    except Exception:  # any other layout: the usual import
+        from scipy.linalg import cython_lapack
+
+        return cython_lapack
 
 
 def _address(name: str) -> int:
@@ -30,7 +75,7 @@ def _address(name: str) -> int:
     api.PyCapsule_GetName.argtypes = [ctypes.py_object]
     api.PyCapsule_GetPointer.restype = ctypes.c_void_p
     api.PyCapsule_GetPointer.argtypes = [ctypes.py_object, ctypes.c_char_p]
-    cap = cython_lapack.__pyx_capi__[name]
+    cap = _cython_lapack().__pyx_capi__[name]
     return api.PyCapsule_GetPointer(cap, api.PyCapsule_GetName(cap))
 
 

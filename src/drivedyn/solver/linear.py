@@ -3,13 +3,25 @@
 from __future__ import annotations
 
 import abc
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from numba import njit
 
 from drivedyn.solver import lapack
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
+
+
+def _csc(*args, **kw) -> sp.csc_matrix:
+    """``scipy.sparse.csc_matrix(*args, **kw)``. SciPy's sparse package is imported here, on
+    first use, not with this module: importing it costs 0.3-0.4 s (most of it SciPy's
+    array-API layer) on the way of every command that simulates, before its compile workers
+    are forked, and the dense LU and the compiled sparse LU never need it."""
+    import scipy.sparse as sp
+
+    return sp.csc_matrix(*args, **kw)
 
 
 class LinearSolver(abc.ABC):
@@ -28,7 +40,7 @@ class LinearSolver(abc.ABC):
                    n: int) -> None:
         """Factorise the n x n matrix given by its CSC arrays (the model's fixed pattern);
         ``data`` is not kept."""
-        self.factor(sp.csc_matrix((data.copy(), indices, indptr), shape=(n, n)))
+        self.factor(_csc((data.copy(), indices, indptr), shape=(n, n)))
 
     def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
         """``(dispatcher, argument types)`` of the compiled functions that ``factor_csc`` and
@@ -279,14 +291,16 @@ class SparseLU(LinearSolver):
         self._n = -1
 
     def factor(self, A: sp.csc_matrix) -> None:
-        A = sp.csc_matrix(A)  # duplicates are summed by the factorisation
+        A = _csc(A)  # duplicates are summed by the factorisation
         self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
 
     def _order(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
                n: int) -> None:
         """Column order and work arrays from SuperLU's factorisation of the first matrix."""
         try:
-            A = sp.csc_matrix((data.copy(), indices.copy(), indptr.copy()), shape=(n, n))
+            import scipy.sparse.linalg as spla
+
+            A = _csc((data.copy(), indices.copy(), indptr.copy()), shape=(n, n))
             A.sum_duplicates()  # a copy: the caller's arrays stay as they are
             lu = spla.splu(A, permc_spec=self.permc_spec,
                            diag_pivot_thresh=self.diag_pivot_thresh)
@@ -384,7 +398,7 @@ class DenseLU(LinearSolver):
         self.ws: tuple | None = None  # (lu, piv, ib, tr) for the current size
 
     def factor(self, A: sp.csc_matrix) -> None:
-        A = sp.csc_matrix(A)
+        A = _csc(A)
         self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
 
     def workspace(self, n: int) -> tuple:
@@ -445,7 +459,7 @@ class AutoLU(LinearSolver):
         return self.dense if self.dense is not None else self.sparse
 
     def factor(self, A: sp.csc_matrix) -> None:
-        A = sp.csc_matrix(A)
+        A = _csc(A)
         self.factor_csc(A.data, A.indices, A.indptr, A.shape[0])
 
     def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,

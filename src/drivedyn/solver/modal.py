@@ -18,7 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
 from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
@@ -88,6 +87,8 @@ def linear_modes(model: Model, state: State | None = None, n_modes: int = 10, t:
         st.v[:] = 0.0
     st.vd[:] = 0.0
     M, C, K, G = _matrices(model, st)
+    import scipy.linalg as sla  # here: 0.3 s of import off every simulation's start
+
     Z = sla.null_space(G) if G.shape[0] else np.eye(model.nd)
     if Z.shape[1] == 0:
         raise ValueError("linear_modes: the model has no free coordinate left by its joints")
