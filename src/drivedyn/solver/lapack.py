@@ -16,7 +16,6 @@ can be reused for several right-hand sides, hence this module.
 from __future__ import annotations
 
 import ctypes
-
 import glob
 import importlib.machinery
 import importlib.util
@@ -60,7 +59,7 @@ def _cython_lapack() -> ModuleType:
         except BaseException:
             sys.modules.pop(_CYTHON_LAPACK, None)
             raise
-        mod.__pyx_capi__["dgetrf"]  # noqa: B018 - what this module needs from it
+        mod.__pyx_capi__["dgetrf"]
         return mod
     except Exception:  # any other layout: the usual import
         from scipy.linalg import cython_lapack
