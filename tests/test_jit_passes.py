@@ -5,6 +5,7 @@ compiled code that computes what Python computes."""
 from __future__ import annotations
 
 import copy
+import re
 import io
 
 import numpy as np
@@ -221,3 +222,64 @@ def test_list_vars_is_numbas() -> None:
     stmt = ir.Assign(a, a, ir.Loc("f", 1))
     assert [v.name for v in ours(stmt, odd)] == [v.name for v in numba_list(stmt, odd)] \
         == ["a", "b", "c", "c", "a"]
+
+
+def _dels(fn, nrt: bool) -> int:
+    """``del`` statements the legalisation leaves in ``fn``'s IR, compiled with or without
+    reference counting."""
+    from numba.core import typed_passes
+    from numba.core.compiler import Flags
+
+    flags = Flags()
+    flags.nrt = nrt
+    func_ir = run_frontend(fn)
+    typed_passes.check_and_legalize_ir(func_ir, flags)
+    return sum(1 for b in func_ir.blocks.values() for _ in b.find_insts(ir.Del))
+
+
+def _branch_on_a_local(a):
+    # the comparison's value is used by its block's branch only: numba deletes it in both
+    # successors, and without dels it is never given a slot
+    s = 0.0
+    for x in a:
+        if x > 0.0:
+            s += x
+        else:
+            s -= 2.0 * x
+    return s
+
+
+def test_no_dels_without_reference_counting() -> None:
+    """Functions compiled without reference counting are lowered without ``del`` statements
+    (numba's legalisation otherwise); they compute what Python computes, and their optimised
+    IR is the one numba makes with the ``del`` statements, up to the names of values."""
+    from numba.core import typed_passes
+
+    jit.apply()
+    assert jit_passes._state["no_dels"] is True
+    for fn in (_branches, _phi_in_loop_header, _branch_on_a_local):
+        assert _dels(fn, nrt=True) > 0
+        assert _dels(fn, nrt=False) == 0
+    a = np.array([0.5, -2.0, 0.1, -0.3, 3.0, -1.5, 0.0])
+    ours = njit(cache=False, _nrt=False)(_branches)
+    assert ours(a, 7) == _branches(a, 7)
+    assert njit(cache=False, _nrt=False)(_branch_on_a_local)(a) == _branch_on_a_local(a)
+    for n in (0, 5):
+        assert njit(cache=False, _nrt=False)(_phi_in_loop_header)(n, True) == \
+            _phi_in_loop_header(n, True)
+    legalize = typed_passes.check_and_legalize_ir
+    typed_passes.check_and_legalize_ir = legalize.__wrapped__
+    try:
+        theirs = njit(cache=False, _nrt=False)(_branches)
+        theirs(a, 7)
+    finally:
+        typed_passes.check_and_legalize_ir = legalize
+    (sig,) = ours.signatures
+
+    def bag(text: str) -> list[str]:
+        # value names and the compilation's number in mangled names aside
+        return sorted(re.sub(r"%\S+", "%v", re.sub(r"B\d+v\d+(?=B)", "Bv", line))
+                      for line in text.splitlines()
+                      if line and not line.startswith(("define", ";", "@", "!")))
+
+    assert bag(ours.inspect_llvm(sig)) == bag(theirs.inspect_llvm(sig))
