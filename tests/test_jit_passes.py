@@ -5,8 +5,8 @@ compiled code that computes what Python computes."""
 from __future__ import annotations
 
 import copy
-import re
 import io
+import re
 
 import numpy as np
 from numba import njit

@@ -1,6 +1,6 @@
 """numba's SSA reconstruction and post-processing without their repeated work, no ``del``
-statements where they do nothing, and llvmlite's entry-block positioning without its search (compile-time savings, installed by
-:func:`drivedyn.jit.apply`).
+statements where they do nothing, and llvmlite's entry-block positioning without its search
+(compile-time savings, installed by :func:`drivedyn.jit.apply`).
 
 numba's untyped and typed pipelines spent a sixth of the Type C bench's first compilation in
 two analyses that do far more work than their results need (measured, issue 16 twelfth
