@@ -341,3 +341,58 @@ def test_markup_builds_the_strings_numba_builds() -> None:
             assert plain(scheme, msg, color) == plain.__wrapped__(scheme, msg, color)
         assert plain(scheme, msg, None, None) == plain.__wrapped__(scheme, msg, None, None)
     assert scheme.errmsg("x").endswith("x\x1b[0m")
+
+
+def test_loc_parameters_are_remembered_per_function() -> None:
+    """numba's ``_has_loc`` answers are kept per function: the same answers, one signature
+    per function, and callables that cannot be weakly referenced are asked each time."""
+    import gc
+
+    from numba.core import base
+
+    assert jit.apply()
+    assert jit._state["has_loc"] is True
+    numbas = base._has_loc.__wrapped__
+
+    def with_loc(context, builder, sig, args, loc=None):
+        return None
+
+    def without_loc(context, builder, sig, args):
+        return None
+
+    class NoWeakRef:  # a callable without weak references
+        __slots__ = ()
+
+        def __call__(self, context, builder, sig, args, loc=None):
+            return None
+
+    for fn in (with_loc, without_loc, len, NoWeakRef()):
+        assert base._has_loc(fn) is numbas(fn)
+        assert base._has_loc(fn) is numbas(fn)
+    assert base._has_loc(with_loc) is True and base._has_loc(without_loc) is False
+    # the answer for a function is its signature's at the first call (the parameters of a
+    # function cannot change)
+    calls = []
+    original = base.utils.pysignature
+
+    def counting(fn):
+        calls.append(fn)
+        return original(fn)
+
+    def fresh(context, builder, sig, args, loc=None):
+        return None
+
+    base.utils.pysignature = counting
+    try:
+        assert [base._has_loc(fresh) for _ in range(3)] == [True] * 3
+    finally:
+        base.utils.pysignature = original
+    assert calls == [fresh]
+    # entries go with their functions
+    import weakref
+
+    ref = weakref.ref(fresh)
+    calls.clear()
+    del fresh
+    gc.collect()
+    assert ref() is None
