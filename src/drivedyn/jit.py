@@ -67,7 +67,7 @@ from __future__ import annotations
 import inspect
 import textwrap
 
-from drivedyn import jit_linked, jit_passes, jit_structs
+from drivedyn import jit_irtext, jit_linked, jit_passes, jit_structs
 
 _COPY_PER_BLOCK = """\
         kernel_copy.blocks = {}
@@ -429,7 +429,8 @@ def apply() -> bool:
     without uncounted members (:func:`_install_lean_meminfos`), numba's message
     markup without colorama's stream wrapping (:func:`_install_plain_markup`), the memo of
     ``loc`` parameters (:func:`_install_has_loc_memo`), the lighter
-    SSA and post-processing passes (:func:`drivedyn.jit_passes.install`), the structures
+    SSA and post-processing passes (:func:`drivedyn.jit_passes.install`), the faster IR
+    text (:func:`drivedyn.jit_irtext.install`), the structures
     held as values (:func:`drivedyn.jit_structs.install`; ``DRIVEDYN_JIT_VALUES=0`` leaves
     it out) and the linked compilation of nested functions
     (:func:`drivedyn.jit_linked.install`; ``DRIVEDYN_JIT_LINKED=0`` leaves it out)."""
@@ -441,6 +442,7 @@ def apply() -> bool:
     _install_plain_markup()
     _install_has_loc_memo()
     jit_passes.install()
+    jit_irtext.install()
     jit_structs.install()
     jit_linked.install()
     ok = False
