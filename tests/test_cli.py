@@ -170,22 +170,27 @@ def test_command_line_starts_without_the_numerical_stack() -> None:
 
 
 def test_solver_loads_without_scipy_packages() -> None:
-    """The solver (what a simulation imports before it forks its compile workers) loads
-    neither ``scipy.sparse`` nor ``scipy.linalg``'s package (0.3-0.4 s with SciPy's array-API
-    layer): LAPACK's ``cython_lapack`` is loaded from its file, and a later import of
-    ``scipy.linalg`` gets that same module, whose ``dgetrf`` is the one registered."""
+    """The solver and numba's first compilation (what a simulation does before it forks its
+    compile workers) load neither ``scipy.sparse`` nor ``scipy.linalg``'s package (0.3-0.4 s
+    with SciPy's array-API layer): ``cython_blas`` (numba's check for BLAS) and
+    ``cython_lapack`` (the dense LU) are loaded from their files, and a later import of
+    ``scipy.linalg`` gets those same modules; ``dgetrf`` is the one registered with LLVM."""
     import subprocess
     import sys
 
-    code = ("import sys, drivedyn.solver, drivedyn.solver.lapack as L; "
-            "print(sorted(m for m in ('scipy.sparse', 'scipy.linalg', 'scipy.optimize') "
-            "if m in sys.modules)); "
-            "from scipy.linalg import cython_lapack as c; import scipy.linalg; "
+    code = ("import sys, numba, drivedyn.solver, drivedyn.solver.lapack as L; "
+            "numba.njit(lambda a: a.sum())(__import__('numpy').ones(3)); "
+            "print(sorted(m for m in ('scipy.sparse', 'scipy.linalg', 'scipy.optimize', "
+            "'scipy._lib._util') if m in sys.modules)); "
+            "from numba.np.arraymath import _HAVE_BLAS; "
+            "blas = sys.modules['scipy.linalg.cython_blas']; "
+            "from scipy.linalg import cython_lapack as c, cython_blas as b; import scipy.linalg; "
             "print(c is sys.modules['scipy.linalg.cython_lapack'] is L._cython_lapack(), "
+            "b is blas, _HAVE_BLAS, "
             "__import__('llvmlite.binding').binding.address_of_symbol('drivedyn_dgetrf') "
             "== L._address('dgetrf') != 0, "
             "scipy.linalg.lu_factor is not None)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.split("\n")
     assert out[0] == "[]"
-    assert out[1] == "True True True"
+    assert out[1] == "True True True True True"

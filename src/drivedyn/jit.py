@@ -64,8 +64,14 @@ instructions handed to LLVM, the same optimised code.
 
 from __future__ import annotations
 
+import glob
+import importlib.machinery
+import importlib.util
 import inspect
+import os
+import sys
 import textwrap
+from types import ModuleType
 
 from drivedyn import jit_irtext, jit_linked, jit_passes, jit_structs
 
@@ -422,6 +428,43 @@ def _install_has_loc_memo() -> None:
     _state["has_loc"] = True
 
 
+def scipy_linalg_extension(name: str) -> ModuleType:
+    """``scipy.linalg.<name>`` (a compiled module: ``cython_blas``, ``cython_lapack``),
+    loaded from its file without running ``scipy.linalg``'s ``__init__``.
+
+    That ``__init__`` imports the whole of ``scipy.linalg`` and SciPy's array-API layer:
+    0.3-0.4 s, paid by every command that compiles or loads a kernel, before its compile
+    workers fork, because numba's first context refresh imports ``scipy.linalg.cython_blas``
+    only to see that BLAS is there (``numba.np.arraymath._HAVE_BLAS``), and the dense LU
+    needs ``cython_lapack``'s LAPACK. The module is entered in ``sys.modules`` under its
+    own name, as an import would, so numba's import and any later ``import scipy.linalg``
+    find it there. Another layout of SciPy falls back to the usual import."""
+    full = f"scipy.linalg.{name}"
+    mod = sys.modules.get(full)
+    if mod is not None:
+        return mod
+    try:
+        spec = importlib.util.find_spec("scipy")  # the top-level package only
+        folder = os.path.join(os.path.dirname(spec.origin), "linalg")
+        suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
+        files = [f for f in glob.glob(os.path.join(folder, f"{name}.*")) if f.endswith(suffixes)]
+        if len(files) != 1:
+            raise ImportError(f"{len(files)} {name} extension files in {folder}")
+        loader = importlib.machinery.ExtensionFileLoader(full, files[0])
+        spec = importlib.util.spec_from_file_location(full, files[0], loader=loader)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[full] = mod
+        try:
+            loader.exec_module(mod)
+        except BaseException:
+            sys.modules.pop(full, None)
+            raise
+        mod.__pyx_capi__  # noqa: B018 - a Cython module's table of functions
+        return mod
+    except Exception:  # any other layout: the usual import
+        return importlib.import_module(full)
+
+
 def apply() -> bool:
     """Install the fixed ``InlineWorker.inline_ir`` (once); True if it is installed. Also
     installs the memo of call signatures (:func:`_install_call_type_memo`), the lean
@@ -441,6 +484,10 @@ def apply() -> bool:
     _install_lean_meminfos()
     _install_plain_markup()
     _install_has_loc_memo()
+    try:  # before numba's first refresh imports it with scipy.linalg's package
+        scipy_linalg_extension("cython_blas")
+    except ImportError:  # no SciPy: numba does without BLAS
+        pass
     jit_passes.install()
     jit_irtext.install()
     jit_structs.install()

@@ -16,55 +16,19 @@ can be reused for several right-hand sides, hence this module.
 from __future__ import annotations
 
 import ctypes
-import glob
-import importlib.machinery
-import importlib.util
-import os
-import sys
 from types import ModuleType
 
 import llvmlite.binding as llb
 import numpy as np
 from numba import njit, types
 
-_CYTHON_LAPACK = "scipy.linalg.cython_lapack"
+from drivedyn.jit import scipy_linalg_extension
 
 
 def _cython_lapack() -> ModuleType:
-    """``scipy.linalg.cython_lapack``, loaded from its file without running
-    ``scipy.linalg``'s ``__init__``: that imports the whole of ``scipy.linalg`` and
-    ``scipy._lib``'s array-API layer (0.3-0.4 s, on the way of every command that simulates,
-    before its compile workers are forked), none of which this module uses. The module is
-    entered in ``sys.modules`` under its own name, as an import would, so a later
-    ``import scipy.linalg`` finds it there. Any difference from what this expects (another
-    layout of SciPy, a module already imported) falls back to the usual import."""
-    mod = sys.modules.get(_CYTHON_LAPACK)
-    if mod is not None:
-        return mod
-    try:
-        spec = importlib.util.find_spec("scipy")  # the top-level package only
-        folder = os.path.join(os.path.dirname(spec.origin), "linalg")
-        suffixes = tuple(importlib.machinery.EXTENSION_SUFFIXES)
-        files = [f for f in glob.glob(os.path.join(folder, "cython_lapack.*"))
-                 if f.endswith(suffixes)]
-        if len(files) != 1:
-            raise ImportError(f"{len(files)} cython_lapack extension files in {folder}")
-        loader = importlib.machinery.ExtensionFileLoader(_CYTHON_LAPACK, files[0])
-        spec = importlib.util.spec_from_file_location(_CYTHON_LAPACK, files[0],
-                                                      loader=loader)
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[_CYTHON_LAPACK] = mod
-        try:
-            loader.exec_module(mod)
-        except BaseException:
-            sys.modules.pop(_CYTHON_LAPACK, None)
-            raise
-        mod.__pyx_capi__["dgetrf"]
-        return mod
-    except Exception:  # any other layout: the usual import
-        from scipy.linalg import cython_lapack
-
-        return cython_lapack
+    """``scipy.linalg.cython_lapack``, loaded without ``scipy.linalg``'s package
+    (:func:`drivedyn.jit.scipy_linalg_extension`)."""
+    return scipy_linalg_extension("cython_lapack")
 
 
 def _address(name: str) -> int:
