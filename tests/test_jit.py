@@ -396,3 +396,89 @@ def test_loc_parameters_are_remembered_per_function() -> None:
     del fresh
     gc.collect()
     assert ref() is None
+
+
+def _identity_shape(root) -> list:
+    """Every object reachable from ``root`` through numba IR objects and containers, in
+    visit order, as the index of its first visit: two structures with the same shape share
+    objects in the same places."""
+    seen: dict[int, int] = {}
+    order: list = []
+
+    def walk(x) -> None:
+        t = type(x)
+        if t in (str, int, float, bool, type(None)):
+            return
+        if id(x) in seen:
+            order.append(seen[id(x)])
+            return
+        seen[id(x)] = len(seen)
+        order.append(t.__name__)
+        if t is dict or t.__name__ == "defaultdict":
+            for k, v in x.items():
+                walk(k)
+                walk(v)
+        elif t in (list, tuple):
+            for v in x:
+                walk(v)
+        elif t.__module__.startswith("numba.core.ir"):
+            for _, v in sorted(vars(x).items()):
+                walk(v)
+
+    walk(root)
+    return order
+
+
+def test_inliner_copy_is_copy_deepcopy() -> None:
+    """The inliner's copy of IR blocks (:func:`jit.deepcopy_ir`) is ``copy.deepcopy``'s: the
+    same statements, the same objects shared (one scope, variables used twice), nothing
+    shared with the original but what ``deepcopy`` shares (constants' values and locations);
+    and objects of other classes go to ``copy.deepcopy`` with the same memo."""
+    import copy
+    import io
+
+    from numba.core.compiler import run_frontend
+
+    from drivedyn.elements.joints import _constraints
+
+    assert jit.apply()
+    assert jit._state["ir_copies_checked"] is True
+
+    def dump(blocks) -> str:
+        out = io.StringIO()
+        for label, block in blocks.items():
+            out.write(f"label {label}\n")
+            block.dump(file=out)
+        return out.getvalue()
+
+    blocks = run_frontend(_constraints.py_func).blocks
+    theirs = copy.deepcopy(blocks)
+    ours = jit.deepcopy_ir(blocks, {})
+    assert dump(ours) == dump(theirs) == dump(blocks)
+    assert _identity_shape(ours) == _identity_shape(theirs)
+    assert len(_identity_shape(ours)) > 5000
+    assert not ({id(b) for b in ours.values()} & {id(b) for b in blocks.values()})
+
+    class Slotted:
+        __slots__ = ("a",)
+
+        def __init__(self, a):
+            self.a = a
+
+    class Custom:
+        def __init__(self):
+            self.items = [1, [2]]
+
+        def __deepcopy__(self, memo):
+            return "custom"
+
+    shared = [3]
+    x = {"s": Slotted(shared), "c": Custom(), "t": (1, "a"), "u": (shared, shared),
+         "l": shared, "n": np.arange(3.0)}
+    y = jit.deepcopy_ir(x, {})
+    z = copy.deepcopy(x)
+    assert y["c"] == z["c"] == "custom"
+    assert y["s"].a == [3] and y["s"].a is not shared and y["s"].a is y["l"]
+    assert y["t"] is x["t"] and y["u"][0] is y["u"][1] is y["l"]
+    assert np.array_equal(y["n"], x["n"]) and y["n"] is not x["n"]
+    assert jit._copy_kind[Slotted] == jit._copy_kind[Custom] == "other"
