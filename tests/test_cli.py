@@ -174,7 +174,8 @@ def test_solver_loads_without_scipy_packages() -> None:
     compile workers) load neither ``scipy.sparse`` nor ``scipy.linalg``'s package (0.3-0.4 s
     with SciPy's array-API layer): ``cython_blas`` (numba's check for BLAS) and
     ``cython_lapack`` (the dense LU) are loaded from their files, and a later import of
-    ``scipy.linalg`` gets those same modules; ``dgetrf`` is the one registered with LLVM."""
+    ``scipy.linalg`` gets those same modules, as imports and as attributes; ``dgetrf`` is
+    the one registered with LLVM."""
     import subprocess
     import sys
 
@@ -186,7 +187,7 @@ def test_solver_loads_without_scipy_packages() -> None:
             "blas = sys.modules['scipy.linalg.cython_blas']; "
             "from scipy.linalg import cython_lapack as c, cython_blas as b; import scipy.linalg; "
             "print(c is sys.modules['scipy.linalg.cython_lapack'] is L._cython_lapack(), "
-            "b is blas, _HAVE_BLAS, "
+            "b is blas is scipy.linalg.cython_blas, _HAVE_BLAS, "
             "__import__('llvmlite.binding').binding.address_of_symbol('drivedyn_dgetrf') "
             "== L._address('dgetrf') != 0, "
             "scipy.linalg.lu_factor is not None)")

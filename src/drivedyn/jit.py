@@ -445,6 +445,8 @@ def scipy_linalg_extension(name: str) -> ModuleType:
     mod = sys.modules.get(full)
     if mod is not None:
         return mod
+    if "scipy.linalg" in sys.modules:  # nothing to save: the usual import
+        return importlib.import_module(full)
     try:
         spec = importlib.util.find_spec("scipy")  # the top-level package only
         folder = os.path.join(os.path.dirname(spec.origin), "linalg")
@@ -462,9 +464,44 @@ def scipy_linalg_extension(name: str) -> ModuleType:
             sys.modules.pop(full, None)
             raise
         mod.__pyx_capi__  # noqa: B018 - a Cython module's table of functions
-        return mod
     except Exception:  # any other layout: the usual import
         return importlib.import_module(full)
+    _LinalgChildren.install()
+    return mod
+
+
+class _LinalgChildren:
+    """A one-time import hook: when ``scipy.linalg`` is imported after
+    :func:`scipy_linalg_extension` loaded some of its modules, they are bound as its
+    attributes before its ``__init__`` runs, as the import system binds a submodule it loads
+    itself (``scipy.linalg.cython_blas`` then works as an attribute too)."""
+
+    @classmethod
+    def install(cls) -> None:
+        if not any(isinstance(f, cls) for f in sys.meta_path):
+            sys.meta_path.insert(0, cls())
+
+    def find_spec(self, fullname: str, path: Any, target: Any = None) -> Any:
+        if fullname != "scipy.linalg":
+            return None
+        sys.meta_path.remove(self)
+        spec = importlib.util.find_spec(fullname)  # found as it would be without this hook
+        loader = getattr(spec, "loader", None)
+        if loader is None or not hasattr(loader, "exec_module"):
+            return spec  # pragma: no cover - another layout
+        exec_module = loader.exec_module
+
+        def bind_then_exec(module: ModuleType) -> None:
+            for key, child in list(sys.modules.items()):
+                if key.startswith("scipy.linalg.") and "." not in key[13:]:
+                    setattr(module, key[13:], child)
+            exec_module(module)
+
+        loader.exec_module = bind_then_exec
+        return spec
+
+    def invalidate_caches(self) -> None:
+        return None
 
 
 # --- the inliner's deep copy ---------------------------------------------------------------
