@@ -222,10 +222,10 @@ class System:
             return None
 
     def matrix(self) -> sp.csc_matrix:
-        from drivedyn.solver.linear import _csc
+        import scipy.sparse as sp  # here: SciPy's sparse package off every run's start
 
         m = self.model
-        return _csc((self.data.copy(), m.indices, m.indptr), shape=(m.neq, m.neq))
+        return sp.csc_matrix((self.data.copy(), m.indices, m.indptr), shape=(m.neq, m.neq))
 
     def factor(self, lin) -> None:
         """Factorise the last assembled matrix with ``lin`` (a
