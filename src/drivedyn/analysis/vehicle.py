@@ -216,7 +216,7 @@ def run_vehicle(p: Any, friction_scale: float = 1.0, progress=None,
 
     Args:
         p: parameters (``[vehicle]`` profile, ``[solver]`` settings with the step capped at
-            ``vehicle.h_max``).
+            ``vehicle.h_max`` and ``vehicle.atol_rot``, if given, for the rotations).
         friction_scale: factor on every friction coefficient.
         progress: ``progress(t, h, steps)`` callback.
         output_dt: sampling interval [s]; default ``solver.output_dt``, or finer so that each
@@ -232,7 +232,8 @@ def run_vehicle(p: Any, friction_scale: float = 1.0, progress=None,
     t0 = time.perf_counter()
     sp, _, t_end = vehicle_spec(differentials.of(p), p, friction_scale)
     model = compile_model(sp)
-    res = simulate(model, t_end, **p.solver.settings(h_max=p.vehicle.h_max),
+    res = simulate(model, t_end, **p.solver.settings(h_max=p.vehicle.h_max,
+                                                    atol_rot=p.vehicle.atol_rot),
                    output_dt=output_dt or default_output_dt(p), progress=progress)
     return VehicleRun(results=res, wall_s=time.perf_counter() - t0, success=bool(res.success),
                       message="" if res.success else str(res.message),
