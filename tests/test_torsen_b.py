@@ -30,7 +30,12 @@ from drivedyn.analysis.vehicle import run_vehicle
 from drivedyn.config import read_library_file
 from drivedyn.config.loader import ModelFileError
 from drivedyn.library.differentials import get
-from drivedyn.library.differentials.protocol import bench_spec, level_times, vehicle_profile
+from drivedyn.library.differentials.protocol import (
+    bench_spec,
+    level_times,
+    vehicle_profile,
+    vehicle_settings,
+)
 from drivedyn.library.differentials.torsen_b import analytic as A  # noqa: N812
 from drivedyn.library.differentials.torsen_b.model import check_parameters
 from drivedyn.model.compile import compile_model
@@ -247,7 +252,7 @@ def test_vehicle_run_takes_its_rotation_tolerance() -> None:
     assert bench.step.atol_rot == 1e-5
     assert vehicle.step.atol_rot == 1e-6
     assert vehicle.step.h_max == SHIPPED.vehicle.h_max
-    step = SHIPPED.solver.settings(h_max=SHIPPED.vehicle.h_max)["step"]
-    assert step.atol_rot == 1e-5
+    assert vehicle_settings(SHIPPED)["step"].atol_rot == 1e-6
+    assert SHIPPED.solver.settings(h_max=SHIPPED.vehicle.h_max)["step"].atol_rot == 1e-5
     with pytest.raises(ModelFileError, match=r"vehicle\.atol_rot"):
         params("vehicle.atol_rot=0")

@@ -44,7 +44,12 @@ from typing import Any
 import numpy as np
 
 from drivedyn.library import differentials
-from drivedyn.library.differentials.protocol import WINDOW_FRACTION, level_windows, vehicle_spec
+from drivedyn.library.differentials.protocol import (
+    WINDOW_FRACTION,
+    level_windows,
+    vehicle_settings,
+    vehicle_spec,
+)
 
 #: default sampling: at least this many output samples per analysis window
 WINDOW_SAMPLES = 50
@@ -232,8 +237,7 @@ def run_vehicle(p: Any, friction_scale: float = 1.0, progress=None,
     t0 = time.perf_counter()
     sp, _, t_end = vehicle_spec(differentials.of(p), p, friction_scale)
     model = compile_model(sp)
-    res = simulate(model, t_end, **p.solver.settings(h_max=p.vehicle.h_max,
-                                                    atol_rot=p.vehicle.atol_rot),
+    res = simulate(model, t_end, **vehicle_settings(p),
                    output_dt=output_dt or default_output_dt(p), progress=progress)
     return VehicleRun(results=res, wall_s=time.perf_counter() - t0, success=bool(res.success),
                       message="" if res.success else str(res.message),

@@ -568,19 +568,19 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     else:
         diff = differentials.of(params)
         try:
-            h_max = atol_rot = None
             if params.scenario.kind == "bench":
                 spec, _ = protocol.bench_spec(diff, params,
                                               params.scenario.modes or diff.sides[0])
                 t_end = params.bench.t_end
+                settings = params.solver.settings()
             else:
                 spec, _, t_end = protocol.vehicle_spec(diff, params)
-                h_max, atol_rot = params.vehicle.h_max, params.vehicle.atol_rot
+                settings = protocol.vehicle_settings(params)
             model = compile_model(spec)
         except ModelError as exc:
             raise ModelError(f"{source}: {exc}") from None
         model.meta["scenario"] = Scenario(
-            t_end=t_end, **params.solver.settings(h_max=h_max, atol_rot=atol_rot),
+            t_end=t_end, **settings,
             output_dt=params.solver.output_dt, output_times=None, variables=None)
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)

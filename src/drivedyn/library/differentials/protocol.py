@@ -141,6 +141,13 @@ def vehicle_profile(p: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, f
     return Sum(tq), mean, Sum(dd), t
 
 
+def vehicle_settings(p: Any) -> dict:
+    """``simulate``'s ``integrator``, ``step`` and ``newton`` arguments for the vehicle run
+    of ``p``: the file's ``[solver]`` with the step capped at ``vehicle.h_max`` and
+    ``vehicle.atol_rot`` [rad], if given, for the nodes' rotations."""
+    return p.solver.settings(h_max=p.vehicle.h_max, atol_rot=p.vehicle.atol_rot)
+
+
 def vehicle_spec(diff: Differential, p: Any, friction_scale: float = 1.0
                  ) -> tuple[Spec, Any, float]:
     """Vehicle configuration of ``diff`` (module doc). Returns (spec, geometry, t_end)."""
