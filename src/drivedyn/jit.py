@@ -63,7 +63,7 @@ a structure that hold counted memory (:func:`_install_lean_meminfos`): a fifth f
 instructions handed to LLVM, the same optimised code.
 
 Array indexing reads each shape and stride only where it is used and writes no wraparound
-for a constant index (:mod:`drivedyn.jit_indexing`): 13 % fewer instructions handed to LLVM,
+for a constant index (:mod:`drivedyn.jit_indexing`): 14 % fewer instructions handed to LLVM,
 the same optimised code.
 """
 
