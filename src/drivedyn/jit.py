@@ -79,7 +79,7 @@ import textwrap
 from types import ModuleType
 from typing import Any
 
-from drivedyn import jit_indexing, jit_irtext, jit_linked, jit_passes, jit_structs
+from drivedyn import jit_indexing, jit_irtext, jit_linked, jit_passes, jit_records, jit_structs
 
 _COPY_PER_BLOCK = """\
         kernel_copy.blocks = {}
@@ -648,7 +648,9 @@ def apply() -> bool:
     held as values (:func:`drivedyn.jit_structs.install`; ``DRIVEDYN_JIT_VALUES=0`` leaves
     it out), the lean array indexing (:func:`drivedyn.jit_indexing.install`;
     ``DRIVEDYN_JIT_INDEXING=0`` leaves it out) and the linked compilation of nested functions
-    (:func:`drivedyn.jit_linked.install`; ``DRIVEDYN_JIT_LINKED=0`` leaves it out)."""
+    (:func:`drivedyn.jit_linked.install`; ``DRIVEDYN_JIT_LINKED=0`` leaves it out), and
+    compiles without numba's LLVM-lock events and the type annotations of cache entries
+    (:func:`drivedyn.jit_records.install`; ``DRIVEDYN_JIT_RECORDS=0`` leaves them)."""
     if _state["applied"] is not None:
         return _state["applied"]
     _install_call_type_memo()
@@ -665,6 +667,7 @@ def apply() -> bool:
     jit_structs.install()
     jit_indexing.install()
     jit_linked.install()
+    jit_records.install()
     ok = False
     try:
         from numba.core import inline_closurecall as icc
