@@ -141,3 +141,43 @@ def test_resident_memory_is_read_for_the_workers_collection_rule() -> None:
     before, after, total = (float(v) for v in out)
     assert 64.0 <= after < 1e6 and after - before >= 63.0
     assert total == 2**23 and 0.0 < WORKER_RSS_MB < 1024.0
+
+
+class _Stop(BaseException):
+    pass
+
+
+def _first_precompile(monkeypatch, run) -> list:
+    """The (function name, signature) pairs ``run()`` hands to its first precompile."""
+    import drivedyn.solver.precompile as pc
+
+    seen: list = []
+
+    def record(calls, workers=None, while_waiting=None):
+        seen.extend((d.py_func.__qualname__, sig) for d, sig in calls)
+        raise _Stop
+
+    monkeypatch.setattr(pc, "precompile_kernels", record)
+    with pytest.raises(_Stop):
+        run()
+    return seen
+
+
+def test_load_kernels_compiles_what_the_run_calls(monkeypatch) -> None:
+    """``load_kernels`` (what ``drivedyn tdr`` does before forking its second bench side)
+    hands the precompile exactly the functions and argument types of the run's first
+    evaluation: the kernels, the stepping loop and the linear solver's, nothing else."""
+    from drivedyn.model.compile import compile_model
+    from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
+    from drivedyn.solver.simulate import load_kernels, simulate
+    from small_models import speed_jump_spec
+
+    settings = {"integrator": GeneralizedAlpha(0.8), "newton": Newton(),
+                "step": AdaptiveStep(1e-4, 1e-8, 1e-3, 1e-4, 1e-6)}
+    by_run = _first_precompile(
+        monkeypatch, lambda: simulate(compile_model(speed_jump_spec()), 1e-3, **settings))
+    by_load = _first_precompile(
+        monkeypatch, lambda: load_kernels(compile_model(speed_jump_spec()), **settings))
+    names = {name for name, _ in by_run}
+    assert {"rigid_body_kernel", "run_steps", "eval_time_functions"} <= names
+    assert sorted(map(repr, by_load)) == sorted(map(repr, by_run))

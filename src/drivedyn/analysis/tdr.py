@@ -150,9 +150,10 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
                 speed_diff: float, friction_scale: float, on_run):
     """``(side, BenchRun)`` of every side in ``sides``, in order. Two sides run at the same
     time when :func:`parallel_sides` allows: the kernels are compiled (or loaded) here first
-    by a one-step run of the first side's model, then a forked process, which inherits them,
-    runs the second side while this one runs the first: the Type C bench's four modes take
-    the longer side's time (1.7 s) instead of both (2.9 s)."""
+    for the first side's model (:func:`~drivedyn.solver.simulate.load_kernels`), then a
+    forked process, which inherits them, runs the second side while this one runs the
+    first: the Type C bench's four modes take the longer side's time (1.7 s) instead of
+    both (2.9 s)."""
     for side, pair in sides:
         if on_run is not None:
             on_run(side, pair)
@@ -160,11 +161,11 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         import multiprocessing as mp
 
         from drivedyn.model.compile import compile_model
-        from drivedyn.solver.simulate import simulate
+        from drivedyn.solver.simulate import load_kernels
 
         sp, _ = bench_spec(differentials.of(p), p, sides[0][0], torque, speed_diff,
                            friction_scale)
-        simulate(compile_model(sp), 1e-6, **p.solver.settings(), output_dt=1e-6)
+        load_kernels(compile_model(sp), **p.solver.settings())
         with mp.get_context("fork").Pool(1) as pool:
             second = pool.apply_async(run_bench, (p, sides[1][0], torque, speed_diff,
                                                   friction_scale))

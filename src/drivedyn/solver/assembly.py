@@ -114,8 +114,7 @@ class System:
         self.rabs[:] = 0.0
         if want:
             self.data[:] = 0.0
-        if not self._precompiled:  # first evaluation: compile what it calls, in parallel
-            self._precompile(st, cM, cC, cK, mode, want)
+        self.ensure_compiled(st, cM, cC, cK, mode, want)
         self.time_functions(st.t)
         mode, want = int(mode), bool(want)
         calls = self._calls.get((mode, want))
@@ -147,6 +146,14 @@ class System:
             return False
         self._last_state = st
         return True
+
+    def ensure_compiled(self, st: State, cM: float = 0.0, cC: float = 0.0, cK: float = 1.0,
+                        mode: int = MODE_DYN, want: bool = False) -> None:
+        """Compile, or load from the cache, the kernels of evaluations with these argument
+        types and the functions of :attr:`precompile_also`, once (the first evaluation does
+        it; in parallel processes on a first run)."""
+        if not self._precompiled:
+            self._precompile(st, cM, cC, cK, mode, want)
 
     def _kernel_args(self, st: State, cM: float, cC: float, cK: float, mode: int,
                      want: bool) -> list[tuple[object, tuple, tuple, tuple]]:

@@ -136,6 +136,46 @@ def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.
     return ts
 
 
+def _set_up(model: Model, st: State, integrator: GeneralizedAlpha, newton: Newton,
+            linear_solver: LinearSolver | None, initialize: bool,
+            ) -> tuple[Stepper, LinearSolver, EnergyAccount]:
+    """The stepper, linear solver and energy account of a run from ``st``, with every
+    compiled function the run calls handed to the System's first-evaluation precompile."""
+    lin = linear_solver or default_linear_solver(model.neq)
+    stepper = Stepper(model, integrator, newton, lin, loop=loop_allowed(model))
+    sys = stepper.sys
+    energy = EnergyAccount(model)
+    if stepper.loop:
+        precompile_loop(stepper, st, energy)
+    else:
+        sys.precompile_also.extend(control_signatures(model.nd))
+    calls = getattr(lin, "compiled_calls", None)  # a solver of the user's may not say
+    if calls is not None and (initialize or not stepper.loop):  # its Python calls
+        sys.precompile_also.extend(calls(model.indices, model.indptr))
+    return stepper, lin, energy
+
+
+def load_kernels(model: Model, *, integrator: GeneralizedAlpha | None = None,
+                 newton: Newton | None = None, linear_solver: LinearSolver | None = None,
+                 initialize: bool = True, **_run_settings) -> None:
+    """Compile, or load from numba's cache, every compiled function a :func:`simulate` of
+    ``model`` with these settings calls (the element kernels, the stepping loop, the linear
+    solver's), without running it: the first evaluation's precompile of that run
+    (:mod:`~drivedyn.solver.precompile`, parallel workers on a first run) and nothing else.
+
+    Used before forking processes that run the same model (``drivedyn tdr``'s two bench
+    sides): each inherits the loaded functions. It replaces a one-step run, which also made
+    the state consistent, recorded it and built a results dataset (0.2-0.3 s on the Type C
+    bench, issue 16 sixteenth round). Other keywords of :func:`simulate` (``step``,
+    ``output_dt``...) are accepted and change nothing here."""
+    st = model.initial_state().copy()
+    stepper, _lin, _energy = _set_up(model, st, integrator or GeneralizedAlpha(),
+                                     newton or Newton(), linear_solver, initialize)
+    # the arguments of the run's first evaluation (consistent_initial_state's): the same
+    # types, so the same kernel signatures
+    stepper.sys.ensure_compiled(st, 1.0, 0.0, 0.0, MODE_VEL, True)
+
+
 def simulate(
     model: Model,
     t_end: float | None = None,
@@ -191,17 +231,8 @@ def simulate(
     step = step or FixedStep()
     wall0 = _time.perf_counter()
     st = (state or model.initial_state()).copy()
-    lin = linear_solver or default_linear_solver(model.neq)
-    stepper = Stepper(model, integrator, newton, lin, loop=loop_allowed(model))
+    stepper, lin, energy = _set_up(model, st, integrator, newton, linear_solver, initialize)
     sys = stepper.sys
-    energy = EnergyAccount(model)
-    if stepper.loop:
-        precompile_loop(stepper, st, energy)
-    else:
-        sys.precompile_also.extend(control_signatures(model.nd))
-    calls = getattr(lin, "compiled_calls", None)  # a solver of the user's may not say
-    if calls is not None and (initialize or not stepper.loop):  # its Python calls
-        sys.precompile_also.extend(calls(model.indices, model.indptr))
     if initialize:
         consistent_initial_state(model, st, sys, lin)
     sys.reset_tangent()
