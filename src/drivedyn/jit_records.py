@@ -17,9 +17,11 @@ compile-time saving, installed by :func:`drivedyn.jit.apply`).
   function compiled in the process is numba's, and ``DRIVEDYN_JIT_RECORDS=0`` brings the
   annotations back into new entries.
 
-Measured on the Type C bench's kernels compiled serially, six simultaneous pairs (issue 16
-sixteenth round, benchmarks/README.md): 38.4 -> 36.8 s of CPU on average (-4 %, five pairs
-of six). The compiled code is the same: neither record reaches LLVM.
+Measured on the Type C bench's kernels compiled serially in simultaneous pairs (issue 16
+sixteenth round, benchmarks/README.md): 38.4 -> 36.8 s of CPU on average over six pairs
+(five faster), 39.9 -> 39.1 s over six more (four faster): 2-4 %, about 0.5 s per compile
+worker, below the spread of a cold start. The compiled code is the same: neither record
+reaches LLVM.
 
 Each is installed only if numba's source holds the passage it relies on; otherwise numba
 records as before. ``DRIVEDYN_JIT_RECORDS=0`` (read when the first kernel module is

@@ -252,7 +252,7 @@ def eval_function(
     return v, d, dd, integral
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
 def eval_time_functions(
     t: float,
     kind: np.ndarray,

@@ -147,13 +147,16 @@ def parallel_sides() -> bool:
 
 
 def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
-                speed_diff: float, friction_scale: float, on_run):
+                speed_diff: float, friction_scale: float, on_run, meanwhile=None):
     """``(side, BenchRun)`` of every side in ``sides``, in order. Two sides run at the same
     time when :func:`parallel_sides` allows: the kernels are compiled (or loaded) here first
     for the first side's model (:func:`~drivedyn.solver.simulate.load_kernels`), then a
     forked process, which inherits them, runs the second side while this one runs the
     first: the Type C bench's four modes take the longer side's time (1.7 s) instead of
-    both (2.9 s)."""
+    both (2.9 s). ``meanwhile()`` (optional) is called in this process while the second
+    side runs in its own, before the first side's run here: on the Type C bench the first
+    (rear) side is the shorter one (4953 steps against 6875), so work done there costs no
+    wall time (with one process: after the first side)."""
     for side, pair in sides:
         if on_run is not None:
             on_run(side, pair)
@@ -169,6 +172,8 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         with mp.get_context("fork").Pool(1) as pool:
             second = pool.apply_async(run_bench, (p, sides[1][0], torque, speed_diff,
                                                   friction_scale))
+            if meanwhile is not None:
+                meanwhile()
             first = run_bench(p, sides[0][0], torque, speed_diff, friction_scale)
             if on_run is not None:
                 on_run(first)
@@ -178,10 +183,12 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
             on_run(run)
         yield sides[1][0], run
         return
-    for side, _pair in sides:
+    for i, (side, _pair) in enumerate(sides):
         run = run_bench(p, side, torque, speed_diff, friction_scale)
         if on_run is not None:
             on_run(run)
+        if i == 0 and meanwhile is not None:
+            meanwhile()
         yield side, run
 
 
@@ -265,11 +272,9 @@ def evaluate(p, modes: list[int], torque: float | None = None,
     if not analytic_only:
         metrics["dissipated_energy"] = 0.0
         sides = [(s, pair) for s, pair in side_modes(p).items() if set(pair) & set(modes)]
-        for side, run in _bench_runs(p, sides, T0, dw, friction_scale, on_run):
-            # after the first side, while a second one may still run in its own process:
-            # the analytic values (their first call imports scipy.optimize, 0.4-0.6 s) cost
-            # no wall time there
-            analytic()
+        # the analytic values (their first call imports scipy.optimize, 0.4-0.7 s) while
+        # the second side runs in its own process: no wall time there
+        for side, run in _bench_runs(p, sides, T0, dw, friction_scale, on_run, analytic):
             m = run_metrics(run.results)
             metrics["dissipated_energy"] += m["dissipated_energy"]
             if not metrics["peak_pressure"] >= m["peak_pressure"]:

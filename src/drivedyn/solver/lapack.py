@@ -61,7 +61,7 @@ def workspace(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
             np.zeros(4, np.int32), np.array([ord("N")], np.uint8))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
 def dense_factor_csc(data, indices, indptr, lu, piv, ib):
     """LU with partial pivoting of the n x n matrix given by its CSC arrays (duplicates
     summed) into ``lu`` (n, n, column-major) and ``piv`` (n,); returns 0, or -1 if the
@@ -86,7 +86,7 @@ def dense_factor_csc(data, indices, indptr, lu, piv, ib):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
 def dense_solve(lu, piv, b, ib, tr):
     """Solve ``A x = b`` in place (``b`` (n,) becomes ``x``) with the factors of
     :func:`dense_factor_csc`."""

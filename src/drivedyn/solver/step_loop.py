@@ -85,7 +85,7 @@ def _copy_state(x, R, v, vd, a, lam, es, x1, R1, v1, vd1, a1, lam1, es1):
     _copy(es, es1)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
 def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fstate, control,
               energy, commits):
     """Steps from the accepted state to the next output time (or the end, a failure, a
