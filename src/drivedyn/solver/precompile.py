@@ -9,7 +9,8 @@ leaner IR, :mod:`drivedyn.jit`, and about 10 % less again since the twelfth roun
 SSA and liveness passes, :mod:`drivedyn.jit_passes`, and 10 % less again since the
 thirteenth round's structures held as values, :mod:`drivedyn.jit_structs`, and reference
 counting without dead reads, 4.5 % less since the fifteenth round's lean array indexing,
-:mod:`drivedyn.jit_indexing`: the stepping loop and gear pairs the longest; functions
+:mod:`drivedyn.jit_indexing`, 2-4 % less since the sixteenth round's records left out,
+:mod:`drivedyn.jit_records`: the stepping loop and gear pairs the longest; functions
 compiled for a compiled caller are linked, :mod:`drivedyn.jit_linked`).
 :func:`precompile_kernels` finds the kernels that are neither compiled in this
 process nor in the cache and, when there are two or more and more than one CPU, compiles them
