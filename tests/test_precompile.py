@@ -181,3 +181,5 @@ def test_load_kernels_compiles_what_the_run_calls(monkeypatch) -> None:
     names = {name for name, _ in by_run}
     assert {"rigid_body_kernel", "run_steps", "eval_time_functions"} <= names
     assert sorted(map(repr, by_load)) == sorted(map(repr, by_run))
+    with pytest.raises(TypeError, match="output_dtt"):  # a mistyped setting is not ignored
+        load_kernels(compile_model(speed_jump_spec()), output_dtt=1e-3, **settings)

@@ -13,6 +13,7 @@ interval, when it can run the model; otherwise in :func:`_python_loop`, one
 
 from __future__ import annotations
 
+import inspect
 import logging
 import time as _time
 from collections.abc import Callable, Sequence
@@ -167,7 +168,11 @@ def load_kernels(model: Model, *, integrator: GeneralizedAlpha | None = None,
     sides): each inherits the loaded functions. It replaces a one-step run, which also made
     the state consistent, recorded it and built a results dataset (0.2-0.3 s on the Type C
     bench, issue 16 sixteenth round). Other keywords of :func:`simulate` (``step``,
-    ``output_dt``...) are accepted and change nothing here."""
+    ``output_dt``...) are accepted and change nothing here; any other keyword is a
+    TypeError."""
+    unknown = sorted(set(_run_settings) - set(inspect.signature(simulate).parameters))
+    if unknown:
+        raise TypeError(f"load_kernels: unexpected keyword(s) {', '.join(unknown)}")
     st = model.initial_state().copy()
     stepper, _lin, _energy = _set_up(model, st, integrator or GeneralizedAlpha(),
                                      newton or Newton(), linear_solver, initialize)
