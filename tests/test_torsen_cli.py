@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 import tomllib
 
 import pytest
@@ -223,3 +224,43 @@ def test_tdr_sides_in_parallel_give_the_same_results() -> None:
     strip = [{k: v for k, v in r.items() if k != "wall_s"} for r in seq["runs"]]
     assert strip == [{k: v for k, v in r.items() if k != "wall_s"} for r in par["runs"]]
     assert [r["side"] for r in par["runs"]] == ["rear", "front"]
+
+
+def test_tdr_parallel_sides_import_xarray_before_the_fork() -> None:
+    """The second side's results come back pickled (an xarray dataset), unpickled by the
+    pool's result thread while this thread may be importing xarray for the first side's
+    results: two threads importing xarray at once made Python's import lock refuse one
+    ("deadlock detected"), a failure that depended on which side ended first. xarray is
+    therefore imported before the fork. Checked in a new process whose kernels are already
+    compiled (by a first process), so that no first compilation imports it meanwhile."""
+    import os
+    import subprocess
+    import sys
+
+    if (os.cpu_count() or 1) < 2 or not sys.platform.startswith("linux"):
+        pytest.skip("one CPU, or no fork: the sides run one after the other")
+    code = textwrap.dedent("""
+        import json, sys, multiprocessing
+        from drivedyn.analysis import tdr
+        from drivedyn.config import read_library_file
+        p = read_library_file("torsen-c", sys.argv[2:])[0]
+        if sys.argv[1] == "compile":
+            tdr.evaluate(p, [1, 3])
+            raise SystemExit
+        seen = []
+        cls = type(multiprocessing.get_context("fork"))
+        pool = cls.Pool
+        def Pool(self, *a, **k):
+            seen.append("xarray" in sys.modules)
+            return pool(self, *a, **k)
+        cls.Pool = Pool
+        assert "xarray" not in sys.modules
+        tdr.evaluate(p, [1, 3])
+        print(json.dumps(seen))
+    """)
+    env = {**os.environ, "DRIVEDYN_PARALLEL_SIDES": "1"}
+    for what in ("compile", "check"):
+        res = subprocess.run([sys.executable, "-c", code, what, *SHORT[1::2]], env=env,
+                             capture_output=True, text=True, timeout=600)
+        assert res.returncode == 0, res.stderr[-3000:]
+    assert json.loads(res.stdout.strip().splitlines()[-1]) == [True]

@@ -164,11 +164,17 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         import multiprocessing as mp
 
         from drivedyn.model.compile import compile_model
+        from drivedyn.results.recorder import import_dataset_stack
         from drivedyn.solver.simulate import load_kernels
 
         sp, _ = bench_spec(differentials.of(p), p, sides[0][0], torque, speed_diff,
                            friction_scale)
         load_kernels(compile_model(sp), **p.solver.settings())
+        # xarray imported before the fork (a no-op after a first compilation, which imports
+        # it while its workers compile): otherwise the pool's result thread unpickles the
+        # second side's dataset, importing xarray, while this thread imports it for the
+        # first side's, and Python's import lock refuses one of them (deadlock detected)
+        import_dataset_stack()
         with mp.get_context("fork").Pool(1) as pool:
             second = pool.apply_async(run_bench, (p, sides[1][0], torque, speed_diff,
                                                   friction_scale))
