@@ -84,12 +84,12 @@ def size_text(size: dict) -> str:
 def window_tdr(results, window: tuple[float, float]) -> tuple[float, float, float, float]:
     """(TDR, applied mean, resistant mean, relative ripple) over ``window`` [s] of a bench
     run's results."""
-    t = results["time"].values
+    t = results.values("time")
     k = (t >= window[0] - 1e-12) & (t <= window[1] + 1e-12)
     if k.sum() < 2:
         raise ValueError(f"window {window} holds fewer than two output samples")
-    ta = results["applied_torque.torque_z"].values[k]
-    tr = results["speed_control.torque"].values[k]
+    ta = results.values("applied_torque.torque_z")[k]
+    tr = results.values("speed_control.torque")[k]
     tdr = abs(ta.mean() / tr.mean())
     ratio = np.abs(ta / np.where(tr == 0, np.nan, tr))
     return float(tdr), float(ta.mean()), float(tr.mean()), float(np.ptp(ratio) / tdr)
@@ -123,7 +123,7 @@ def run_bench(p, side: str, torque: float | None = None,
                    size=model_size(model))
     windows = (p.bench.window_drive, p.bench.window_coast)
     for mode, win in zip(diff.side_modes[side], windows, strict=True):
-        if not res.success and res["time"].values[-1] < win[1]:
+        if not res.success and res.values("time")[-1] < win[1]:
             continue
         run.tdr[mode], run.applied[mode], run.resistant[mode], run.ripple[mode] = \
             window_tdr(res, win)

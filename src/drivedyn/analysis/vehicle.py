@@ -103,16 +103,16 @@ def mode_of(diff, torque: float, w_first: float, w_second: float, w_housing: flo
 
 
 def _window_mean(res, name: str, k: np.ndarray, comp: int | None = None) -> float:
-    v = res[name].values[k]
+    v = res.values(name)[k]
     return float((v[:, comp] if comp is not None else v).mean())
 
 
 def _power_loss(diff, res, k: np.ndarray) -> float:
     """Window mean of input minus output power [W] (engine on the housing, drivers)."""
-    p = res["engine_torque.torque_z"].values[k] * res["housing.angular_velocity"].values[k, 2]
+    p = res.values("engine_torque.torque_z")[k] * res.values("housing.angular_velocity")[k, 2]
     for o in diff.outputs:
-        p = p + res[f"{o.name}_speed.torque"].values[k] * \
-            res[f"{o.body}.angular_velocity"].values[k, 2]
+        p = p + res.values(f"{o.name}_speed.torque")[k] * \
+            res.values(f"{o.body}.angular_velocity")[k, 2]
     return float(p.mean())
 
 
@@ -133,7 +133,7 @@ def level_stats(p: Any, res, index: int, window: tuple[float, float],
     """
     diff = differentials.of(p)
     first, second = diff.outputs
-    t = res["time"].values
+    t = res.values("time")
     if t.size == 0 or t[-1] < window[1] - 1e-9:
         return None
     k = (t >= window[0] - 1e-12) & (t <= window[1] + 1e-12)
@@ -158,7 +158,7 @@ def level_stats(p: Any, res, index: int, window: tuple[float, float],
         "tdr": None, "tdr_analytic": None, f"analytic_{first.name}": None,
         f"analytic_{second.name}": None, "tdr_error": None,
         "power_loss": _power_loss(diff, res, k),
-        "dissipated": float(sum(res[n].values[k].mean() for n in names)),
+        "dissipated": float(sum(res.values(n)[k].mean() for n in names)),
     }
     if mode is None:
         return out
@@ -192,7 +192,7 @@ def reversals(levels: list[dict], res, diff=None) -> list[dict]:
     ``d_coupling``; default ``diff``: the Type C) from the level before to the level after
     (``from_level``, ``to_level``, ``from_torque``, ``to_torque``)."""
     diff = diff or differentials.get("torsen_c")
-    t = res["time"].values
+    t = res.values("time")
     out = []
     loaded = [lv for lv in levels if abs(lv["housing"]) > ZERO_TORQUE]
     for a, b in itertools.pairwise(loaded):
@@ -203,7 +203,7 @@ def reversals(levels: list[dict], res, diff=None) -> list[dict]:
         rec = {"from_level": a["level"], "to_level": b["level"],
                "from_torque": a["housing"], "to_torque": b["housing"]}
         for body, _ in diff.axial_bodies:
-            z = res[f"{body}.position"].values[:, 2]
+            z = res.values(f"{body}.position")[:, 2]
             rec[f"d_{body}"] = float(z[kb].mean() - z[ka].mean())
         out.append(rec)
     return out

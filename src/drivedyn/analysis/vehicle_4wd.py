@@ -137,7 +137,7 @@ def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: floa
 
 
 def _mean(res, name: str, sel, col: int | None = None) -> float:
-    v = res[name].values
+    v = res.values(name)
     v = v[:, col] if col is not None else v
     return float(np.mean(v[sel]))
 
@@ -163,15 +163,15 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
     T = {w: wheels[w].torque for w in WHEELS}
     front = T["fl"] + T["fr"]
     rear = T["rl"] + T["rr"]
-    v = res["body.velocity"].values[:, 0]
+    v = res.values("body.velocity")[:, 0]
     dt = t[i1] - t[i0]
     # torque balance of each differential (Euler: input - outputs = rate of the angular
     # momentum of its bodies about its axis, relative to the car body)
     tb = {}
     prop = {a: -_mean(res, f"{lay.propshafts[a]}.torque", sel) for a in ("front", "rear")}
     # engine torque about the central housing's axis (its sign kept: coast is negative)
-    axis = res[f"{lay.housings['central']}.rotation"].values[:, :, 2]
-    tq = np.stack([res[f"{lay.engine}.torque_{c}"].values for c in "xyz"], axis=1)
+    axis = res.values(f"{lay.housings['central']}.rotation")[:, :, 2]
+    tq = np.stack([res.values(f"{lay.engine}.torque_{c}") for c in "xyz"], axis=1)
     eng = float(np.mean(np.einsum("ij,ij->i", tq, axis)[sel]))
     inputs = {"central": eng,
               "front": _mean(res, f"{lay.bevels['front']}.torque_b", sel),
@@ -184,21 +184,21 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
     w_eng = _integral(res, f"{lay.engine}.power", i0, i1) + \
         _integral(res, f"{lay.engine}_reaction.power", i0, i1)
     w_wheels = 0.0
-    wb = res["body.angular_velocity"].values[:, 1]
+    wb = res.values("body.angular_velocity")[:, 1]
     for w in WHEELS:
-        p_w = -res[f"{lay.halfshafts[w]}.torque"].values * (
-            res[f"{lay.wheels[w]}.angular_velocity"].values[:, 1] - wb)
+        p_w = -res.values(f"{lay.halfshafts[w]}.torque") * (
+            res.values(f"{lay.wheels[w]}.angular_velocity")[:, 1] - wb)
         w_wheels += float(np.trapezoid(p_w[i0:i1 + 1], t[i0:i1 + 1]))
     d_dl = 0.0
     for name in res.dataset.data_vars:
         n = str(name)
         if n.endswith(".dissipated_energy") and not n.startswith(("tyre_", "energy.")):
-            d = res[n].values
+            d = res.values(n)
             d_dl += float(d[i1] - d[i0])
     dk = _driveline_kinetic(res, lay, i1) - _driveline_kinetic(res, lay, i0)
     pb = abs(w_eng - w_wheels - d_dl - dk) / abs(w_eng)
-    wi = res["energy.work_in"].values[i1]
-    ee = abs(res["energy.balance_error"].values[i1]) / max(abs(wi), 1e-12)
+    wi = res.values("energy.work_in")[i1]
+    ee = abs(res.values("energy.balance_error")[i1]) / max(abs(wi), 1e-12)
     return Summary(
         types=dict(lay.types), wheels=wheels, speed=float(v[i1]),
         acceleration=float((v[i1] - v[i0]) / dt), engine=eng,
@@ -223,10 +223,10 @@ def time_histories(res, wheels=WHEELS) -> dict[str, np.ndarray]:
     largest value, where a share means nothing)."""
     out: dict[str, np.ndarray] = {}
     for w in wheels:
-        out[f"torque_{w}"] = -res[f"halfshaft_{w}.torque"].values
-        out[f"spin_{w}"] = res[f"wheel_{w}.angular_velocity"].values[:, 1]
-        out[f"slip_{w}"] = res[f"tyre_{w}.kappa"].values
-    out["speed"] = res["body.velocity"].values[:, 0]
+        out[f"torque_{w}"] = -res.values(f"halfshaft_{w}.torque")
+        out[f"spin_{w}"] = res.values(f"wheel_{w}.angular_velocity")[:, 1]
+        out[f"slip_{w}"] = res.values(f"tyre_{w}.kappa")
+    out["speed"] = res.values("body.velocity")[:, 0]
     front = out["torque_fl"] + out["torque_fr"]
     rear = out["torque_rl"] + out["torque_rr"]
     total = front + rear
@@ -244,16 +244,16 @@ def time_histories(res, wheels=WHEELS) -> dict[str, np.ndarray]:
 
 def _integral(res, name: str, i0: int, i1: int) -> float:
     t = res.time
-    return float(np.trapezoid(res[name].values[i0:i1 + 1], t[i0:i1 + 1]))
+    return float(np.trapezoid(res.values(name)[i0:i1 + 1], t[i0:i1 + 1]))
 
 
 def _relative_velocity(res, b: str, i: int) -> np.ndarray:
     """Velocity [m/s] of body ``b``'s centre relative to the car body (its rigid motion)."""
-    x = res[f"{b}.position"].values[i]
-    xb = res["body.position"].values[i]
-    vb = res["body.velocity"].values[i] + np.cross(res["body.angular_velocity"].values[i],
+    x = res.values(f"{b}.position")[i]
+    xb = res.values("body.position")[i]
+    vb = res.values("body.velocity")[i] + np.cross(res.values("body.angular_velocity")[i],
                                                    x - xb)
-    return res[f"{b}.velocity"].values[i] - vb
+    return res.values(f"{b}.velocity")[i] - vb
 
 
 def _driveline_kinetic(res, lay: Layout, i: int) -> float:
@@ -262,8 +262,8 @@ def _driveline_kinetic(res, lay: Layout, i: int) -> float:
     k = 0.0
     for b, m in lay.driveline.items():
         v = _relative_velocity(res, b, i)
-        w = res[f"{b}.angular_velocity"].values[i]
-        h = res[f"{b}.angular_momentum"].values[i]
+        w = res.values(f"{b}.angular_velocity")[i]
+        h = res.values(f"{b}.angular_momentum")[i]
         k += 0.5 * m * float(v @ v) + 0.5 * float(w @ h)
     return k
 
@@ -272,14 +272,14 @@ def _axial_momentum(res, lay: Layout, pos: str, i: int) -> float:
     """Angular momentum [kg m^2/s] of the bodies of differential ``pos`` about its axis
     through its housing centre, relative to the car body in translation."""
     hb = lay.housings[pos]
-    o = res[f"{hb}.position"].values[i]
-    a = res[f"{hb}.rotation"].values[i][:, 2]
+    o = res.values(f"{hb}.position")[i]
+    a = res.values(f"{hb}.rotation")[i][:, 2]
     total = 0.0
     for b, m in lay.driveline.items():
         if not b.startswith(pos + "_"):
             continue
-        r = res[f"{b}.position"].values[i] - o
-        total += float(res[f"{b}.angular_momentum"].values[i] @ a) + m * float(
+        r = res.values(f"{b}.position")[i] - o
+        total += float(res.values(f"{b}.angular_momentum")[i] @ a) + m * float(
             np.cross(r, _relative_velocity(res, b, i)) @ a)
     return total
 

@@ -52,6 +52,7 @@ import numpy as np
 from numba import njit
 
 from drivedyn.jit import apply as _fix_numba_inliner
+from drivedyn.jit_arena import carve
 
 _fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
 
@@ -93,8 +94,11 @@ def scatter_local(
 def local_arrays(nd, nm):
     """Work arrays of one element for :func:`scatter_local`: ``rq`` (nd,), ``rl`` (nm,),
     ``M, C, K`` (nd, nd) and ``G`` (nm, nd); allocated once per kernel call."""
-    return (np.zeros(nd), np.zeros(nm), np.zeros((nd, nd)), np.zeros((nd, nd)),
-            np.zeros((nd, nd)), np.zeros((nm, nd)))
+    buf = np.zeros(nd + nm + 3 * nd * nd + nm * nd)  # one allocation (drivedyn.jit_arena)
+    o = nd + nm
+    return (carve(buf, 0, nd), carve(buf, nd, nm), carve(buf, o, (nd, nd)),
+            carve(buf, o + nd * nd, (nd, nd)), carve(buf, o + 2 * nd * nd, (nd, nd)),
+            carve(buf, o + 3 * nd * nd, (nm, nd)))
 
 
 @njit(cache=True, inline="always")

@@ -88,9 +88,10 @@ def rigid_body_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    V = np.zeros((2, 3))  # two vectors in one allocation: its rows
     sc.run(_rigid_bodies, (mass, inertia, gravity),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), (local_arrays(6, 0), np.zeros(3), np.zeros(3)))
+            r, rabs, data, eout, aux), (local_arrays(6, 0), V[0], V[1]))
 
 
 class RigidBodyFamily(Family):

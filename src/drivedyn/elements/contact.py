@@ -180,9 +180,9 @@ def plane_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    V = np.zeros((8, 12))  # eight vectors in one allocation: its rows
     W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
-         sc.grad_hess(12), np.zeros(12), np.zeros(12), np.zeros(12), np.zeros(12),
-         (np.zeros(12), np.zeros(12)), (np.zeros(12), np.zeros(12)), sc.workspace(),
+         sc.grad_hess(12), V[0], V[1], V[2], V[3], (V[4], V[5]), (V[6], V[7]), sc.workspace(),
          np.empty((3, 3)))
     sc.run(_plane_contacts, ((pA, pB, RmA, radius), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
@@ -239,8 +239,9 @@ def washer_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
-         np.zeros(12), (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
+    V = np.zeros((5, 12))  # five vectors in one allocation: its rows
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), V[0], V[1], V[2],
+         (V[3], V[4]), sc.workspace(), np.empty((3, 3)))
     sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
@@ -320,9 +321,10 @@ def journal_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    V = np.zeros((5, 12))  # five vectors in one allocation: its rows
     W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
-         sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12), np.zeros(12),
-         (np.zeros(12), np.zeros(12)), sc.workspace(), np.empty((3, 3)))
+         sc.grad_hess(12), sc.grad_hess(12), V[0], V[1], V[2], (V[3], V[4]), sc.workspace(),
+         np.empty((3, 3)))
     sc.run(_journal_contacts, ((pA, pB, RmA, clear, rpin), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)

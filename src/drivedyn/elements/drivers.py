@@ -177,8 +177,9 @@ def speed_difference_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    V = np.zeros((2, 24))  # two vectors in one allocation: its rows
     W = (local_arrays(24, 1), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
-         sc.grad_hess(24), np.zeros(24), np.zeros(24), sc.workspace())
+         sc.grad_hess(24), V[0], V[1], sc.workspace())
     sc.run(_speed_differences, (RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)

@@ -192,8 +192,9 @@ def constraint_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    V = np.zeros((2, 12))  # two vectors in one allocation: its rows
     W = (local_arrays(12, rtype.shape[1]), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
-         np.zeros(12), np.zeros(12), sc.workspace())
+         V[0], V[1], sc.workspace())
     sc.run(_constraints, (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
                          tfmode),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,

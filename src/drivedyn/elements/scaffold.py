@@ -65,6 +65,7 @@ from numba import njit
 
 from drivedyn.elements.base import MODE_ACC, scatter_element
 from drivedyn.elements.primitives import gather_v
+from drivedyn.jit_arena import carve
 
 # fields of the common argument tuple C (the kernel contract's trailing arguments)
 LNODES, DOFS, KMAP, EOFF = 0, 1, 2, 3
@@ -220,16 +221,20 @@ def report(C, e, values):
 @njit(cache=True, inline="always")
 def grad_hess(n):
     """A gradient (n,) and its derivative (n, n), zeroed."""
-    return np.zeros(n), np.zeros((n, n))
+    buf = np.zeros(n + n * n)  # one allocation (drivedyn.jit_arena)
+    return carve(buf, 0, n), carve(buf, n, (n, n))
 
 
 @njit(cache=True, inline="always")
 def angle_work():
     """Work arrays of :func:`~drivedyn.elements.primitives.prim_angle`: ``gs, Hs, gc, Hc``."""
-    return np.zeros(12), np.zeros((12, 12)), np.zeros(12), np.zeros((12, 12))
+    buf = np.zeros(312)  # one allocation (drivedyn.jit_arena)
+    return (carve(buf, 0, 12), carve(buf, 12, (12, 12)), carve(buf, 156, 12),
+            carve(buf, 168, (12, 12)))
 
 
 @njit(cache=True, inline="always")
 def workspace():
     """Work arrays ``ws`` (8, 3, 3) and ``wv`` (8, 3) of the kinematic primitives."""
-    return np.empty((8, 3, 3)), np.empty((8, 3))
+    buf = np.empty(96)  # one allocation (drivedyn.jit_arena)
+    return carve(buf, 0, (8, 3, 3)), carve(buf, 72, (8, 3))

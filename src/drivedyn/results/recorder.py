@@ -145,7 +145,7 @@ class EnergyAccount:
 
     @property
     def total_dissipated(self) -> float:
-        return float(sum(d.sum() for d in self.dissipated))
+        return float(self.diss.sum())
 
     @property
     def balance_error(self) -> float:
@@ -164,7 +164,7 @@ class Recorder:
         self.v: list[np.ndarray] = []
         self.aux: list[list[np.ndarray]] = []
         self.en: list[tuple[float, ...]] = []
-        self.diss: list[list[np.ndarray]] = []
+        self.diss: list[np.ndarray] = []  # all elements, group after group
         self.h: list[float] = []
 
     def record(self, st: State, h: float = 0.0) -> None:
@@ -177,7 +177,7 @@ class Recorder:
         e = self.energy
         self.en.append((e.kinetic, e.potential, e.work_in, e.total_dissipated, e.balance_error,
                         e.work_loads, e.work_drivers))
-        self.diss.append([d.copy() for d in e.dissipated])
+        self.diss.append(e.diss.copy())
         self.h.append(h)
 
     def _series(self) -> tuple[list, ...]:
@@ -226,6 +226,7 @@ class Recorder:
                     f"velocity of the {what} of {n}, global frame")
                 put(f"{n}.angular_velocity", ("time", "xyz"), omega_g[:, i], "rad/s",
                     f"angular velocity of {n}, global frame")
+        Dall = np.asarray(self.diss)  # (nt, elements of all groups)
         for gi, g in enumerate(m.groups):
             if nt == 0:
                 break
@@ -236,7 +237,7 @@ class Recorder:
                         continue
                     put(f"{en}.{name}", ("time",), A[:, ei, col], unit, f"{desc} ({g.family})")
                 if g.dissipative:
-                    D = np.asarray([d[gi][ei] for d in self.diss])
+                    D = Dall[:, self.energy.gstart[gi] + ei]
                     put(f"{en}.dissipated_energy", ("time",), D, "J",
                         f"energy dissipated by {en} since the start")
             for ei, en in enumerate(g.names):

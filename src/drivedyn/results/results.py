@@ -54,6 +54,13 @@ class Results:
     def __getitem__(self, name: str) -> Any:
         return self.dataset[name]
 
+    def values(self, name: str) -> np.ndarray:
+        """The values of variable ``name`` (an array, time first), without building an
+        ``xarray.DataArray``: ``results[name]`` looks through every variable of the dataset
+        for coordinates (0.5 ms with the 450 variables of a TORSEN vehicle run; the analysis
+        of its levels read 450 of them, 0.23 s)."""
+        return self.dataset.variables[name].values
+
     def __contains__(self, name: str) -> bool:
         return name in self.dataset
 

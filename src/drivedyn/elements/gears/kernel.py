@@ -43,6 +43,7 @@ from drivedyn.elements.gears.kinematics import (
 from drivedyn.elements.gears.stiffness import mesh_stiffness
 from drivedyn.elements.primitives import cross
 from drivedyn.jit import outlined
+from drivedyn.jit_arena import carve
 
 TANGENT_BAND = 1e-12  # [m] flank gap within which contact is anticipated in the matrix
 
@@ -340,15 +341,44 @@ def _any_gears(P, C, W, full, idx):
     _gears(P, C, W, full, True, idx)
 
 
+# the gear loop's work arrays after local_arrays(12, 0): shapes, offsets in one buffer
+_WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS, NP, 12, NS, (NS,
+            NS), (NS, NS), NP, (NP, NP), (NP, NP), (NS, NP), (NP, 12), NS, NS, NS, NS,
+            NS, NS, NS, (16, 3))
+_WO = tuple(int(v) for v in np.cumsum([0] + [int(np.prod(s)) for s in _WSHAPES]))
+
+
 @njit(cache=True, inline="always")
 def _work():
-    """The gear loop's work arrays (allocated once per kernel call)."""
-    return (local_arrays(12, 0), np.zeros(NP), np.zeros((NP, 12)), np.zeros((NP, 12, 12)),
-            np.zeros((12, 12)), np.zeros((NS, NP)), np.zeros((NS, NP, NP)), np.zeros(NS),
-            np.zeros(NS), np.zeros(NP), np.zeros(12), np.zeros(NS), np.zeros((NS, NS)),
-            np.zeros((NS, NS)), np.zeros(NP), np.zeros((NP, NP)), np.zeros((NP, NP)),
-            np.zeros((NS, NP)), np.zeros((NP, 12)), np.zeros(NS), np.zeros(NS), np.zeros(NS),
-            np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros(NS), np.zeros((16, 3)),
+    """The gear loop's work arrays (allocated once per kernel call, in one buffer:
+    :mod:`drivedyn.jit_arena`)."""
+    buf = np.zeros(_WO[-1])
+    return (local_arrays(12, 0), carve(buf, _WO[0], NP),
+            carve(buf, _WO[1], (NP, 12)),
+            carve(buf, _WO[2], (NP, 12, 12)),
+            carve(buf, _WO[3], (12, 12)),
+            carve(buf, _WO[4], (NS, NP)),
+            carve(buf, _WO[5], (NS, NP, NP)),
+            carve(buf, _WO[6], NS),
+            carve(buf, _WO[7], NS),
+            carve(buf, _WO[8], NP),
+            carve(buf, _WO[9], 12),
+            carve(buf, _WO[10], NS),
+            carve(buf, _WO[11], (NS, NS)),
+            carve(buf, _WO[12], (NS, NS)),
+            carve(buf, _WO[13], NP),
+            carve(buf, _WO[14], (NP, NP)),
+            carve(buf, _WO[15], (NP, NP)),
+            carve(buf, _WO[16], (NS, NP)),
+            carve(buf, _WO[17], (NP, 12)),
+            carve(buf, _WO[18], NS),
+            carve(buf, _WO[19], NS),
+            carve(buf, _WO[20], NS),
+            carve(buf, _WO[21], NS),
+            carve(buf, _WO[22], NS),
+            carve(buf, _WO[23], NS),
+            carve(buf, _WO[24], NS),
+            carve(buf, _WO[25], (16, 3)),
             sc.workspace())
 
 

@@ -1,0 +1,87 @@
+"""drivedyn.jit_arena: views carved from one buffer are the arrays they stand for."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numba import njit
+from numba.core.errors import TypingError
+
+from drivedyn.jit_arena import arena_size, carve
+
+
+@njit
+def _carve_three(n):
+    buf = np.zeros(n + 12 * 12 + 2 * 3 * 4)
+    a = carve(buf, 0, n)
+    B = carve(buf, n, (12, 12))
+    C = carve(buf, n + 144, (2, 3, 4))
+    return buf, a, B, C
+
+
+def test_views_have_the_shapes_strides_and_places_asked_for() -> None:
+    buf, a, B, C = _carve_three(5)
+    assert (a.shape, B.shape, C.shape) == ((5,), (12, 12), (2, 3, 4))
+    assert (a.strides, B.strides, C.strides) == ((8,), (96, 8), (96, 32, 8))
+    assert all(v.flags.c_contiguous for v in (a, B, C))
+    a[:] = 1.0
+    B[3, 4] = 7.0
+    C[1, 2, 3] = -2.0
+    # each view writes where a reshape of the same range would: no overlap, no gap
+    ref = np.zeros_like(buf)
+    ref[:5] = 1.0
+    ref[5:149].reshape(12, 12)[3, 4] = 7.0
+    ref[149:].reshape(2, 3, 4)[1, 2, 3] = -2.0
+    np.testing.assert_array_equal(buf, ref)
+    assert arena_size(5, (12, 12), (2, 3, 4)) == buf.size
+
+
+@njit
+def _views_outlive_their_buffer():
+    buf = np.zeros(1000)  # numba frees a variable after its last use: buf dies here
+    return carve(buf, 10, (10, 10)), carve(buf, 500, 20)
+
+
+def test_views_keep_the_buffer_alive() -> None:
+    # if a view did not hold a reference, its memory would be freed (and reused by the
+    # allocations below) when the function returns
+    A, v = _views_outlive_their_buffer()
+    junk = [np.full(1000, 9.0) for _ in range(50)]
+    assert A.sum() == 0.0 and v.sum() == 0.0
+    A[:] = 3.0
+    v[:] = 1.0
+    assert A.sum() == 300.0 and v.sum() == 20.0
+    del junk
+
+
+def test_the_same_results_as_separate_allocations_in_a_loop() -> None:
+    @njit
+    def work(n):
+        buf = np.zeros(3 * n + n * n)
+        x, y, z = carve(buf, 0, n), carve(buf, n, n), carve(buf, 2 * n, n)
+        M = carve(buf, 3 * n, (n, n))
+        for i in range(n):
+            x[i] = i
+            y[i] = 2.0 * i
+            for j in range(n):
+                M[i, j] = i - j
+        z[:] = M @ x + y
+        return z.copy()
+
+    n = 7
+    M = np.subtract.outer(np.arange(n), np.arange(n)).astype(float)
+    np.testing.assert_array_equal(work(n), M @ np.arange(n) + 2.0 * np.arange(n))
+
+
+def test_wrong_buffers_are_refused_at_typing() -> None:
+    @njit
+    def on_ints():
+        return carve(np.zeros(4, np.int64), 0, 2)
+
+    @njit
+    def on_2d():
+        return carve(np.zeros((2, 2)), 0, 2)
+
+    for fn in (on_ints, on_2d):
+        with pytest.raises(TypingError):
+            fn()
