@@ -15,14 +15,14 @@ element offset, so that a kernel allocates one zeroed buffer and views it::
     B = carve(buf, n1, (n2, n2))       # (n2, n2)
 
 A view holds a reference to the buffer (its memory stays alive as long as any view does,
-whatever numba's variable lifetimes), and views of disjoint ranges never alias. Bounds are
-the caller's: the offsets and sizes are checked by :func:`carve_all`, which carves a whole
-tuple of shapes in one call and is what kernels use.
+whatever numba's variable lifetimes: numba frees a variable after its last use, which may be
+the last ``carve``), and views of disjoint ranges never alias. Bounds are the caller's: no
+check at run time, so the offsets are constants or sums of the sizes carved before
+(``drivedyn.elements.base.local_arrays``, ``drivedyn.elements.gears.kernel._work``).
 """
 
 from __future__ import annotations
 
-import numpy as np
 from llvmlite import ir
 from numba import types
 from numba.core import cgutils
@@ -75,11 +75,3 @@ def carve(typingctx, buf, off, shape):
 
     return retty(buf, off, shape), codegen
 
-
-def _size(shape) -> int:
-    return int(np.prod(shape)) if isinstance(shape, tuple) else int(shape)
-
-
-def arena_size(*shapes) -> int:
-    """Number of float64 elements the arrays of ``shapes`` take together (Python side)."""
-    return sum(_size(s) for s in shapes)

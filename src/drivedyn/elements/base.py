@@ -93,7 +93,8 @@ def scatter_local(
 @njit(cache=True)
 def local_arrays(nd, nm):
     """Work arrays of one element for :func:`scatter_local`: ``rq`` (nd,), ``rl`` (nm,),
-    ``M, C, K`` (nd, nd) and ``G`` (nm, nd); allocated once per kernel call."""
+    ``M, C, K`` (nd, nd) and ``G`` (nm, nd), zeroed; allocated once per kernel call, as views
+    of one buffer (:mod:`drivedyn.jit_arena`)."""
     buf = np.zeros(nd + nm + 3 * nd * nd + nm * nd)  # one allocation (drivedyn.jit_arena)
     o = nd + nm
     return (carve(buf, 0, nd), carve(buf, nd, nm), carve(buf, o, (nd, nd)),

@@ -27,7 +27,12 @@ convention of :mod:`drivedyn.elements.base` (its parameters, then the common arg
 ``P`` is the family's parameter tuple, ``C`` the common arguments in the order of the kernel
 contract (fields named by the constants below, read through the helpers), ``W`` the family's
 work arrays: allocated once per kernel call, never inside the element loop (small
-allocations cost more than the maths).
+allocations cost more than the maths), and as few times as possible per call: the helpers
+below (and ``local_arrays``) carve their arrays from one zeroed buffer
+(:func:`drivedyn.jit_arena.carve`), vectors of one length are the rows of one array
+(``V = np.zeros((k, 12))``; ``V[0]``...), and a family with many work arrays carves them from
+one buffer too (the gear loop's 30). On the Type C vehicle configuration the allocations
+(``malloc``, ``free`` and numba's wrapper) fell from 13 % to 5.5 % of the run's time.
 
 :func:`run` calls the loop at two sites, one where ``full`` is true (a matrix is wanted,
 or consistent accelerations) and one where it is false (residual only). The loop is an
