@@ -84,3 +84,71 @@ def test_wrong_buffers_are_refused_at_typing() -> None:
     for fn in (on_ints, on_2d):
         with pytest.raises(TypingError):
             fn()
+
+
+# --- the groups' work buffers (elements.scaffold.work_buffer) ---------------------------------
+
+
+def _work_params(group) -> list[int]:
+    """Indices in ``group.params`` of the kernel's ``work`` buffer (none for a family that
+    allocates its work arrays per call)."""
+    import inspect
+
+    names = list(inspect.signature(group.kernel.py_func).parameters)
+    return [i for i, n in enumerate(names[:len(group.params)]) if n == "work"]
+
+
+def _evaluations(model, st) -> tuple[np.ndarray, np.ndarray]:
+    from drivedyn.elements.base import MODE_DYN
+    from drivedyn.solver.assembly import System
+
+    sys = System(model)
+    sys.reset_tangent()
+    sys.evaluate(st, 2.0, 3.0, 1.0, MODE_DYN, True)
+    return sys.r.copy(), sys.matrix().toarray()
+
+
+def _families_with_work():
+    from drivedyn.model.compile import compile_model
+    from element_cases import TANGENT_CASES
+
+    out = []
+    for fam, cases in sorted(TANGENT_CASES.items()):
+        model = compile_model(cases[0]())
+        if any(_work_params(g) for g in model.groups if g.family == fam):
+            out.append(pytest.param(fam, cases[0], id=fam))
+    return out
+
+
+@pytest.mark.parametrize(("family", "case"), _families_with_work())
+def test_a_used_or_short_work_buffer_gives_the_same_evaluation(family, case) -> None:
+    """A kernel zeroes its group's work buffer before use: residual and matrix are the same
+    bit for bit when the buffer holds the garbage of an earlier call (here NaN), and when it
+    is too short (the kernel then allocates one: a wrong size costs time, never results)."""
+    import dataclasses
+
+    from drivedyn.model.compile import compile_model
+
+    model = compile_model(case())
+    rng = np.random.default_rng(5)
+    st = model.initial_state()
+    st.v[:] = 0.1 * rng.standard_normal(model.nd)
+    st.vd[:] = rng.standard_normal(model.nd)
+    r0, K0 = _evaluations(model, st)
+    groups = [g for g in model.groups if _work_params(g)]
+    assert any(g.family == family for g in groups)
+    for g in groups:
+        for i in _work_params(g):
+            g.params[i][:] = np.nan
+    r1, K1 = _evaluations(model, st)
+    np.testing.assert_array_equal(r1, r0)
+    np.testing.assert_array_equal(K1, K0)
+    for k, g in enumerate(model.groups):
+        if _work_params(g):
+            params = list(g.params)
+            for i in _work_params(g):
+                params[i] = np.full(3, np.nan)
+            model.groups[k] = dataclasses.replace(g, params=tuple(params))
+    r2, K2 = _evaluations(model, st)
+    np.testing.assert_array_equal(r2, r0)
+    np.testing.assert_array_equal(K2, K0)

@@ -8,7 +8,8 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import Group
+import drivedyn.elements.scaffold as sc
+from drivedyn.elements.base import Group, local_size
 from drivedyn.elements.building import make_group, node_dofs
 from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar, friction_table
 from drivedyn.elements.impact_laws import (
@@ -242,11 +243,28 @@ STATE_OUTPUTS = (
 )
 
 
+@njit(cache=True, inline="always")
+def work_offsets(ngh, nvec):
+    """Offsets in a contact kernel's work buffer: after ``local_arrays(12, 0)``, ``ngh``
+    gradient/Hessian pairs (12), then ``nvec`` vectors (12), then the primitives' workspace
+    and a 3 x 3 matrix."""
+    g = local_size(12, 0)
+    v = g + ngh * sc.grad_hess_size(12)
+    return g, v, v + 12 * nvec
+
+
+@njit(cache=True, inline="always")
+def work_size(ngh: int, nvec: int) -> int:
+    """Entries of a contact kernel's work buffer (:func:`work_offsets`)."""
+    return work_offsets(ngh, nvec)[2] + sc.WORKSPACE_SIZE + 9
+
+
 def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tuple,
                   states: list[list[float]], outputs: tuple[tuple[str, str, str], ...],
-                  lnodes: np.ndarray) -> Group:
+                  lnodes: np.ndarray, work_size: int) -> Group:
     """The :class:`Group` of a force-type contact family: kernel parameters
-    ``(*geom, law table, friction table, na)`` (the specs' ``law`` and ``friction``), the
+    ``(*geom, law table, friction table, na, work)`` (the specs' ``law`` and ``friction``;
+    ``work``: the kernel's work buffer of ``work_size`` entries), the
     impact state block of each element
     written by the kernel into hidden aux columns ``na .. na + NSTATE`` and committed from
     there; exported outputs ``outputs`` (columns 0..) plus :data:`STATE_OUTPUTS`."""
@@ -255,7 +273,8 @@ def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tu
     cols = tuple(range(na)) + tuple(na + c for c in (ST_VS, ST_REBOUND, ST_COUNT, ST_FLAG))
     return make_group(
         family, specs, kernel, (*geom, law_table([s.law for s in specs]),
-                                      friction_table([s.friction for s in specs]), na), lnodes,
+                                      friction_table([s.friction for s in specs]), na,
+                                      np.zeros(work_size)), lnodes,
         node_dofs(ctx, lnodes), outputs + STATE_OUTPUTS, eoff=eoff, nstate=NSTATE,
         commit_cols=commit_range(na, NSTATE), naux=na + NSTATE, aux_cols=cols, dissipative=True,
     )

@@ -103,6 +103,22 @@ def local_arrays(nd, nm):
 
 
 @njit(cache=True, inline="always")
+def local_size(nd: int, nm: int) -> int:
+    """Entries of :func:`local_arrays` ``(nd, nm)`` in one buffer."""
+    return nd + nm + 3 * nd * nd + nm * nd
+
+
+@njit(cache=True, inline="always")
+def local_arrays_at(buf, o, nd, nm):
+    """:func:`local_arrays` as views of ``buf`` from entry ``o`` (:func:`local_size` entries;
+    zeroed by the caller)."""
+    a = o + nd + nm
+    return (carve(buf, o, nd), carve(buf, o + nd, nm), carve(buf, a, (nd, nd)),
+            carve(buf, a + nd * nd, (nd, nd)), carve(buf, a + 2 * nd * nd, (nd, nd)),
+            carve(buf, a + 3 * nd * nd, (nm, nd)))
+
+
+@njit(cache=True, inline="always")
 def scatter_element(
     rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, full, r, rabs,
     data,

@@ -16,9 +16,10 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import Family, Group, local_arrays, register
+from drivedyn.elements.base import Family, Group, local_arrays_at, local_size, register
 from drivedyn.elements.building import make_group, node_dofs
 from drivedyn.jit import outlined
+from drivedyn.jit_arena import carve
 
 
 @outlined
@@ -82,16 +83,22 @@ def _rigid_bodies(P, C, W, full):
                          Rn[2, 0] * JOm[0] + Rn[2, 1] * JOm[1] + Rn[2, 2] * JOm[2]))
 
 
+_L6 = local_size(6, 0)
+#: entries of the rigid bodies' work buffer (their last parameter, ``work``)
+WORK_SIZE = _L6 + 6
+
+
 @njit(cache=True)
 def rigid_body_kernel(
-    mass, inertia, gravity,
+    mass, inertia, gravity, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    V = np.zeros((2, 3))  # two vectors in one allocation: its rows
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
     sc.run(_rigid_bodies, (mass, inertia, gravity),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), (local_arrays(6, 0), V[0], V[1]))
+            r, rabs, data, eout, aux),
+           (local_arrays_at(buf, 0, 6, 0), carve(buf, _L6, 3), carve(buf, _L6 + 3, 3)))
 
 
 class RigidBodyFamily(Family):
@@ -107,7 +114,7 @@ class RigidBodyFamily(Family):
             self.name, bodies, rigid_body_kernel,
             (np.array([b.mass for b in bodies]),
              np.array([b.inertia for b in bodies]).reshape(-1, 3, 3),
-             np.asarray(ctx.gravity, float)),
+             np.asarray(ctx.gravity, float), np.zeros(WORK_SIZE)),
             lnodes, node_dofs(ctx, lnodes),
             tuple((f"angular_momentum_{c}", "kg m^2/s",
                    "angular momentum about the centre of mass, global frame") for c in "xyz"),

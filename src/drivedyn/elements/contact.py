@@ -85,8 +85,16 @@ from drivedyn.elements._contact_common import (
     omega_projection,
     transpose_times,
     washer_friction_radius,
+    work_offsets,
+    work_size,
 )
-from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
+from drivedyn.elements.base import (
+    Family,
+    Group,
+    TwoMarkerSpec,
+    local_arrays_at,
+    register,
+)
 from drivedyn.elements.building import two_markers, what_of
 from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
@@ -94,6 +102,7 @@ from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.primitives import add_scaled, prim_axial
 from drivedyn.errors import ModelError
 from drivedyn.jit import outlined
+from drivedyn.jit_arena import carve
 
 # --- point / sphere on plane ----------------------------------------------------------------
 
@@ -176,14 +185,19 @@ def _plane_contacts(P, C, W, full):
 
 @njit(cache=True)
 def plane_contact_kernel(
-    pA, pB, RmA, radius, law, fric, na,
+    pA, pB, RmA, radius, law, fric, na, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    V = np.zeros((8, 12))  # eight vectors in one allocation: its rows
-    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
-         sc.grad_hess(12), V[0], V[1], V[2], V[3], (V[4], V[5]), (V[6], V[7]), sc.workspace(),
-         np.empty((3, 3)))
+    buf = sc.work_buffer(work, work_size(4, 8))
+    G, V, w = work_offsets(4, 8)
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
+         sc.grad_hess_at(buf, G + 468, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
+         carve(buf, V + 24, 12), carve(buf, V + 36, 12),
+         (carve(buf, V + 48, 12), carve(buf, V + 60, 12)),
+         (carve(buf, V + 72, 12), carve(buf, V + 84, 12)), sc.workspace_at(buf, w),
+         carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
     sc.run(_plane_contacts, ((pA, pB, RmA, radius), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
@@ -235,13 +249,16 @@ def _washer_contacts(P, C, W, full):
 
 @njit(cache=True)
 def washer_contact_kernel(
-    pA, pB, RmA, rm, area, law, fric, na,
+    pA, pB, RmA, rm, area, law, fric, na, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    V = np.zeros((5, 12))  # five vectors in one allocation: its rows
-    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), V[0], V[1], V[2],
-         (V[3], V[4]), sc.workspace(), np.empty((3, 3)))
+    buf = sc.work_buffer(work, work_size(2, 5))
+    G, V, w = work_offsets(2, 5)
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+         sc.grad_hess_at(buf, G + 156, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
+         carve(buf, V + 24, 12), (carve(buf, V + 36, 12), carve(buf, V + 48, 12)),
+         sc.workspace_at(buf, w), carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
     sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
@@ -317,14 +334,18 @@ def _journal_contacts(P, C, W, full):
 
 @njit(cache=True)
 def journal_contact_kernel(
-    pA, pB, RmA, clear, rpin, law, fric, na,
+    pA, pB, RmA, clear, rpin, law, fric, na, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    V = np.zeros((5, 12))  # five vectors in one allocation: its rows
-    W = (local_arrays(12, 0), sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12),
-         sc.grad_hess(12), sc.grad_hess(12), V[0], V[1], V[2], (V[3], V[4]), sc.workspace(),
-         np.empty((3, 3)))
+    buf = sc.work_buffer(work, work_size(5, 5))
+    G, V, w = work_offsets(5, 5)
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
+         sc.grad_hess_at(buf, G + 468, 12), sc.grad_hess_at(buf, G + 624, 12),
+         carve(buf, V, 12), carve(buf, V + 12, 12), carve(buf, V + 24, 12),
+         (carve(buf, V + 36, 12), carve(buf, V + 48, 12)), sc.workspace_at(buf, w),
+         carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
     sc.run(_journal_contacts, ((pA, pB, RmA, clear, rpin), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
@@ -482,7 +503,7 @@ class PlaneContactFamily(Family):
             CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, plane_contact_kernel,
-                             (pA, pB, RmA, radius), states, outputs, lnodes)
+                             (pA, pB, RmA, radius), states, outputs, lnodes, work_size(4, 8))
 
 
 class ThrustWasherContactFamily(Family):
@@ -511,7 +532,7 @@ class ThrustWasherContactFamily(Family):
             CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, washer_contact_kernel,
-                             (pA, pB, RmA, rm, area), states, outputs, lnodes)
+                             (pA, pB, RmA, rm, area), states, outputs, lnodes, work_size(2, 5))
 
 
 class JournalContactFamily(Family):
@@ -544,7 +565,8 @@ class JournalContactFamily(Family):
             CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, journal_contact_kernel,
-                             (pA, pB, RmA, clear, rpin), states, outputs, lnodes)
+                             (pA, pB, RmA, clear, rpin), states, outputs, lnodes,
+                             work_size(5, 5))
 
 
 register(PlaneContactFamily())

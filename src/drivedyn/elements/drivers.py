@@ -28,7 +28,8 @@ from drivedyn.elements.base import (
     ElementSpec,
     Family,
     Group,
-    local_arrays,
+    local_arrays_at,
+    local_size,
     register,
 )
 from drivedyn.elements.building import make_group, what_of
@@ -36,6 +37,7 @@ from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative
 from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
 from drivedyn.errors import ModelError
 from drivedyn.jit import outlined
+from drivedyn.jit_arena import carve
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
 
@@ -171,15 +173,27 @@ def _speed_differences(P, C, W, full):
         sc.report(C, e, (-sig, th1, th2, sig * phit))
 
 
+_L24 = local_size(24, 1)
+#: entries of a speed-difference driver group's work buffer (its last parameter, ``work``)
+WORK_SIZE = (_L24 + 2 * sc.grad_hess_size(12) + sc.ANGLE_WORK_SIZE + sc.grad_hess_size(24)
+             + 48 + sc.WORKSPACE_SIZE)
+
+
 @njit(cache=True)
 def speed_difference_kernel(
-    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid,
+    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    V = np.zeros((2, 24))  # two vectors in one allocation: its rows
-    W = (local_arrays(24, 1), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
-         sc.grad_hess(24), V[0], V[1], sc.workspace())
+    # work arrays: views of the group's work buffer (WORK_SIZE; scaffold.work_buffer)
+    buf = sc.work_buffer(work, WORK_SIZE)
+    g = _L24 + 2 * sc.grad_hess_size(12)
+    a = g + sc.ANGLE_WORK_SIZE
+    o = a + sc.grad_hess_size(24)
+    W = (local_arrays_at(buf, 0, 24, 1), sc.grad_hess_at(buf, _L24, 12),
+         sc.grad_hess_at(buf, _L24 + sc.grad_hess_size(12), 12), sc.angle_work_at(buf, g),
+         sc.grad_hess_at(buf, a, 24), carve(buf, o, 24), carve(buf, o + 24, 24),
+         sc.workspace_at(buf, o + 48))
     sc.run(_speed_differences, (RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
@@ -237,7 +251,7 @@ class SpeedDifferenceDriverFamily(Family):
             dofs[e] = ctx.local_dofs(list(lnodes[e]), m0, 1)
         return make_group(
             self.name, specs, speed_difference_kernel,
-            (Rm[0], Rm[1], Rm[2], Rm[3], kk, pp, c0, tfid), lnodes, dofs,
+            (Rm[0], Rm[1], Rm[2], Rm[3], kk, pp, c0, tfid, np.zeros(WORK_SIZE)), lnodes, dofs,
             (("torque", "N m", "torque applied on body B of joint 1 about its axis (minus that "
               "on joint 2)"),
              ("angle_1", "rad", "accumulated angle of joint 1"),

@@ -46,7 +46,8 @@ from drivedyn.elements.base import (
     Family,
     Group,
     TwoMarkerSpec,
-    local_arrays,
+    local_arrays_at,
+    local_size,
     register,
 )
 from drivedyn.elements.building import make_group, two_markers, what_of
@@ -63,6 +64,7 @@ from drivedyn.elements.primitives import (
 )
 from drivedyn.errors import ModelError
 from drivedyn.jit import outlined
+from drivedyn.jit_arena import carve
 
 ROW_AXIAL = 0  # d . a_i
 ROW_DOT = 1  # a_i . b_j
@@ -186,15 +188,28 @@ def _constraints(P, C, W, full):
                          wv[2, 2] - wv[4, 2], th, power, -sig))
 
 
+@njit(cache=True, inline="always")
+def work_size(nm: int) -> int:
+    """Entries of the work buffer of a joint group with ``nm`` constraint rows per element."""
+    return (local_size(12, nm) + 2 * sc.grad_hess_size(12) + sc.ANGLE_WORK_SIZE + 24
+            + sc.WORKSPACE_SIZE)
+
+
 @njit(cache=True)
 def constraint_kernel(
-    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode,
+    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    V = np.zeros((2, 12))  # two vectors in one allocation: its rows
-    W = (local_arrays(12, rtype.shape[1]), sc.grad_hess(12), sc.grad_hess(12), sc.angle_work(),
-         V[0], V[1], sc.workspace())
+    # work arrays: views of the group's work buffer (work_size; scaffold.work_buffer)
+    nm = rtype.shape[1]
+    o = local_size(12, nm)
+    g = sc.grad_hess_size(12)
+    a = o + 2 * g + sc.ANGLE_WORK_SIZE
+    buf = sc.work_buffer(work, work_size(nm))
+    W = (local_arrays_at(buf, 0, 12, nm), sc.grad_hess_at(buf, o, 12),
+         sc.grad_hess_at(buf, o + g, 12), sc.angle_work_at(buf, o + 2 * g), carve(buf, a, 12),
+         carve(buf, a + 12, 12), sc.workspace_at(buf, a + 24))
     sc.run(_constraints, (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
                          tfmode),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
@@ -410,7 +425,8 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
         dofs[e, :12 + len(er)] = ctx.local_dofs([nA, nB], m0, len(er))
     return make_group(
         family, specs, constraint_kernel,
-        (rt, ai, bj, nrow, angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode),
+        (rt, ai, bj, nrow, angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode,
+         np.zeros(work_size(rt.shape[1]))),  # the kernel's work buffer
         lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=1,
         commit_cols=(6,) if angle.any() else (), naux=9,  # the accumulated angle
         extra={"kinds": [getattr(s, "kind", family) for s in specs]},

@@ -15,7 +15,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays, register
+from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays_at, local_size, register
 from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
 from drivedyn.errors import ModelError
@@ -86,15 +86,21 @@ def _loads(P, C, W, full):
         sc.report(C, e, (wv[3, 0], wv[3, 1], wv[3, 2], power))
 
 
+_L6 = local_size(6, 0)
+#: entries of a load group's work buffer (its last parameter, ``work``)
+WORK_SIZE = _L6 + sc.WORKSPACE_SIZE
+
+
 @njit(cache=True)
 def load_kernel(
-    is_torque, follower, p, Rm, vec, tfid,
+    is_torque, follower, p, Rm, vec, tfid, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
     sc.run(_loads, (is_torque, follower, p, Rm, vec, tfid),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), (local_arrays(6, 0), sc.workspace()))
+            r, rabs, data, eout, aux), (local_arrays_at(buf, 0, 6, 0), sc.workspace_at(buf, _L6)))
 
 
 @dataclass(frozen=True)
@@ -162,7 +168,8 @@ class LoadFamily(Family):
         vec = np.array([np.asarray(s.vector, float) for s in specs]).reshape(nel, 3)
         kind, unit = ("torque", "N m") if self.is_torque else ("force", "N")
         return make_group(
-            self.name, specs, load_kernel, (self.is_torque, follower, p, Rm, vec, tfid), lnodes,
+            self.name, specs, load_kernel,
+            (self.is_torque, follower, p, Rm, vec, tfid, np.zeros(WORK_SIZE)), lnodes,
             node_dofs(ctx, lnodes),
             (*((f"{kind}_{c}", unit, f"applied {kind}, global {c}") for c in "xyz"),
              ("power", "W", "power supplied by the load")),

@@ -238,6 +238,51 @@ def angle_work():
             carve(buf, 168, (12, 12)))
 
 
+#: entries of :func:`workspace_at` and :func:`angle_work_at`
+WORKSPACE_SIZE = 96
+ANGLE_WORK_SIZE = 312
+
+
+@njit(cache=True, inline="always")
+def grad_hess_size(n: int) -> int:
+    """Entries of :func:`grad_hess_at` ``n``."""
+    return n + n * n
+
+
+@njit(cache=True, inline="always")
+def grad_hess_at(buf, o, n):
+    """:func:`grad_hess` as views of ``buf`` from entry ``o``."""
+    return carve(buf, o, n), carve(buf, o + n, (n, n))
+
+
+@njit(cache=True, inline="always")
+def angle_work_at(buf, o):
+    """:func:`angle_work` as views of ``buf`` from entry ``o`` (:data:`ANGLE_WORK_SIZE`)."""
+    return (carve(buf, o, 12), carve(buf, o + 12, (12, 12)), carve(buf, o + 156, 12),
+            carve(buf, o + 168, (12, 12)))
+
+
+@njit(cache=True, inline="always")
+def workspace_at(buf, o):
+    """:func:`workspace` as views of ``buf`` from entry ``o`` (:data:`WORKSPACE_SIZE`)."""
+    return carve(buf, o, (8, 3, 3)), carve(buf, o + 72, (8, 3))
+
+
+@njit(cache=True, inline="always")
+def work_buffer(work, n):
+    """The group's work buffer ``work`` (a kernel parameter, allocated with the group)
+    zeroed over its first ``n`` entries, or a new zeroed buffer if it is shorter.
+
+    A kernel that carves its work arrays from it allocates nothing per call, and its views
+    count no references: the group's parameters reach the compiled stepping loop's kernels
+    without an owner (:mod:`drivedyn.solver.kernel_calls`), so neither does what is carved
+    from them."""
+    if work.shape[0] < n:
+        return np.zeros(n)
+    work[:n] = 0.0
+    return work
+
+
 @njit(cache=True, inline="always")
 def workspace():
     """Work arrays ``ws`` (8, 3, 3) and ``wv`` (8, 3) of the kinematic primitives."""

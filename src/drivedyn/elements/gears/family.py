@@ -11,6 +11,7 @@ from drivedyn.elements.gears.kernel import (
     COL_PHI_B,
     GEAR_AUX,
     NAUX_PUBLIC,
+    WORK_SIZE,
     gear_kernel,
     parallel_gear_kernel,
 )
@@ -115,7 +116,8 @@ class GearPairFamily(Family):
                          "coef_b": float(md.cof[1]), "normal_backlash": float(bn[e])})
         idx_skew = np.flatnonzero(kind != KIND_PARALLEL).astype(np.int64)
         params = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf,
-                  Mf, onset, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64), idx_skew)
+                  Mf, onset, np.flatnonzero(kind == KIND_PARALLEL).astype(np.int64), idx_skew,
+                  np.zeros(WORK_SIZE))  # work buffer of the kernel (kernel._work)
         # without bevel or crossed pairs, the kernel without their code (compiles faster)
         kernel = gear_kernel if idx_skew.size else parallel_gear_kernel
         return make_group(

@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import local_arrays
+from drivedyn.elements.base import local_arrays_at, local_size
 from drivedyn.elements.gears.kinematics import (
     KIND_PARALLEL,
     NP,
@@ -346,46 +346,49 @@ _WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS
             NS), (NS, NS), NP, (NP, NP), (NP, NP), (NS, NP), (NP, 12), NS, NS, NS, NS,
             NS, NS, NS, (16, 3))
 _WO = tuple(int(v) for v in np.cumsum([0] + [int(np.prod(s)) for s in _WSHAPES]))
+_L12 = local_size(12, 0)
+#: entries of a gear group's work buffer (its last parameter, ``work``)
+WORK_SIZE = _L12 + _WO[-1] + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True, inline="always")
-def _work():
-    """The gear loop's work arrays (allocated once per kernel call, in one buffer:
-    :mod:`drivedyn.jit_arena`)."""
-    buf = np.zeros(_WO[-1])
-    return (local_arrays(12, 0), carve(buf, _WO[0], NP),
-            carve(buf, _WO[1], (NP, 12)),
-            carve(buf, _WO[2], (NP, 12, 12)),
-            carve(buf, _WO[3], (12, 12)),
-            carve(buf, _WO[4], (NS, NP)),
-            carve(buf, _WO[5], (NS, NP, NP)),
-            carve(buf, _WO[6], NS),
-            carve(buf, _WO[7], NS),
-            carve(buf, _WO[8], NP),
-            carve(buf, _WO[9], 12),
-            carve(buf, _WO[10], NS),
-            carve(buf, _WO[11], (NS, NS)),
-            carve(buf, _WO[12], (NS, NS)),
-            carve(buf, _WO[13], NP),
-            carve(buf, _WO[14], (NP, NP)),
-            carve(buf, _WO[15], (NP, NP)),
-            carve(buf, _WO[16], (NS, NP)),
-            carve(buf, _WO[17], (NP, 12)),
-            carve(buf, _WO[18], NS),
-            carve(buf, _WO[19], NS),
-            carve(buf, _WO[20], NS),
-            carve(buf, _WO[21], NS),
-            carve(buf, _WO[22], NS),
-            carve(buf, _WO[23], NS),
-            carve(buf, _WO[24], NS),
-            carve(buf, _WO[25], (16, 3)),
-            sc.workspace())
+def _work(work):
+    """The gear loop's work arrays, views of the group's work buffer (``work``, a parameter
+    of :data:`WORK_SIZE` entries: :func:`~drivedyn.elements.scaffold.work_buffer`)."""
+    buf = sc.work_buffer(work, WORK_SIZE)
+    return (local_arrays_at(buf, 0, 12, 0), carve(buf, _L12 + _WO[0], NP),
+            carve(buf, _L12 + _WO[1], (NP, 12)),
+            carve(buf, _L12 + _WO[2], (NP, 12, 12)),
+            carve(buf, _L12 + _WO[3], (12, 12)),
+            carve(buf, _L12 + _WO[4], (NS, NP)),
+            carve(buf, _L12 + _WO[5], (NS, NP, NP)),
+            carve(buf, _L12 + _WO[6], NS),
+            carve(buf, _L12 + _WO[7], NS),
+            carve(buf, _L12 + _WO[8], NP),
+            carve(buf, _L12 + _WO[9], 12),
+            carve(buf, _L12 + _WO[10], NS),
+            carve(buf, _L12 + _WO[11], (NS, NS)),
+            carve(buf, _L12 + _WO[12], (NS, NS)),
+            carve(buf, _L12 + _WO[13], NP),
+            carve(buf, _L12 + _WO[14], (NP, NP)),
+            carve(buf, _L12 + _WO[15], (NP, NP)),
+            carve(buf, _L12 + _WO[16], (NS, NP)),
+            carve(buf, _L12 + _WO[17], (NP, 12)),
+            carve(buf, _L12 + _WO[18], NS),
+            carve(buf, _L12 + _WO[19], NS),
+            carve(buf, _L12 + _WO[20], NS),
+            carve(buf, _L12 + _WO[21], NS),
+            carve(buf, _L12 + _WO[22], NS),
+            carve(buf, _L12 + _WO[23], NS),
+            carve(buf, _L12 + _WO[24], NS),
+            carve(buf, _L12 + _WO[25], (16, 3)),
+            sc.workspace_at(buf, _L12 + _WO[-1]))
 
 
 @njit(cache=True)
 def gear_kernel(
     kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf, onset,
-    idx_par, idx_skew, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     """All gear pairs of a model (``nel`` elements; trailing arguments: see
@@ -409,6 +412,7 @@ def gear_kernel(
         Mf (nel, 3, 3): gear frame (t, e, a) in the mesh frame (f_a, f_r, f_t).
         onset (nel,): approach over which a flank's stiffness rises to k (0: sharp law).
         idx_par, idx_skew: indices of the parallel and of the bevel/crossed elements.
+        work (WORK_SIZE,): the kernel's work buffer (overwritten at every call).
     State: ``es[eoff[e]], es[eoff[e] + 1]`` hold the accumulated wheel angles phi_A, phi_B
     of the last accepted step (see :data:`GEAR_AUX` for the outputs).
     """
@@ -416,7 +420,7 @@ def gear_kernel(
          onset)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
          rabs, data, eout, aux)
-    W = _work()
+    W = _work(work)
     full = sc.full_pass(want, mode)
     if full:
         _any_gears(P, C, W, full, np.arange(kind.shape[0]))
@@ -429,7 +433,7 @@ def gear_kernel(
 @njit(cache=True)
 def parallel_gear_kernel(
     kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf, onset,
-    idx_par, idx_skew, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     """:func:`gear_kernel` for a group of parallel-axis pairs only (``idx_skew`` empty).
@@ -444,7 +448,7 @@ def parallel_gear_kernel(
          onset)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
          rabs, data, eout, aux)
-    W = _work()
+    W = _work(work)
     full = sc.full_pass(want, mode)
     if full:
         _parallel_gears(P, C, W, full, idx_par)
