@@ -27,12 +27,17 @@ convention of :mod:`drivedyn.elements.base` (its parameters, then the common arg
 ``P`` is the family's parameter tuple, ``C`` the common arguments in the order of the kernel
 contract (fields named by the constants below, read through the helpers), ``W`` the family's
 work arrays: allocated once per kernel call, never inside the element loop (small
-allocations cost more than the maths), and as few times as possible per call: the helpers
-below (and ``local_arrays``) carve their arrays from one zeroed buffer
-(:func:`drivedyn.jit_arena.carve`), vectors of one length are the rows of one array
-(``V = np.zeros((k, 12))``; ``V[0]``...), and a family with many work arrays carves them from
-one buffer too (the gear loop's 30). On the Type C vehicle configuration the allocations
-(``malloc``, ``free`` and numba's wrapper) fell from 13 % to 5.5 % of the run's time.
+allocations cost more than the maths), and best not at all: a kernel can carve every work
+array (:func:`drivedyn.jit_arena.carve`) from a buffer allocated with its group, its last
+parameter ``work``, which :func:`work_buffer` zeroes at each call (the ``*_at`` helpers
+below and ``local_arrays_at`` carve the usual sets). The buffer comes to the compiled
+stepping loop's kernel calls without an owner, as every parameter does, so its views count
+no references either. The rigid bodies, loads, joints, drivers, gear pairs and contacts do
+so: on the Type C vehicle configuration allocations (``malloc``, ``free``, numba's
+wrapper) took 13 % of the run's time, 1 % now (benchmarks/README.md, issue 16 seventeenth
+round). Families that allocate per call (``local_arrays``, :func:`grad_hess`...) get one
+allocation per helper: each carves its arrays from one zeroed buffer, and vectors of one
+length are the rows of one array (``V = np.zeros((k, 12))``; ``V[0]``...).
 
 :func:`run` calls the loop at two sites, one where ``full`` is true (a matrix is wanted,
 or consistent accelerations) and one where it is false (residual only). The loop is an
