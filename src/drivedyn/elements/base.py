@@ -95,11 +95,7 @@ def local_arrays(nd, nm):
     """Work arrays of one element for :func:`scatter_local`: ``rq`` (nd,), ``rl`` (nm,),
     ``M, C, K`` (nd, nd) and ``G`` (nm, nd), zeroed; allocated once per kernel call, as views
     of one buffer (:mod:`drivedyn.jit_arena`)."""
-    buf = np.zeros(nd + nm + 3 * nd * nd + nm * nd)  # one allocation (drivedyn.jit_arena)
-    o = nd + nm
-    return (carve(buf, 0, nd), carve(buf, nd, nm), carve(buf, o, (nd, nd)),
-            carve(buf, o + nd * nd, (nd, nd)), carve(buf, o + 2 * nd * nd, (nd, nd)),
-            carve(buf, o + 3 * nd * nd, (nm, nd)))
+    return local_arrays_at(np.zeros(local_size(nd, nm)), 0, nd, nm)
 
 
 @njit(cache=True, inline="always")

@@ -231,16 +231,13 @@ def report(C, e, values):
 @njit(cache=True, inline="always")
 def grad_hess(n):
     """A gradient (n,) and its derivative (n, n), zeroed."""
-    buf = np.zeros(n + n * n)  # one allocation (drivedyn.jit_arena)
-    return carve(buf, 0, n), carve(buf, n, (n, n))
+    return grad_hess_at(np.zeros(grad_hess_size(n)), 0, n)  # one allocation
 
 
 @njit(cache=True, inline="always")
 def angle_work():
     """Work arrays of :func:`~drivedyn.elements.primitives.prim_angle`: ``gs, Hs, gc, Hc``."""
-    buf = np.zeros(312)  # one allocation (drivedyn.jit_arena)
-    return (carve(buf, 0, 12), carve(buf, 12, (12, 12)), carve(buf, 156, 12),
-            carve(buf, 168, (12, 12)))
+    return angle_work_at(np.zeros(ANGLE_WORK_SIZE), 0)  # one allocation
 
 
 #: entries of :func:`workspace_at` and :func:`angle_work_at`
@@ -291,5 +288,4 @@ def work_buffer(work, n):
 @njit(cache=True, inline="always")
 def workspace():
     """Work arrays ``ws`` (8, 3, 3) and ``wv`` (8, 3) of the kinematic primitives."""
-    buf = np.empty(96)  # one allocation (drivedyn.jit_arena)
-    return carve(buf, 0, (8, 3, 3)), carve(buf, 72, (8, 3))
+    return workspace_at(np.empty(WORKSPACE_SIZE), 0)  # one allocation
