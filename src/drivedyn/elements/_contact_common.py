@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import Group, local_size
+from drivedyn.elements.base import Group, local_arrays_at, local_size
 from drivedyn.elements.building import make_group, node_dofs
 from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar, friction_table
 from drivedyn.elements.impact_laws import (
@@ -25,6 +25,7 @@ from drivedyn.elements.impact_laws import (
 )
 from drivedyn.elements.primitives import prim_axial
 from drivedyn.errors import ModelError
+from drivedyn.jit_arena import carve
 
 # --- kernels ------------------------------------------------------------------------------------
 #
@@ -257,6 +258,19 @@ def work_offsets(ngh, nvec):
 def work_size(ngh: int, nvec: int) -> int:
     """Entries of a contact kernel's work buffer (:func:`work_offsets`)."""
     return work_offsets(ngh, nvec)[2] + sc.WORKSPACE_SIZE + 9
+
+
+@njit(cache=True, inline="always")
+def washer_work(work):
+    """The work arrays of a washer-like contact (thrust washer, squeeze film) as views of
+    the group's buffer ``work`` (``work_size(2, 5)`` entries): local arrays, two gradient and
+    Hessian pairs, three vectors, a pair of vectors, the primitives' workspace, a 3 x 3."""
+    buf = sc.work_buffer(work, work_size(2, 5))
+    G, V, w = work_offsets(2, 5)
+    return (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+            sc.grad_hess_at(buf, G + 156, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
+            carve(buf, V + 24, 12), (carve(buf, V + 36, 12), carve(buf, V + 48, 12)),
+            sc.workspace_at(buf, w), carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
 
 
 def contact_group(family: str, specs: list[Any], ctx: Any, kernel: Any, geom: tuple,

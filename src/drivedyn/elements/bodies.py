@@ -83,7 +83,7 @@ def _rigid_bodies(P, C, W, full):
                          Rn[2, 0] * JOm[0] + Rn[2, 1] * JOm[1] + Rn[2, 2] * JOm[2]))
 
 
-_L6 = local_size(6, 0)
+_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
 #: entries of the rigid bodies' work buffer (their last parameter, ``work``)
 WORK_SIZE = _L6 + 6
 

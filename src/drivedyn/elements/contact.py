@@ -85,6 +85,7 @@ from drivedyn.elements._contact_common import (
     omega_projection,
     transpose_times,
     washer_friction_radius,
+    washer_work,
     work_offsets,
     work_size,
 )
@@ -253,12 +254,7 @@ def washer_contact_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    buf = sc.work_buffer(work, work_size(2, 5))
-    G, V, w = work_offsets(2, 5)
-    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
-         sc.grad_hess_at(buf, G + 156, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
-         carve(buf, V + 24, 12), (carve(buf, V + 36, 12), carve(buf, V + 48, 12)),
-         sc.workspace_at(buf, w), carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
+    W = washer_work(work)
     sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)

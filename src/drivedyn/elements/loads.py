@@ -86,7 +86,7 @@ def _loads(P, C, W, full):
         sc.report(C, e, (wv[3, 0], wv[3, 1], wv[3, 2], power))
 
 
-_L6 = local_size(6, 0)
+_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
 #: entries of a load group's work buffer (its last parameter, ``work``)
 WORK_SIZE = _L6 + sc.WORKSPACE_SIZE
 

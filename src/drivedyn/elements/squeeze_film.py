@@ -62,17 +62,16 @@ from drivedyn.elements._contact_common import (
     omega_projection,
     transpose_times,
     washer_friction_radius,
-    work_offsets,
+    washer_work,
     work_size,
 )
-from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays_at, register
+from drivedyn.elements.base import Family, Group, TwoMarkerSpec, register
 from drivedyn.elements.building import two_markers, what_of
 from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError
 from drivedyn.jit import outlined
-from drivedyn.jit_arena import carve
 
 
 def annulus_factor(r_int: float, r_ext: float) -> float:
@@ -176,12 +175,7 @@ def squeeze_film_kernel(
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    buf = sc.work_buffer(work, work_size(2, 5))
-    G, V, w = work_offsets(2, 5)
-    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
-         sc.grad_hess_at(buf, G + 156, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
-         carve(buf, V + 24, 12), (carve(buf, V + 36, 12), carve(buf, V + 48, 12)),
-         sc.workspace_at(buf, w), carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
+    W = washer_work(work)
     sc.run(_squeeze_films, ((pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area),
                             law, fric, na),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,

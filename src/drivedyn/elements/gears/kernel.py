@@ -346,7 +346,7 @@ _WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS
             NS), (NS, NS), NP, (NP, NP), (NP, NP), (NS, NP), (NP, 12), NS, NS, NS, NS,
             NS, NS, NS, (16, 3))
 _WO = tuple(int(v) for v in np.cumsum([0] + [int(np.prod(s)) for s in _WSHAPES]))
-_L12 = local_size(12, 0)
+_L12 = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
 #: entries of a gear group's work buffer (its last parameter, ``work``)
 WORK_SIZE = _L12 + _WO[-1] + sc.WORKSPACE_SIZE
 
