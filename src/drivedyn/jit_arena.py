@@ -42,8 +42,8 @@ def _dims(shape) -> int | None:
 @intrinsic
 def carve(typingctx, buf, off, shape):
     """C-contiguous float64 view of ``shape`` (an int or a tuple of ints) into the 1-D
-    C-contiguous float64 array ``buf``, starting at element ``off``. No bounds check (see
-    :func:`carve_all`)."""
+    C-contiguous float64 array ``buf``, starting at element ``off``. No bounds check: the
+    caller's offsets and sizes fit its buffer (module docstring)."""
     nd = _dims(shape)
     if (nd is None or not isinstance(buf, types.Array) or buf.ndim != 1
             or buf.dtype != types.float64 or buf.layout != "C"

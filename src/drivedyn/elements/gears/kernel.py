@@ -342,8 +342,8 @@ def _any_gears(P, C, W, full, idx):
 
 
 # the gear loop's work arrays after local_arrays(12, 0): shapes, offsets in one buffer
-_WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS, NP, 12, NS, (NS,
-            NS), (NS, NS), NP, (NP, NP), (NP, NP), (NS, NP), (NP, 12), NS, NS, NS, NS,
+_WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS, NP, 12, NS,
+            (NS, NS), (NS, NS), NP, (NP, NP), (NP, NP), (NS, NP), (NP, 12), NS, NS, NS, NS,
             NS, NS, NS, (16, 3))
 _WO = tuple(int(v) for v in np.cumsum([0] + [int(np.prod(s)) for s in _WSHAPES]))
 _L12 = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
