@@ -29,8 +29,8 @@ contract (fields named by the constants below, read through the helpers), ``W`` 
 work arrays: allocated once per kernel call, never inside the element loop (small
 allocations cost more than the maths), and best not at all: a kernel can carve every work
 array (:func:`drivedyn.jit_arena.carve`) from a buffer allocated with its group, its last
-parameter ``work``, which :func:`work_buffer` zeroes at each call (the ``*_at`` helpers
-below and ``local_arrays_at`` carve the usual sets). The buffer comes to the compiled
+parameter ``work`` (:func:`work_buffer`; the ``*_at`` helpers below and
+``local_arrays_at`` carve the usual sets). The buffer comes to the compiled
 stepping loop's kernel calls without an owner, as every parameter does, so its views count
 no references either. The rigid bodies, loads, joints, drivers, gear pairs and contacts do
 so: on the Type C vehicle configuration allocations (``malloc``, ``free``, numba's
@@ -272,16 +272,23 @@ def workspace_at(buf, o):
 
 @njit(cache=True, inline="always")
 def work_buffer(work, n):
-    """The group's work buffer ``work`` (a kernel parameter, allocated with the group)
-    zeroed over its first ``n`` entries, or a new zeroed buffer if it is shorter.
+    """The group's work buffer ``work`` (a kernel parameter, allocated zeroed with the
+    group), or a new zeroed buffer of ``n`` entries if it is shorter.
 
     A kernel that carves its work arrays from it allocates nothing per call, and its views
     count no references: the group's parameters reach the compiled stepping loop's kernels
     without an owner (:mod:`drivedyn.solver.kernel_calls`), so neither does what is carved
-    from them."""
+    from them.
+
+    Not zeroed at each call: the kernels set every work array they read within the element
+    that reads it (or never write it: it stays zero), so an evaluation does not depend on
+    what earlier ones left in the buffer (``tests/test_jit_arena.py`` evaluates every
+    element case after evaluations at other states, with and without the matrix, against a
+    fresh buffer). Zeroing it at each call was 4.6 % of the Type C vehicle configuration's
+    run (the gear pairs' 2454 entries at every evaluation; benchmarks/README.md, issue 16
+    eighteenth round)."""
     if work.shape[0] < n:
         return np.zeros(n)
-    work[:n] = 0.0
     return work
 
 

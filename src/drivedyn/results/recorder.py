@@ -149,7 +149,28 @@ class EnergyAccount:
 
     @property
     def balance_error(self) -> float:
-        return self.kinetic + self.potential - self.e0 - self.work_in + self.total_dissipated
+        return self.balance_error_with(self.total_dissipated)
+
+    def balance_error_with(self, dissipated: float) -> float:
+        """:attr:`balance_error` with the total dissipated energy given [J]."""
+        return self.kinetic + self.potential - self.e0 - self.work_in + dissipated
+
+
+def _aux_slices(model: Model) -> list[tuple[int, tuple[int, ...]]] | None:
+    """(offset, shape) of each group's ``aux`` in ``model.aux_all``, or None unless every
+    one is a C-contiguous view of it."""
+    aux_all = model.aux_all
+    if aux_all is None:
+        return None
+    base = aux_all.ctypes.data
+    out = []
+    for g in model.groups:
+        a = g.aux
+        if a.size and not (np.shares_memory(a, aux_all) and a.flags.c_contiguous):
+            return None
+        off = (a.ctypes.data - base) // aux_all.itemsize if a.size else 0
+        out.append((int(off), tuple(a.shape)))
+    return out
 
 
 class Recorder:
@@ -162,10 +183,15 @@ class Recorder:
         self.x: list[np.ndarray] = []
         self.R: list[np.ndarray] = []
         self.v: list[np.ndarray] = []
-        self.aux: list[list[np.ndarray]] = []
+        self.aux: list = []  # copies of model.aux_all, or per group (see _aux_slices)
         self.en: list[tuple[float, ...]] = []
         self.diss: list[np.ndarray] = []  # all elements, group after group
         self.h: list[float] = []
+        # all groups' outputs in one copy of model.aux_all per output when every group's
+        # aux is a view of it (the compiled model's layout): one copy instead of one per
+        # group, 3.7 % of the Type C vehicle configuration's run (benchmarks/README.md,
+        # issue 16 eighteenth round); ``_slices[gi]``: (offset, shape) of group gi in it
+        self._slices = _aux_slices(model)
 
     def record(self, st: State, h: float = 0.0) -> None:
         nn = self.model.nn
@@ -173,12 +199,27 @@ class Recorder:
         self.x.append(st.x[:nn].copy())
         self.R.append(st.R[:nn].copy())
         self.v.append(st.v.reshape(nn, 6).copy() if nn else np.zeros((0, 6)))
-        self.aux.append([g.aux.copy() for g in self.model.groups])
+        if self._slices is not None:
+            self.aux.append(self.model.aux_all.copy())
+        else:
+            self.aux.append([g.aux.copy() for g in self.model.groups])
         e = self.energy
-        self.en.append((e.kinetic, e.potential, e.work_in, e.total_dissipated, e.balance_error,
-                        e.work_loads, e.work_drivers))
+        acc = e.acc
+        d = float(e.diss.sum())
+        self.en.append((float(acc[E_KINETIC]), float(acc[E_POTENTIAL]), float(acc[E_WORK_IN]),
+                        d, e.balance_error_with(d), float(acc[E_WORK_LOADS]),
+                        float(acc[E_WORK_DRIVERS])))
         self.diss.append(e.diss.copy())
         self.h.append(h)
+
+    def _group_aux(self, gi: int, stacked: np.ndarray | None) -> np.ndarray:
+        """Outputs of group ``gi`` at every output time, (nt, nel, naux); ``stacked``: the
+        recorded copies of ``aux_all`` as one array (nt, size) when they are such copies."""
+        if stacked is None or self._slices is None:
+            return np.asarray([a[gi] for a in self.aux])
+        off, shape = self._slices[gi]
+        n = int(np.prod(shape))
+        return stacked[:, off:off + n].reshape((stacked.shape[0], *shape))
 
     def _series(self) -> tuple[list, ...]:
         return self.t, self.x, self.R, self.v, self.aux, self.en, self.diss, self.h
@@ -227,10 +268,11 @@ class Recorder:
                 put(f"{n}.angular_velocity", ("time", "xyz"), omega_g[:, i], "rad/s",
                     f"angular velocity of {n}, global frame")
         Dall = np.asarray(self.diss)  # (nt, elements of all groups)
+        stacked = np.asarray(self.aux) if self._slices is not None and nt else None
         for gi, g in enumerate(m.groups):
             if nt == 0:
                 break
-            A = np.asarray([a[gi] for a in self.aux])  # (nt, nel, naux)
+            A = self._group_aux(gi, stacked)  # (nt, nel, naux)
             for ei, en in enumerate(g.names):
                 for col, name, unit, desc in g.outputs():
                     if g.family == "rigid_body":
