@@ -69,6 +69,27 @@ def test_mode_of_follows_the_modes_table() -> None:
         assert mode(0.0, 2.0) == (None, None)
 
 
+def test_vehicle_numerical_settings_replace_the_solver_ones() -> None:
+    """``vehicle.h_max``, ``atol_rot`` and ``rho_inf`` reach the vehicle run's ``simulate``
+    arguments; left out, the file's ``[solver]`` values do."""
+    from drivedyn.library.differentials.protocol import vehicle_settings
+
+    p = read_library_file("torsen-c", ["vehicle.rho_inf=0.55", "vehicle.atol_rot=2e-5",
+                                       "vehicle.h_max=0.15 ms"])[0]
+    s = vehicle_settings(p)
+    assert s["integrator"].rho_inf == 0.55
+    assert s["step"].atol_rot == 2e-5
+    assert s["step"].h_max == pytest.approx(1.5e-4, rel=1e-12)
+    q = read_library_file("torsen-c")[0].model_copy(deep=True)
+    q.vehicle.rho_inf = None
+    q.vehicle.atol_rot = None
+    s = vehicle_settings(q)
+    assert s["integrator"].rho_inf == q.solver.rho_inf == 0.8
+    assert s["step"].atol_rot == q.solver.step.atol_rot
+    with pytest.raises(Exception, match="rho_inf"):
+        read_library_file("torsen-c", ["vehicle.rho_inf=1.5"])
+
+
 def test_level_windows_match_the_profile(params) -> None:
     """Each analysis window lies where the engine torque and the speed difference hold
     their level (checked on the time functions the model is built from)."""

@@ -151,7 +151,9 @@ class Vehicle(Strict):
     ``h_max`` caps the step of this run: the turning gears excite the meshes, and long steps
     cost Newton failures and leave numerical oscillations in the held torques. ``atol_rot``
     [rad], if given, replaces ``solver.step.atol_rot`` in this run: a tolerance measured on
-    the bench need not hold where the element gears whirl in their pocket play."""
+    the bench need not hold where the element gears whirl in their pocket play. ``rho_inf``,
+    if given, replaces ``solver.rho_inf`` in this run: more numerical damping of what rings
+    above the step's resolution (gear meshes, washer and pocket contacts at each tip-in)."""
 
     speed: AngularVelocity = 30.0
     torque_levels: list[float] = Field(default_factory=lambda: [
@@ -164,6 +166,7 @@ class Vehicle(Strict):
     reversal: PositiveTime = 0.5
     h_max: PositiveTime = 2e-4
     atol_rot: Annotated[float, scalar(U.ANGLE, positive=True)] | None = None
+    rho_inf: float | None = Field(default=None, ge=0.0, le=1.0)
 
     @model_validator(mode="after")
     def _levels(self) -> Vehicle:
@@ -180,15 +183,16 @@ class Solver(Strict):
     newton: NewtonFile = Field(default_factory=NewtonFile)
     output_dt: PositiveTime = 5e-3
 
-    def settings(self, h_max: float | None = None, atol_rot: float | None = None) -> dict:
+    def settings(self, h_max: float | None = None, atol_rot: float | None = None,
+                 rho_inf: float | None = None) -> dict:
         """``integrator``, ``step`` and ``newton`` arguments of ``simulate``; ``h_max`` [s]
-        caps the largest step and ``atol_rot`` [rad] replaces the step's rotation tolerance
-        (the vehicle run)."""
+        caps the largest step, ``atol_rot`` [rad] replaces the step's rotation tolerance and
+        ``rho_inf`` the integrator's (the vehicle run)."""
         from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
 
         st, nw = self.step, self.newton
         hm = st.h_max if h_max is None else min(st.h_max, h_max)
-        return {"integrator": GeneralizedAlpha(self.rho_inf),
+        return {"integrator": GeneralizedAlpha(self.rho_inf if rho_inf is None else rho_inf),
                 "step": AdaptiveStep(st.h0, st.h_min, hm, st.rtol, st.atol,
                                      atol_rot=st.atol_rot if atol_rot is None else atol_rot),
                 "newton": Newton(nw.strategy, nw.tol, nw.phi_tol, nw.max_iter)}

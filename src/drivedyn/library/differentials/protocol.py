@@ -143,9 +143,11 @@ def vehicle_profile(p: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, f
 
 def vehicle_settings(p: Any) -> dict:
     """``simulate``'s ``integrator``, ``step`` and ``newton`` arguments for the vehicle run
-    of ``p``: the file's ``[solver]`` with the step capped at ``vehicle.h_max`` and
-    ``vehicle.atol_rot`` [rad], if given, for the nodes' rotations."""
-    return p.solver.settings(h_max=p.vehicle.h_max, atol_rot=p.vehicle.atol_rot)
+    of ``p``: the file's ``[solver]`` with the step capped at ``vehicle.h_max``,
+    ``vehicle.atol_rot`` [rad], if given, for the nodes' rotations and ``vehicle.rho_inf``,
+    if given, for the integrator's."""
+    return p.solver.settings(h_max=p.vehicle.h_max, atol_rot=p.vehicle.atol_rot,
+                             rho_inf=p.vehicle.rho_inf)
 
 
 def vehicle_spec(diff: Differential, p: Any, friction_scale: float = 1.0
