@@ -244,15 +244,21 @@ def chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp,
                         accb += sji * dQd[j, l_] * Sj[l_, kk]
             Ap[i, kk] = acc
             Bp[i, kk] = accb
-    # AG = Ap G + Bp (H^T v) ; K = sum_i Qp_i H_i + G^T AG ; C = G^T Bp G
+    # AG = Ap G + Bp (H^T v) ; K = sum_i Qp_i H_i + G^T AG ; C = G^T Bp G. H^T v first, in
+    # C's first rows (C is written last): once per primitive instead of once for each of
+    # the nprim rows of AG (4200 -> 1320 multiply-adds for a parallel pair; the same
+    # values, summed in the same order)
+    for kk in range(nprim):
+        for b in range(12):
+            hv = 0.0
+            for a in range(12):
+                hv += Hp[kk, a, b] * vl[a]
+            C[kk, b] = hv
     for i in range(nprim):
         for b in range(12):
             acc = 0.0
             for kk in range(nprim):
-                hv = 0.0
-                for a in range(12):
-                    hv += Hp[kk, a, b] * vl[a]
-                acc += Ap[i, kk] * gp[kk, b] + Bp[i, kk] * hv
+                acc += Ap[i, kk] * gp[kk, b] + Bp[i, kk] * C[kk, b]
             AG[i, b] = acc
     for a in range(12):
         for b in range(12):
