@@ -282,6 +282,18 @@ def allocate_outputs(groups: Sequence[Group]) -> tuple[np.ndarray, np.ndarray]:
     return eout_all, aux_all
 
 
+def aux_offset(g: Group, aux_all: np.ndarray) -> int:
+    """Offset [entries] of group ``g``'s ``aux`` in ``aux_all`` (:func:`allocate_outputs`),
+    or -1 if it is not a C-contiguous view of it (a group replaced since); 0 for an empty
+    ``aux``."""
+    a = g.aux
+    if a.size == 0:
+        return 0
+    if not (np.shares_memory(a, aux_all) and a.flags.c_contiguous):
+        return -1
+    return (a.ctypes.data - aux_all.ctypes.data) // aux_all.itemsize
+
+
 class ElementSpec:
     """Base class of element parameter records (frozen dataclasses).
 

@@ -10,6 +10,7 @@ import json
 import numpy as np
 from numba import njit
 
+from drivedyn.elements.base import aux_offset
 from drivedyn.model.model import Model, State
 
 # fields of EnergyAccount.acc
@@ -162,15 +163,8 @@ def _aux_slices(model: Model) -> list[tuple[int, tuple[int, ...]]] | None:
     aux_all = model.aux_all
     if aux_all is None:
         return None
-    base = aux_all.ctypes.data
-    out = []
-    for g in model.groups:
-        a = g.aux
-        if a.size and not (np.shares_memory(a, aux_all) and a.flags.c_contiguous):
-            return None
-        off = (a.ctypes.data - base) // aux_all.itemsize if a.size else 0
-        out.append((int(off), tuple(a.shape)))
-    return out
+    out = [(aux_offset(g, aux_all), tuple(g.aux.shape)) for g in model.groups]
+    return None if any(off < 0 for off, _ in out) else out
 
 
 class Recorder:

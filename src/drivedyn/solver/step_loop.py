@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import COMMIT_TIME
+from drivedyn.elements.base import COMMIT_TIME, aux_offset
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, advance_energy
 from drivedyn.solver import newton_kernel as nk
@@ -185,7 +185,6 @@ def commit_table(model: Model) -> tuple[np.ndarray, np.ndarray] | None:
     aux_all = model.aux_all
     if aux_all is None:
         return None
-    base = aux_all.ctypes.data
     dst: list[int] = []
     src: list[int] = []
     for g in model.groups:
@@ -193,8 +192,8 @@ def commit_table(model: Model) -> tuple[np.ndarray, np.ndarray] | None:
             continue
         if not g.commit_cols:
             return None
-        off = (g.aux.ctypes.data - base) // aux_all.itemsize
-        if not (np.shares_memory(g.aux, aux_all) and g.aux.flags.c_contiguous):
+        off = aux_offset(g, aux_all)
+        if off < 0:
             return None
         ncol = g.aux.shape[1]
         for e in range(g.nel):
