@@ -80,16 +80,19 @@ def test_same_command_twice_is_bit_identical(tmp_path: Path, model: str,
     assert a["time"].values.tobytes() == b["time"].values.tobytes()
 
 
-def test_ctrl_c_within_a_snapshot_keeps_consistent_partial_results(monkeypatch) -> None:
+@pytest.mark.parametrize("path", ["record", "extend"])
+def test_ctrl_c_within_a_snapshot_keeps_consistent_partial_results(monkeypatch, path) -> None:
     """A KeyboardInterrupt can arrive between two appends of Recorder.record (a cold
     `drivedyn run` interrupted at an output time wrote no partial file: "cannot reshape array
-    of size 35 into shape (6, 7)"). The incomplete snapshot is dropped and the state reached
-    is recorded whole."""
+    of size 35 into shape (6, 7)"), or of Recorder.extend (the compiled loop's batches of
+    outputs, here one output each after a first batch of four). The incomplete snapshot is
+    dropped and the state reached is recorded whole."""
     import drivedyn as dd
     from drivedyn.results.recorder import Recorder
+    from drivedyn.solver import step_loop
 
     calls = {"n": 0}
-    record = Recorder.record
+    record, extend = Recorder.record, Recorder.extend
 
     def interrupted(self, st, h=0.0):
         calls["n"] += 1
@@ -99,7 +102,20 @@ def test_ctrl_c_within_a_snapshot_keeps_consistent_partial_results(monkeypatch) 
             raise KeyboardInterrupt
         record(self, st, h)
 
-    monkeypatch.setattr(Recorder, "record", interrupted)
+    def interrupted_batch(self, t, x, *rest):
+        calls["n"] += 1
+        if calls["n"] == 2:  # half a snapshot of the second batch, then Ctrl-C
+            self.t.append(float(t[0]))
+            self.x.append(x[0])
+            raise KeyboardInterrupt
+        extend(self, t, x, *rest)
+
+    if path == "record":
+        monkeypatch.setattr(Recorder, "extendable", property(lambda self: False))
+        monkeypatch.setattr(Recorder, "record", interrupted)
+    else:
+        monkeypatch.setattr(step_loop, "BATCH_WALL", 0.0)
+        monkeypatch.setattr(Recorder, "extend", interrupted_batch)
     res = dd.simulate(dd.load_model("pendulum"), 1.0, output_dt=0.01)
     assert not res.success and "interrupted by the user" in res.message
     ds = res.dataset

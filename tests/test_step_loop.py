@@ -33,16 +33,32 @@ def _torsen_c_bench(side: str):
     return p, dd.compile_model(bench_spec(of(p), p, side)[0])
 
 
-def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch) -> None:
+def _batches(monkeypatch, batching: str) -> None:
+    """Outputs per return of the compiled loop: ``"none"`` (it returns at every output time
+    and simulate records), ``"one"`` (batches of one after the first of four), ``"largest"``
+    (BATCH_MAX after the first)."""
+    from drivedyn.results.recorder import Recorder
+
+    if batching == "none":
+        monkeypatch.setattr(Recorder, "extendable", property(lambda self: False))
+    else:
+        monkeypatch.setattr(step_loop, "BATCH_WALL", 0.0 if batching == "one" else np.inf)
+
+
+# calls of the compiled loop for 30 output intervals: one per output time and one that finds
+# the end; the first batch of 4, then 26 of one (and the end); the first batch, then the
+# other 26 outputs in one that ends at the end
+@pytest.mark.parametrize(("batching", "calls"), [("none", 31), ("one", 28), ("largest", 2)])
+def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch, batching, calls) -> None:
     p, model = _torsen_c_bench("front")
+    _batches(monkeypatch, batching)
 
     def run():
         return dd.simulate(model, 0.06, **p.solver.settings(), output_dt=2e-3)
 
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert slow.success and slow.stats.rejected > 0  # rejections are part of the case
-    # one call per output interval (30) and one that finds the end, not one per step
-    assert ncalls == 31 and fast.stats.steps > 10 * ncalls
+    assert ncalls == calls and fast.stats.steps > 10 * 31
     assert_identical(slow, fast)
     # the energy account is part of the recorded outputs
     assert np.any(fast.dataset["energy.dissipated"].values > 0)
@@ -58,11 +74,18 @@ def test_sparse_lu_factorised_between_calls_is_the_same(monkeypatch) -> None:
         return dd.simulate(model, 0.02, **p.solver.settings(), output_dt=1e-3,
                            linear_solver=SparseLU())
 
+    _batches(monkeypatch, "none")
     slow, fast, ncalls = _run_both(monkeypatch, run)
     assert slow.success and slow.stats.rejected > 0
     # one call per output interval and one at the end, and one more per factorisation done
     # in between
     assert ncalls == 21 + fast.stats.factorizations
+    assert_identical(slow, fast)
+    monkeypatch.undo()
+    _batches(monkeypatch, "largest")
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    # one call per factorisation and one at the end, and at most one for the first batch
+    assert 1 <= ncalls - fast.stats.factorizations <= 2
     assert_identical(slow, fast)
 
 
@@ -79,8 +102,9 @@ def test_a_tyre_commits_the_step_time_the_same_way(monkeypatch) -> None:
         return dd.simulate(model, 0.1, step=dd.AdaptiveStep(h0=1e-4, h_max=2e-3),
                            output_dt=5e-3)
 
+    _batches(monkeypatch, "largest")
     slow, fast, ncalls = _run_both(monkeypatch, run)
-    assert slow.success and ncalls == 21
+    assert slow.success and ncalls == 2  # the first batch, the other 16 outputs
     assert_identical(slow, fast)
 
 
@@ -126,17 +150,42 @@ def test_debug_logging_runs_step_by_step_with_the_same_lines(monkeypatch, caplog
     assert_identical(slow, fast)
 
 
-def test_progress_is_called_at_output_times(monkeypatch) -> None:
-    """Without DEBUG logging the compiled loop reports progress at output times, with the
-    accepted steps counted so far."""
+@pytest.mark.parametrize(("batching", "times"), [
+    ("one", [0.008, 0.01, 0.012, 0.014, 0.016]),  # after the first batch of four, each
+    ("largest", [0.008, 0.016]),  # the first batch, then the end
+])
+def test_progress_is_called_after_each_batch_of_outputs(monkeypatch, batching, times) -> None:
+    """Without DEBUG logging the compiled loop reports progress at the last output time of
+    each batch it returns (the end included), with the accepted steps counted so far."""
     p, model = _torsen_c_bench("front")
+    _batches(monkeypatch, batching)
     marks = []
     monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "1")
-    res = dd.simulate(model, 0.01, **p.solver.settings(), output_dt=2e-3,
+    res = dd.simulate(model, 0.016, **p.solver.settings(), output_dt=2e-3,
                       progress=lambda t, h, n: marks.append((t, n)))
-    assert [t for t, _ in marks] == pytest.approx([0.002, 0.004, 0.006, 0.008, 0.01], abs=0)
+    assert [t for t, _ in marks] == pytest.approx(times, abs=0)
     counts = [n for _, n in marks]
     assert counts[-1] == res.stats.steps and counts == sorted(set(counts))
+    assert res.dataset.sizes["time"] == 9  # every output recorded: t = 0, 0.002, ... 0.016
+
+
+def test_batches_follow_the_wall_time_between_returns() -> None:
+    """The loop's batches hold about BATCH_WALL of wall time: one output when an output
+    takes longer, BATCH_MAX when it is much faster."""
+    loop = object.__new__(step_loop.StepLoop)  # the batch logic only
+    loop.buffered, loop._nn, loop._nd, loop._sizes = True, 2, 12, (3, 2, 5)
+
+    class Rec:
+        def extend(self, *a):
+            self.n = a[0].shape[0]
+
+    for per, k in ((0.2, 1), (0.0123, 4), (1e-6, step_loop.BATCH_MAX)):  # s per output
+        loop.snaps = step_loop._snapshot_arrays(4, 2, 12, 3, 2, 5)
+        loop._wall = step_loop.time.perf_counter() - 3 * per
+        loop.snaps[8][0] = 3  # three outputs stored
+        rec = Rec()
+        assert loop.flush(rec) == 3 and rec.n == 3 and loop.snaps[8][0] == 0
+        assert loop.snaps[7].shape[0] == k
 
 
 def test_a_custom_commit_runs_the_python_loop(monkeypatch) -> None:

@@ -206,6 +206,37 @@ class Recorder:
         self.diss.append(e.diss.copy())
         self.h.append(h)
 
+    def extend(self, t: np.ndarray, x: np.ndarray, R: np.ndarray, v: np.ndarray,
+               aux_all: np.ndarray, acc: np.ndarray, diss: np.ndarray,
+               h: np.ndarray) -> None:
+        """Snapshots stored by the compiled stepping loop (:mod:`drivedyn.solver.step_loop`),
+        one per row: times (n,) [s], positions (n, nn, 3), rotations (n, nn, 3, 3),
+        velocities (n, nn, 6), copies of ``model.aux_all`` (n, size), of the energy
+        account's ``acc`` (n, 5) and ``diss`` (n, elements), step sizes (n,) [s]. The same
+        values as :meth:`record` at each of those times; the rows are kept as views."""
+        if self._slices is None:  # the loop stores model.aux_all only for such models
+            raise ValueError("Recorder.extend: the groups' outputs are not views of "
+                             "model.aux_all")
+        e = self.energy
+        for i in range(t.shape[0]):
+            a = acc[i]
+            d = float(diss[i].sum())
+            kin, pot, w_in = float(a[E_KINETIC]), float(a[E_POTENTIAL]), float(a[E_WORK_IN])
+            self.t.append(float(t[i]))
+            self.x.append(x[i])
+            self.R.append(R[i])
+            self.v.append(v[i])
+            self.aux.append(aux_all[i])
+            self.en.append((kin, pot, w_in, d, kin + pot - e.e0 - w_in + d,
+                            float(a[E_WORK_LOADS]), float(a[E_WORK_DRIVERS])))
+            self.diss.append(diss[i])
+            self.h.append(float(h[i]))
+
+    @property
+    def extendable(self) -> bool:
+        """:meth:`extend` can take this model's snapshots."""
+        return self._slices is not None
+
     def _group_aux(self, gi: int, stacked: np.ndarray | None) -> np.ndarray:
         """Outputs of group ``gi`` at every output time, (nt, nel, naux); ``stacked``: the
         recorded copies of ``aux_all`` as one array (nt, size) when they are such copies."""

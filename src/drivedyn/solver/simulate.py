@@ -209,9 +209,10 @@ def simulate(
         output_dt, output_times: when to record (default about 1000 outputs); steps are
             shortened to land on output times.
         linear_solver: default: dense LU up to 150 unknowns, sparse LU above.
-        progress: called as ``progress(t, h, steps)`` after accepted steps: at output times
-            when the compiled loop runs the steps (:mod:`~drivedyn.solver.step_loop`), after
-            every one with DEBUG logging or in the Python loop.
+        progress: called as ``progress(t, h, steps)`` after accepted steps: after each batch
+            of output times (about every 0.05 s of wall) when the compiled loop runs the
+            steps (:mod:`~drivedyn.solver.step_loop`), after every one with DEBUG logging or
+            in the Python loop.
         initialize: make velocities and accelerations consistent first (default True).
         variables: glob patterns of the sensors to keep (default all), e.g.
             ``["crank.*", "*.torque"]``; energy terms are always kept.
@@ -259,7 +260,7 @@ def simulate(
     ctl, cs = control_arrays(step, stepper.beta, t_end, model.nn)
     cs[CS_IOUT] = iout
     debug = log.isEnabledFor(logging.DEBUG)
-    loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug)
+    loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug, rec.extendable)
     try:
         if loop is not None:
             success, message = _compiled_loop(loop, model, st, rec, stats, progress, debug)
@@ -268,6 +269,8 @@ def simulate(
                                             stats, progress, debug)
     except KeyboardInterrupt:
         # Ctrl-C: stop cleanly with what was computed (the caller writes partial results)
+        if loop is not None:
+            loop.flush(rec)  # the outputs the loop stored before it returned
         success = False
         message = (f"interrupted by the user at t = {st.t:.9g} s; results up to "
                    f"t = {st.t:.9g} s are kept")
@@ -353,17 +356,21 @@ def _python_loop(stepper: Stepper, model: Model, st: State, touts: np.ndarray,
 
 def _compiled_loop(loop: StepLoop, model: Model, st: State, rec: Recorder, stats: RunStats,
                    progress, debug: bool) -> tuple[bool, str]:
-    """The stepping loop compiled (:mod:`~drivedyn.solver.step_loop`), back in Python at
-    output times (and after every attempt when ``debug``); returns (success, message).
-    ``progress`` is called at output times (and after every accepted step when ``debug``)."""
+    """The stepping loop compiled (:mod:`~drivedyn.solver.step_loop`), back in Python after
+    a batch of output times (and after every attempt when ``debug``); returns (success,
+    message). ``progress`` is called at each return after an accepted step (the last output
+    time of a batch; after every accepted step when ``debug``)."""
     while True:
         code = loop.run()
+        flushed = loop.flush(rec)
         if code == RUN_END:
+            if flushed and progress is not None:
+                progress(st.t, loop.pieces()[0], stats.steps + loop.steps)
             return True, ""
         h_try, accepted, _, _ = loop.pieces()
         if debug and code != RUN_FAILED:
             _log_attempt(model, st.t, h_try, loop.outcome())
-        if code == RUN_OUTPUT:
+        if code == RUN_OUTPUT and not loop.buffered:
             rec.record(st, h_try)
         if code == RUN_FAILED:
             out = loop.outcome()

@@ -12,9 +12,14 @@ estimate and the step-size control of :mod:`~drivedyn.solver.step_control` (the 
 functions the Python loop calls), copies the committed columns of the elements' outputs into
 their states (``Group.commit_cols``), integrates the energy account
 (:func:`~drivedyn.results.recorder.advance_energy`) and copies the trial state into the
-accepted one. It returns to Python to record at an output time, at the end, when the sparse
-LU must factorise (in Python, as for the compiled step), when the run fails, and, with
-``every`` set (step logging at DEBUG level), after every attempt.
+accepted one. It stores the outputs of each output time in arrays that Python empties into
+the :class:`~drivedyn.results.recorder.Recorder` when the loop returns: when they are full
+(:class:`StepLoop` sizes them for about :data:`BATCH_WALL` seconds of wall time between
+returns), at the end, when the sparse LU must factorise (in Python, as for the compiled
+step), when the run fails, and, with ``every`` set (step logging at DEBUG level), after
+every attempt. Returning at every output time cost 50-60 us each (the call's unboxing of
+about 60 arrays, the record in Python): 6-8 % of the Type C vehicle configuration's run at
+its 1.44 ms output interval (benchmarks/README.md, issue 16 eighteenth round).
 
 The Python loop of ``simulate`` remains for models this loop cannot run (a linear solver
 other than the dense LU, the sparse LU and AutoLU, a family whose commit is not a copy of
@@ -37,6 +42,7 @@ Arrays of the loop (the ``control`` argument)::
 from __future__ import annotations
 
 import os
+import time
 from typing import Any
 
 import numpy as np
@@ -48,6 +54,11 @@ from drivedyn.results.recorder import EnergyAccount, advance_energy
 from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.newton_kernel import I_DENSE, I_NEVAL, I_PHASE, _forget, newton_iterations
 from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
+
+# wall time [s] between two returns of the loop that StepLoop sizes its output batches for:
+# short enough for a progress display and for Ctrl-C (handled between returns) to respond
+BATCH_WALL = 0.05
+BATCH_MAX = 64  # outputs per batch at most (and 4 in the first)
 
 # return codes of run_steps
 RUN_END, RUN_OUTPUT, RUN_NEED_FACTOR, RUN_FAILED, RUN_ATTEMPT = range(5)
@@ -85,9 +96,31 @@ def _copy_state(x, R, v, vd, a, lam, es, x1, R1, v1, vd1, a1, lam1, es1):
     _copy(es, es1)
 
 
+@njit(cache=True)
+def _snapshot(k, t, h, x, R, v, aux_all, diss, eacc, snaps):
+    """Store the outputs at time ``t`` [s] (reached by a step of ``h`` [s]) in row ``k`` of
+    the snapshot arrays (see :func:`run_steps`): what ``Recorder.record`` copies."""
+    sx, sR, sv, saux, sdiss, sacc, sh, stt, _ = snaps
+    for i in range(sx.shape[1]):
+        for j in range(3):
+            sx[k, i, j] = x[i, j]
+            for m in range(3):
+                sR[k, i, j, m] = R[i, j, m]
+    for i in range(v.shape[0]):
+        sv[k, i] = v[i]
+    for i in range(aux_all.shape[0]):
+        saux[k, i] = aux_all[i]
+    for i in range(diss.shape[0]):
+        sdiss[k, i] = diss[i]
+    for i in range(eacc.shape[0]):
+        sacc[k, i] = eacc[i]
+    sh[k] = h
+    stt[k] = t
+
+
 @njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
 def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fstate, control,
-              energy, commits):
+              energy, commits, snaps):
     """Steps from the accepted state to the next output time (or the end, a failure, a
     factorisation left to the caller, or after one attempt if ``every``); returns a RUN_*
     code. Arguments::
@@ -99,6 +132,13 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
         control = (touts, ctl, cs, ls, lo, stats)              # module docstring
         energy = (eout, gstart, gdriver, pin, pd, diss, eacc)  # as advance_energy
         commits = (dst, src, aux_all)  # es[dst[k]] = aux_all[src[k]] (time if src[k] < 0)
+        snaps = (sx, sR, sv, saux, sdiss, sacc, sh, st, sk)   # outputs held for Python
+
+    ``snaps`` holds the outputs of up to K output times (rows 0..K-1): positions (K, nn, 3),
+    rotations (K, nn, 3, 3), velocities (K, nd), ``aux_all`` (K, naux), dissipated energies
+    (K, nel), the energy account ``eacc`` (K, 5), step sizes (K,) and times (K,);
+    ``sk[0]`` counts the rows filled (the caller empties them). The loop returns RUN_OUTPUT
+    when they are full; with K = 0 at every output time (the caller then records).
 
     ``prev_vd`` holds the accelerations of the state before the accepted one (the
     predictor's history, time ``ls[LS_PREV_T]``).
@@ -109,6 +149,8 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
     touts, ctl, cs, ls, lo, stats = control
     eout, gstart, gdriver, pin, pd, diss, eacc = energy
     dst, src, aux_all = commits
+    sk = snaps[8]
+    nsnap = snaps[7].shape[0]
     roff = linear[5]
     while True:
         t = ls[LS_T]
@@ -167,7 +209,13 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
             ls[LS_T] = t1
             lo[LO_ACCEPTED] = 1
             if landed:
-                return RUN_OUTPUT
+                k = sk[0]
+                if k >= nsnap:
+                    return RUN_OUTPUT
+                _snapshot(k, t1, h_try, x0, R0, v0, aux_all, diss, eacc, snaps)
+                sk[0] = k + 1
+                if k + 1 == nsnap:
+                    return RUN_OUTPUT
         else:
             stats[ST_REJECTED] += 1.0
             _forget(istate, roff)
@@ -212,6 +260,13 @@ def _head(stepper: Any, st: State, prev_vd: np.ndarray, every: bool) -> tuple:
             stepper._state_args(st)[2])
 
 
+def _snapshot_arrays(k: int, nn: int, nd: int, naux: int, nel: int, nacc: int) -> tuple:
+    """The ``snaps`` argument of :func:`run_steps` for ``k`` output times."""
+    return (np.empty((k, nn, 3)), np.empty((k, nn, 3, 3)), np.empty((k, nd)),
+            np.empty((k, naux)), np.empty((k, nel)), np.empty((k, nacc)), np.empty(k),
+            np.empty(k), np.zeros(1, np.int64))
+
+
 def _energy_args(energy: EnergyAccount) -> tuple:
     return (energy.eout, energy.gstart, energy.gdriver, energy.pin, energy.pd, energy.diss,
             energy.acc)
@@ -239,7 +294,8 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
         args = (G, *_head(stepper, st, np.zeros(m.nd), False),
                 (lu, piv, ib, tr, stepper._delta, stepper.roff, stepper._no_roff),
                 stepper._no_sparse, stepper._par, stepper._istate, stepper._fstate, control,
-                _energy_args(energy), (*commits, m.aux_all))
+                _energy_args(energy), (*commits, m.aux_all),
+                _snapshot_arrays(0, int(m.nn), int(m.nd), 1, 1, 1))
         sig = tuple(run_steps.typeof_pyval(a) for a in args)
     except (AttributeError, TypeError, ValueError):  # not typeable: compiled on first use
         return
@@ -266,11 +322,13 @@ class StepLoop:
         ctl, cs: the step-size control's arrays (:mod:`~drivedyn.solver.step_control`).
         energy: the run's energy account (advanced in place).
         stats: the run's counters so far (steps, rejected, Newton iterations, h used).
+        buffered: the loop stores the outputs for :meth:`flush` (else it returns at every
+            output time, and the caller records the state).
     """
 
     def __init__(self, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
                  cs: np.ndarray, energy: EnergyAccount, commits: tuple[np.ndarray, np.ndarray],
-                 every: bool) -> None:
+                 every: bool, buffered: bool = True) -> None:
         self.stepper = stepper
         self.st = st
         m = stepper.model
@@ -283,10 +341,16 @@ class StepLoop:
         self.commits = (commits[0], commits[1], m.aux_all)
         self.head = _head(stepper, st, self.prev_vd, every)
         self._entries: dict[tuple, Any] = {}
+        self._nn, self._nd = int(m.nn), int(m.nd)
+        self._sizes = (int(m.aux_all.size), int(energy.diss.size), int(energy.acc.size))
+        self.buffered = buffered
+        self._wall = time.perf_counter()
+        self.snaps = _snapshot_arrays(4 if buffered else 0, self._nn, self._nd, *self._sizes)
 
     @classmethod
     def create(cls, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
-               cs: np.ndarray, energy: EnergyAccount, every: bool) -> StepLoop | None:
+               cs: np.ndarray, energy: EnergyAccount, every: bool,
+               buffered: bool = True) -> StepLoop | None:
         """The loop for this run, or None if it cannot run the model (the caller then runs
         the Python loop)."""
         m = stepper.model
@@ -299,13 +363,13 @@ class StepLoop:
             stepper._compiled = stepper._compiled_step(st)
         if not stepper._compiled:
             return None
-        return cls(stepper, st, touts, ctl, cs, energy, commits, every)
+        return cls(stepper, st, touts, ctl, cs, energy, commits, every, buffered)
 
     def _call(self) -> int:
         s = self.stepper
         lin = s._linear_arrays()
         args = (s._G, *self.head, *lin, s._par, s._istate, s._fstate, self.control,
-                self.energy, self.commits)
+                self.energy, self.commits, self.snaps)
         key = (int(s._istate[I_DENSE]), lin[1] is s._no_sparse)
         entry = self._entries.get(key)
         if entry is not None:
@@ -337,6 +401,26 @@ class StepLoop:
         finally:
             self.st.t = float(self.ls[LS_T])
             s.sys.nevals += int(s._istate[I_NEVAL]) - n0
+
+    def flush(self, rec: Any) -> int:
+        """Hand the outputs the loop stored since the last call to ``rec`` (a
+        :class:`~drivedyn.results.recorder.Recorder`) and size the next batch; returns how
+        many."""
+        snaps = self.snaps
+        n = int(snaps[8][0])
+        snaps[8][0] = 0  # first: a flush interrupted (Ctrl-C) and repeated adds nothing twice
+        if n:
+            sx, sR, sv, saux, sdiss, sacc, sh, stt, _ = snaps
+            rec.extend(stt[:n], sx[:n], sR[:n], sv[:n].reshape(n, self._nn, 6), saux[:n],
+                       sacc[:n], sdiss[:n], sh[:n])
+        if self.buffered and n:
+            now = time.perf_counter()
+            per = (now - self._wall) / max(n, 1)
+            self._wall = now
+            k = int(min(BATCH_MAX, max(1.0, BATCH_WALL / max(per, 1e-9))))
+            # new arrays: the recorder keeps views of the rows just handed over
+            self.snaps = _snapshot_arrays(k, self._nn, self._nd, *self._sizes)
+        return n
 
     def outcome(self) -> Any:
         """The last attempt as a :class:`~drivedyn.solver.settings.StepOutcome`."""
