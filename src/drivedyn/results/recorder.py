@@ -150,11 +150,7 @@ class EnergyAccount:
 
     @property
     def balance_error(self) -> float:
-        return self.balance_error_with(self.total_dissipated)
-
-    def balance_error_with(self, dissipated: float) -> float:
-        """:attr:`balance_error` with the total dissipated energy given [J]."""
-        return self.kinetic + self.potential - self.e0 - self.work_in + dissipated
+        return self.kinetic + self.potential - self.e0 - self.work_in + self.total_dissipated
 
 
 def _aux_slices(model: Model) -> list[tuple[int, tuple[int, ...]]] | None:
@@ -198,11 +194,7 @@ class Recorder:
         else:
             self.aux.append([g.aux.copy() for g in self.model.groups])
         e = self.energy
-        acc = e.acc
-        d = float(e.diss.sum())
-        self.en.append((float(acc[E_KINETIC]), float(acc[E_POTENTIAL]), float(acc[E_WORK_IN]),
-                        d, e.balance_error_with(d), float(acc[E_WORK_LOADS]),
-                        float(acc[E_WORK_DRIVERS])))
+        self.en.append(self._energies(e.acc, e.diss))
         self.diss.append(e.diss.copy())
         self.h.append(h)
 
@@ -217,20 +209,23 @@ class Recorder:
         if self._slices is None:  # the loop stores model.aux_all only for such models
             raise ValueError("Recorder.extend: the groups' outputs are not views of "
                              "model.aux_all")
-        e = self.energy
         for i in range(t.shape[0]):
-            a = acc[i]
-            d = float(diss[i].sum())
-            kin, pot, w_in = float(a[E_KINETIC]), float(a[E_POTENTIAL]), float(a[E_WORK_IN])
             self.t.append(float(t[i]))
             self.x.append(x[i])
             self.R.append(R[i])
             self.v.append(v[i])
             self.aux.append(aux_all[i])
-            self.en.append((kin, pot, w_in, d, kin + pot - e.e0 - w_in + d,
-                            float(a[E_WORK_LOADS]), float(a[E_WORK_DRIVERS])))
+            self.en.append(self._energies(acc[i], diss[i]))
             self.diss.append(diss[i])
             self.h.append(float(h[i]))
+
+    def _energies(self, acc: np.ndarray, diss: np.ndarray) -> tuple[float, ...]:
+        """The recorded energy terms (kinetic, potential, work in, dissipated, balance error,
+        work of loads, of drivers) [J] from an energy account's ``acc`` and ``diss``."""
+        kin, pot, w_in = float(acc[E_KINETIC]), float(acc[E_POTENTIAL]), float(acc[E_WORK_IN])
+        d = float(diss.sum())
+        return (kin, pot, w_in, d, kin + pot - self.energy.e0 - w_in + d,
+                float(acc[E_WORK_LOADS]), float(acc[E_WORK_DRIVERS]))
 
     @property
     def extendable(self) -> bool:

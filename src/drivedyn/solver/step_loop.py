@@ -121,9 +121,9 @@ def _snapshot(k, t, h, x, R, v, aux_all, diss, eacc, snaps):
 @njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
 def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fstate, control,
               energy, commits, snaps):
-    """Steps from the accepted state to the next output time (or the end, a failure, a
-    factorisation left to the caller, or after one attempt if ``every``); returns a RUN_*
-    code. Arguments::
+    """Steps from the accepted state until the output arrays ``snaps`` are full (or the
+    end, a failure, a factorisation left to the caller, or after one attempt if ``every``);
+    returns a RUN_* code. Arguments::
 
         sizes = (nn, nd, every)
         accepted = (x0, R0, v0, vd0, a0, lam0, es0, prev_vd)   # the accepted state
