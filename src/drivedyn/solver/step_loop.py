@@ -407,19 +407,19 @@ class StepLoop:
         :class:`~drivedyn.results.recorder.Recorder`) and size the next batch; returns how
         many."""
         snaps = self.snaps
-        n = int(snaps[8][0])
+        n = int(snaps[8][0])  # 0 without a buffer (the loop returned at the output time)
+        if n == 0:
+            return 0
         snaps[8][0] = 0  # first: a flush interrupted (Ctrl-C) and repeated adds nothing twice
-        if n:
-            sx, sR, sv, saux, sdiss, sacc, sh, stt, _ = snaps
-            rec.extend(stt[:n], sx[:n], sR[:n], sv[:n].reshape(n, self._nn, 6), saux[:n],
-                       sacc[:n], sdiss[:n], sh[:n])
-        if self.buffered and n:
-            now = time.perf_counter()
-            per = (now - self._wall) / max(n, 1)
-            self._wall = now
-            k = int(min(BATCH_MAX, max(1.0, BATCH_WALL / max(per, 1e-9))))
-            # new arrays: the recorder keeps views of the rows just handed over
-            self.snaps = _snapshot_arrays(k, self._nn, self._nd, *self._sizes)
+        sx, sR, sv, saux, sdiss, sacc, sh, stt, _ = snaps
+        rec.extend(stt[:n], sx[:n], sR[:n], sv[:n].reshape(n, self._nn, 6), saux[:n],
+                   sacc[:n], sdiss[:n], sh[:n])
+        now = time.perf_counter()
+        per = (now - self._wall) / n
+        self._wall = now
+        k = int(min(BATCH_MAX, max(1.0, BATCH_WALL / max(per, 1e-9))))
+        # new arrays: the recorder keeps views of the rows just handed over
+        self.snaps = _snapshot_arrays(k, self._nn, self._nd, *self._sizes)
         return n
 
     def outcome(self) -> Any:
