@@ -22,10 +22,6 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.jit import apply as _fix_numba_inliner
-
-_fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
-
 _SMALL = 1e-4  # below this angle [rad] Taylor series are exact to double precision
 
 

@@ -36,10 +36,6 @@ from typing import Any, NamedTuple
 import numpy as np
 from numba import njit
 
-from drivedyn.jit import apply as _fix_numba_inliner
-
-_fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
-
 __all__ = [
     "KIND_CONSTANT",
     "KIND_RAMP",
@@ -252,7 +248,7 @@ def eval_function(
     return v, d, dd, integral
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
+@njit(cache=True)
 def eval_time_functions(
     t: float,
     kind: np.ndarray,

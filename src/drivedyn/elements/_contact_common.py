@@ -24,8 +24,8 @@ from drivedyn.elements.impact_laws import (
     normal_force,
 )
 from drivedyn.elements.primitives import prim_axial
+from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
-from drivedyn.jit_arena import carve
 
 # --- kernels ------------------------------------------------------------------------------------
 #

@@ -51,10 +51,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.jit import apply as _fix_numba_inliner
-from drivedyn.jit_arena import carve
-
-_fix_numba_inliner()  # before any kernel compiles (drivedyn.jit)
+from drivedyn.elements.work_arrays import carve
 
 MODE_DYN = 0
 MODE_ACC = 1

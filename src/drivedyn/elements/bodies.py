@@ -18,11 +18,10 @@ from numba import njit
 import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import Family, Group, local_arrays_at, local_size, register
 from drivedyn.elements.building import make_group, node_dofs
-from drivedyn.jit import outlined
-from drivedyn.jit_arena import carve
+from drivedyn.elements.work_arrays import carve
 
 
-@outlined
+@njit(cache=True)
 def _rigid_bodies(P, C, W, full):
     mass, inertia, gravity = P
     L, JOm, JOd = W

@@ -101,14 +101,13 @@ from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.primitives import add_scaled, prim_axial
+from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
-from drivedyn.jit_arena import carve
 
 # --- point / sphere on plane ----------------------------------------------------------------
 
 
-@outlined
+@njit(cache=True)
 def _plane_contacts(P, C, W, full):
     (pA, pB, RmA, radius), law, fric, na = P
     (L, (gn, Hn), (J1, dJ1), (J2, dJ2), (Go, Do), vl, Hv, S1, S2, (dFq, dFv), (df1q, df2q),
@@ -207,7 +206,7 @@ def plane_contact_kernel(
 # --- annular face on thrust washer ----------------------------------------------------------
 
 
-@outlined
+@njit(cache=True)
 def _washer_contacts(P, C, W, full):
     (pA, pB, RmA, rm, area), law, fric, na = P
     L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
@@ -263,7 +262,7 @@ def washer_contact_kernel(
 # --- journal: pin in bore -------------------------------------------------------------------
 
 
-@outlined
+@njit(cache=True)
 def _journal_contacts(P, C, W, full):
     (pA, pB, RmA, clear, rpin), law, fric, na = P
     (L, (g1, H1), (g2, H2), (gd, Hd), (Js, dJs), (Gz, Dz), vl, Hv, Jv, (dFq, dFv), (ws, wv),

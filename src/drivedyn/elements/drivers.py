@@ -35,9 +35,8 @@ from drivedyn.elements.base import (
 from drivedyn.elements.building import make_group, what_of
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
 from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
+from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
-from drivedyn.jit_arena import carve
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
 
@@ -115,7 +114,7 @@ class JointDriverFamily(Family):
         return g
 
 
-@outlined
+@njit(cache=True)
 def _speed_differences(P, C, W, full):
     RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid = P
     L, (g1, H1), (g2, H2), (w1, w2, w3, w4), (g, H), vl, al, (ws, wv) = W

@@ -62,9 +62,8 @@ from drivedyn.elements.primitives import (
     quad_form,
     unwrap,
 )
+from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
-from drivedyn.jit_arena import carve
 
 ROW_AXIAL = 0  # d . a_i
 ROW_DOT = 1  # a_i . b_j
@@ -83,7 +82,7 @@ JOINT_OUTPUTS = (
 )
 
 
-@outlined
+@njit(cache=True)
 def _constraints(P, C, W, full):
     rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
     L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (ws, wv) = W

@@ -19,10 +19,9 @@ from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays_at, 
 from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
 
 
-@outlined
+@njit(cache=True)
 def _loads(P, C, W, full):
     is_torque, follower, p, Rm, vec, tfid = P
     L, (ws, wv) = W

@@ -251,7 +251,7 @@ def prim_axial(xA, RA, xB, RB, pA, pB, abar, g, H, want, ws, wv):
     return val
 
 
-@njit(cache=True, _nrt=True)
+@njit(cache=True)
 def _hess_distance(RA, RB, pA, pB, n, RAn, RBn, L, H, ws):
     """Hessian of prim_distance (out of line, see _hess_dot). It allocates its two (3, 12)
     work arrays, freed before it returns: compiled with reference counting (``_nrt=True``)

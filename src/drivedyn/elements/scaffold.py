@@ -75,7 +75,7 @@ from numba import njit
 
 from drivedyn.elements.base import MODE_ACC, scatter_element
 from drivedyn.elements.primitives import gather_v
-from drivedyn.jit_arena import carve
+from drivedyn.elements.work_arrays import carve
 
 # fields of the common argument tuple C (the kernel contract's trailing arguments)
 LNODES, DOFS, KMAP, EOFF = 0, 1, 2, 3

@@ -25,10 +25,9 @@ from drivedyn.elements.building import make_group, node_dofs, two_markers, what_
 from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.elements.joints import relative_angle
 from drivedyn.elements.primitives import prim_angle, prim_distance, unwrap
-from drivedyn.jit import outlined
 
 
-@outlined
+@njit(cache=True)
 def _scalar_springs(P, C, W, full):
     angular, pA, pB, RmA, RmB, stiff, damp, ref, pre = P
     L, (g, H), (w1, w2, w3, w4), vl, Hv, (ws, wv) = W

@@ -71,7 +71,6 @@ from drivedyn.elements.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
 
 
 def annulus_factor(r_int: float, r_ext: float) -> float:
@@ -98,7 +97,7 @@ def effective_thickness(h, hmin):
     return hmin + h * h / (4.0 * hmin), h / (2.0 * hmin)
 
 
-@outlined
+@njit(cache=True)
 def _squeeze_films(P, C, W, full):
     (pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area), law, fric, na = P
     L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W

@@ -57,7 +57,6 @@ from drivedyn.elements.building import make_group, node_dofs, what_of
 from drivedyn.elements.checks import check_number
 from drivedyn.elements.primitives import mm
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
 from drivedyn.rotations import exp_so3_into
 from drivedyn.tyres import Tyre, resolve_tyre
 from drivedyn.tyres.magic_formula import (
@@ -325,7 +324,7 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     return pot, dis
 
 
-@outlined
+@njit(cache=True)
 def _tyres(P, C, W, full):
     params, opts, patches, npatch, pm, Rm = P
     L, (out, ax, axd, rp, rm, Rp, vp, Op, xp, ph, Eph) = W

@@ -72,7 +72,6 @@ from drivedyn.elements.base import (
 from drivedyn.elements.building import make_group, two_markers, what_of
 from drivedyn.elements.checks import check_number, check_optional
 from drivedyn.elements.primitives import prim_axial, quad_form
-from drivedyn.jit import outlined
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
 NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A
@@ -108,7 +107,7 @@ def _scatter_multipliers(B, Gq, D, nm, C, e):
                 data[p] += D[i, j]
 
 
-@outlined
+@njit(cache=True)
 def _unilaterals(P, C, W, full):
     pA, pB, RmA, mu, kk, pp, cacc = P
     L, B, Gq, D, (gn, Hn), (g1, H1), (g2, H2), vl, al, (ws, wv) = W

@@ -22,7 +22,7 @@ displacement of each basis vector and ``stress`` (n, 6, nq) its nodal stresses. 
 a reduction compares the eigenfrequencies of the reduced and the full model (both with the
 spiders, and either free or with the frame interface held).
 
-Results are cached on disk (``$DRIVEDYN_CACHE``, default ``~/.cache/drivedyn``) keyed by the
+Results are cached on disk (:func:`drivedyn.settings.cache_dir`) keyed by the
 mesh, the material, the interfaces and the number of modes: a part is reduced once.
 """
 
@@ -38,6 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from drivedyn import settings
 from drivedyn.errors import ModelError
 from drivedyn.fe.solid import SolidModel
 
@@ -207,7 +208,7 @@ def _spider_map(solid: SolidModel, interfaces: Sequence[Interface]):
 
 
 def _cache_dir() -> Path:
-    return Path(os.environ.get("DRIVEDYN_CACHE", Path.home() / ".cache" / "drivedyn"))
+    return settings.cache_dir()
 
 
 def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: int,

@@ -37,9 +37,6 @@ from numba.extending import (
     typeof_impl,
     unbox,
 )
-from numba.np.arrayobj import populate_array
-
-from drivedyn.jit_linked import callable_overload
 
 
 class KernelTableType(types.Type):
@@ -127,10 +124,18 @@ def _load_argument(context, builder, t, word):
         data = builder.inttoptr(word(), context.get_data_type(t.dtype).as_pointer())
         shape = [word() for _ in range(t.ndim)]
         strides = [word() for _ in range(t.ndim)]
+        intp = context.get_value_type(types.intp)
         ary = context.make_array(t)(context, builder)
-        itemsize = context.get_abi_sizeof(context.get_data_type(t.dtype))
-        populate_array(ary, data=data, shape=shape, strides=strides, itemsize=itemsize,
-                       meminfo=None)
+        nitems = shape[0] if shape else intp(1)
+        for s in shape[1:]:
+            nitems = builder.mul(nitems, s)
+        ary.data = data
+        ary.shape = cgutils.pack_array(builder, shape)
+        ary.strides = cgutils.pack_array(builder, strides)
+        ary.itemsize = intp(context.get_abi_sizeof(context.get_data_type(t.dtype)))
+        ary.nitems = nitems
+        ary.meminfo = cgutils.get_null_value(ary.meminfo.type)
+        ary.parent = cgutils.get_null_value(ary.parent.type)
         return ary._getvalue()
     v = word()
     if isinstance(t, types.Boolean):
@@ -178,9 +183,5 @@ def call_groups(typingctx, G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode
 def entry_address(kernel: Any, signature: tuple) -> int:
     """Address of the C entry point of ``kernel``'s overload for ``signature`` (numba
     types of every argument); KeyError if there is none."""
-    if signature not in kernel.overloads:
-        raise KeyError(signature)
-    # a kernel compiled only to be linked into a caller has no C entry point: compile it
-    # complete (drivedyn.jit_linked)
-    cres = callable_overload(kernel, signature)
+    cres = kernel.overloads[signature]
     return int(cres.library.get_pointer_to_function(cres.fndesc.llvm_cfunc_wrapper_name))

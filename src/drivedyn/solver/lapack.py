@@ -15,35 +15,14 @@ can be reused for several right-hand sides, hence this module.
 
 from __future__ import annotations
 
-import ctypes
-from types import ModuleType
-
 import llvmlite.binding as llb
 import numpy as np
 from numba import njit, types
+from numba.extending import get_cython_function_address
 
-from drivedyn.jit import scipy_linalg_extension
-
-
-def _cython_lapack() -> ModuleType:
-    """``scipy.linalg.cython_lapack``, loaded without ``scipy.linalg``'s package
-    (:func:`drivedyn.jit.scipy_linalg_extension`)."""
-    return scipy_linalg_extension("cython_lapack")
-
-
-def _address(name: str) -> int:
-    """Address of a function exported by ``scipy.linalg.cython_lapack``."""
-    api = ctypes.pythonapi
-    api.PyCapsule_GetName.restype = ctypes.c_char_p
-    api.PyCapsule_GetName.argtypes = [ctypes.py_object]
-    api.PyCapsule_GetPointer.restype = ctypes.c_void_p
-    api.PyCapsule_GetPointer.argtypes = [ctypes.py_object, ctypes.c_char_p]
-    cap = _cython_lapack().__pyx_capi__[name]
-    return api.PyCapsule_GetPointer(cap, api.PyCapsule_GetName(cap))
-
-
-llb.add_symbol("drivedyn_dgetrf", _address("dgetrf"))
-llb.add_symbol("drivedyn_dgetrs", _address("dgetrs"))
+for _name in ("dgetrf", "dgetrs"):
+    llb.add_symbol(f"drivedyn_{_name}",
+                   get_cython_function_address("scipy.linalg.cython_lapack", _name))
 _P = types.voidptr
 # Fortran calling convention: every argument by address
 #   dgetrf(m, n, a, lda, ipiv, info)
@@ -61,7 +40,7 @@ def workspace(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
             np.zeros(4, np.int32), np.array([ord("N")], np.uint8))
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
+@njit(cache=True)
 def dense_factor_csc(data, indices, indptr, lu, piv, ib):
     """LU with partial pivoting of the n x n matrix given by its CSC arrays (duplicates
     summed) into ``lu`` (n, n, column-major) and ``piv`` (n,); returns 0, or -1 if the
@@ -86,7 +65,7 @@ def dense_factor_csc(data, indices, indptr, lu, piv, ib):
     return 0
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
+@njit(cache=True)
 def dense_solve(lu, piv, b, ib, tr):
     """Solve ``A x = b`` in place (``b`` (n,) becomes ``x``) with the factors of
     :func:`dense_factor_csc`."""

@@ -118,7 +118,7 @@ def _snapshot(k, t, h, x, R, v, aux_all, diss, eacc, snaps):
     stt[k] = t
 
 
-@njit(cache=True, no_cfunc_wrapper=True)  # called from Python or linked: no C entry
+@njit(cache=True)
 def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fstate, control,
               energy, commits, snaps):
     """Steps from the accepted state until the output arrays ``snaps`` are full (or the

@@ -43,7 +43,6 @@ from drivedyn.elements.base import local_arrays
 from drivedyn.elements.beams.se3 import log_se3, tangent_inv_se3
 from drivedyn.elements.beams.section import outer_fibre_stresses
 from drivedyn.elements.primitives import mm, mtv, set_skew
-from drivedyn.jit import outlined
 
 ROUNDOFF_SCALE = 1e-6  # see _term_scale
 CSTEP = 1e-30  # complex step on d [m or rad]: no cancellation, so any tiny value is exact
@@ -152,7 +151,7 @@ def _term_scale(rabs, dofs, d, L, eps0, Ks, TiP, TiM, RsA, CA, RsB, CB, a, w):
                     rabs[gi] += abs(A[i, 0]) * w[0] + abs(A[i, 1]) * w[1] + abs(A[i, 2]) * w[2]
 
 
-@outlined
+@njit(cache=True)
 def _beams(P, C, W, full):
     (length, eps0, Ks, beta, CAs, CBs, mass, cmix, Jn, skind, spar, gravity) = P
     (L, d, etaA, etaB, TiP, TiM, S, U, eps, epsd, sig, fA, fB, vl, al,

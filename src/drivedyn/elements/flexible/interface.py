@@ -41,7 +41,6 @@ from drivedyn.elements.building import make_group, what_of
 from drivedyn.elements.checks import check_optional
 from drivedyn.elements.flexible.family import flexible_body_named
 from drivedyn.errors import ModelError, did_you_mean
-from drivedyn.jit import outlined
 
 #: (column of Rm, axis of the node frame, theta component) of the three rotation rows
 _ROT = ((2, 1, 0), (0, 2, 1), (1, 0, 2))
@@ -117,7 +116,7 @@ def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, A, nq, val, g, zero):
             g[3 + r, _slot(k)] = -A[3 + comp, k] + zero
 
 
-@outlined
+@njit(cache=True)
 def _ties(P, C, W, full):
     Ph, Rm, Amap, nqs, kk, pp = P
     L, vl, al, qv, val, g, cR1, cR2, cq, cval, cg, dg, sig = W

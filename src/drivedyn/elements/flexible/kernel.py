@@ -42,7 +42,6 @@ from numba import njit
 
 import drivedyn.elements.scaffold as sc
 from drivedyn.elements.base import local_arrays
-from drivedyn.jit import outlined
 
 # Levi-Civita pairs (a, b, c) with e_abc = +1
 _EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
@@ -193,7 +192,7 @@ def _slot(k):
     return 6 + 6 * (k // 3) + (k % 3)
 
 
-@outlined
+@njit(cache=True)
 def _flexible_bodies(P, C, W, full):
     (mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec) = P
     (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw,

@@ -48,7 +48,6 @@ from drivedyn.elements.flexible.family import flexible_body_named, invariants
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, law_table
 from drivedyn.errors import ModelError
-from drivedyn.jit import outlined
 
 OUTPUTS = (
     ("normal_force", "N", "axial contact force, sum over the face nodes"),
@@ -200,7 +199,7 @@ def _skew_into(a, S):
     S[2, 1] = a[0]
 
 
-@outlined
+@njit(cache=True)
 def _washers(P, C, W, full):
     X, Phi, af, nfs, nqs, area, law, fric, pB, nB = P
     (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, S1, S2, S3, Dp, Dv, Dq, Tr,

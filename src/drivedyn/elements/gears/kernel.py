@@ -42,8 +42,7 @@ from drivedyn.elements.gears.kinematics import (
 )
 from drivedyn.elements.gears.stiffness import mesh_stiffness
 from drivedyn.elements.primitives import cross
-from drivedyn.jit import outlined
-from drivedyn.jit_arena import carve
+from drivedyn.elements.work_arrays import carve
 
 TANGENT_BAND = 1e-12  # [m] flank gap within which contact is anticipated in the matrix
 
@@ -328,14 +327,14 @@ def _gears(P, C, W, full, skew, idx):
         aux[e, 18] = s[1]
 
 
-@outlined
+@njit(cache=True)
 def _parallel_gears(P, C, W, full, idx):
     """:func:`_gears` over parallel-axis pairs only (``full`` a run-time flag:
     :func:`~drivedyn.jit.outlined`)."""
     _gears(P, C, W, full, False, idx)
 
 
-@outlined
+@njit(cache=True)
 def _any_gears(P, C, W, full, idx):
     """:func:`_gears` over pairs of any kind."""
     _gears(P, C, W, full, True, idx)
