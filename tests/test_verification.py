@@ -6,8 +6,8 @@
   widened to make a run pass.
 * The exact references (closed forms and quadratures) are checked independently of the
   simulator, mostly against high-accuracy ODE integration with scipy.
-* Engine problems found while writing these cases are pinned by regression tests at the
-  end of this file (free body, equations without terms of their own, dead-centre start).
+* Engine situations that the cases exercise are pinned by direct tests at the end of this
+  file (free body, equations without terms of their own, dead-centre start).
 """
 
 from __future__ import annotations
@@ -236,9 +236,8 @@ def test_crossings_and_peak() -> None:
 
 
 # ---------------------------------------------------------------------------------------------
-# regressions of engine problems found by the validation work (fixed 2026-11-21: the Newton
-# test now scales each equation by the sum of |terms| with a model-wide floor and accepts
-# corrections at round-off)
+# engine situations the cases rely on: the Newton test scales each equation by the sum of
+# |terms| with a model-wide floor and accepts corrections at round-off
 # ---------------------------------------------------------------------------------------------
 
 
