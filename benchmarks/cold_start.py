@@ -1,4 +1,4 @@
-"""Cold start: the first ``drivedyn tdr torsen-c --mode all`` after an install (issue 16).
+"""Cold start: the first ``drivedyn tdr torsen-c --mode all`` after an install.
 
 Runs the command in a new process with ``NUMBA_CACHE_DIR`` pointing to an empty folder, so
 every kernel it needs is compiled as after a fresh install (the package's own cache next to

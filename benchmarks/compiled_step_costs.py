@@ -1,4 +1,4 @@
-"""Where the wall time of a run goes on the compiled Newton step (issue 16, third round).
+"""Where the wall time of a run goes on the compiled Newton step.
 
 The compiled step (``drivedyn.solver.newton_kernel``) runs a whole step in one call, so a
 profiler sees one opaque call per step. This script measures the unit costs of its phases

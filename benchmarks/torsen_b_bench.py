@@ -6,8 +6,7 @@ parallel-axes guides with tip friction in the pocket bores and end-face friction
 10 end meshes with mesh-stiffness variation and backlash, three thrust washers) on the seed
 003 bench protocol of its ``[bench]`` table: housing held, 125 N m on one side gear, the other
 side gear's speed prescribed for 20 rpm; drive then coast. Two runs (torque on the right:
-modes 1, 2; on the left: modes 3, 4). Issue 14's aim: below 10 s for the four modes on two
-cores.
+modes 1, 2; on the left: modes 3, 4). The aim: below 10 s for the four modes on two cores.
 
 Prints the TDR table (simulated, analytic quasi-static, measured, differences), per run the
 wall time, build time, steps, rejected steps, Newton iterations and LU factorizations, the

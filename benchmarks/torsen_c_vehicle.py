@@ -1,5 +1,5 @@
 """TORSEN Type C in its vehicle configuration: wall time per simulated second of each held
-level, loaded holds against zero-torque holds (issue 16).
+level, loaded holds against zero-torque holds.
 
     python benchmarks/torsen_c_vehicle.py              # the shipped profile (15 levels)
     python benchmarks/torsen_c_vehicle.py --short      # holds 0.12 s, ramps 0.05 s

@@ -315,7 +315,7 @@ def test_washer_results_hold_pressure_and_stress_fields(washer_run):
     np.testing.assert_allclose(P.values @ areas, F, rtol=1e-9, atol=1e-9 * F.max())
     assert F[-1] == pytest.approx(2000.0, rel=1e-3)
     # the compressed washer's stress is of the order of the pressure (measured 1.03 times the
-    # mean pressure; without the static modes of the face pressures it was 10 times lower)
+    # mean pressure; without the static modes of the face pressures it is 10 times lower)
     mean_p = float(ds["face_contact.pressure"].values[-1])
     assert 0.5 * mean_p < float(ds["washer.max_von_mises"].values[-1]) < 2.0 * mean_p
 

@@ -253,7 +253,8 @@ def test_auto_lu_keeps_sparse_for_a_banded_matrix_and_goes_dense_when_it_fills()
 
 class _StalledSolver:
     """A linear solver whose corrections are zero: Newton stalls with the residual where
-    the predictor left it (the situation the old round-off acceptance let through)."""
+    the predictor left it (the situation an acceptance at the positions' round-off alone
+    would let through)."""
 
     def __init__(self) -> None:
         from drivedyn.solver.linear import DenseLU
@@ -335,7 +336,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
 @pytest.mark.parametrize("name", ["torsen-c", "flexible-driveshaft", "vehicle-4wd"])
 def test_bound_kernel_calls_equal_the_dispatcher_bit_for_bit(name: str) -> None:
     """`System.evaluate` calls each group's compiled overload directly once it has been
-    identified (issue 16): residual, scales, matrix and element outputs must be those of
+    identified: residual, scales, matrix and element outputs must be those of
     the numba dispatcher, bit for bit, in every mode, also for a new State object."""
     from drivedyn.config.loader import load_model, resolve_path
     from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL

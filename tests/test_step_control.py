@@ -30,7 +30,7 @@ def _walk(step, touts: np.ndarray, t_end: float, t0: float = 0.0) -> list[float]
 
 def test_adaptive_steps_divide_each_output_interval_evenly():
     """1.44 ms output intervals at a 0.2 ms cap (the Type C vehicle's example profile): eight
-    steps of 0.18 ms in every interval, one size throughout (before: six of 0.2 ms and a
+    steps of 0.18 ms in every interval, one size throughout (not six of 0.2 ms and a
     stretched one of 0.24 ms, two changes of size per interval)."""
     dt = 1.44e-3
     touts = dt * np.arange(1, 51)

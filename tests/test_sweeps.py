@@ -1,4 +1,4 @@
-"""Parameter sweeps on Dask (issue 17): design parsing, bit-identity with separate commands,
+"""Parameter sweeps on Dask: design parsing, bit-identity with separate commands,
 exact sensitivities, the resumable cache, lost workers, an external scheduler, bad input."""
 
 from __future__ import annotations

@@ -87,8 +87,8 @@ def _set(name: str) -> dict:
             "pockets.mu": 0.25,
             **{f"washers.{w}.mu": 0.6 * getattr(p.washers, w).mu for w in WASHERS}},
         # 25 deg helix; the sun's tip radius shrinks to 42.9 mm, so its washer too. 10-tooth
-        # planets at 25 deg undercut at 20 deg pressure angle (GearPair refuses them since
-        # 2026-11-23), so this set uses 22.5 deg (practical limit 8.7 teeth)
+        # planets at 25 deg undercut at 20 deg pressure angle (GearPair refuses them), so
+        # this set uses 22.5 deg (practical limit 8.7 teeth)
         "helix 25 deg": {"gears.helix_angle": "25 deg", "spline.helix_angle": "35 deg",
                          "washers.sun_housing.r_ext": "42 mm",
                          "gears.pressure_angle": "22.5 deg"},

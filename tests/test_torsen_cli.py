@@ -84,7 +84,7 @@ def test_tdr_bad_input(runner: CliRunner, args: list[str], needle: str) -> None:
 @pytest.mark.parametrize("name", ["torsen-c", "torsen-b"])
 def test_calibrate_reproduces_the_shipped_values(runner: CliRunner, tmp_path, name) -> None:
     """Start from other values (all 0.1): the analytic fit of the declared free parameters
-    lands on the shipped ones (the shipped fit was confirmed by simulation, which moved the
+    lands on the shipped ones (the shipped fit is confirmed by simulation, which moves the
     targets by less than its 0.5 % tolerance, so no correction), with the recorded errors
     and leave-one-out errors."""
     shipped, data, _ = read_library_file(name)
@@ -128,7 +128,7 @@ def test_calibrate_bad_keys(runner: CliRunner) -> None:
 
 
 def test_shipped_file_states_its_calibration() -> None:
-    """Type C: at most three fitted numbers (issue 14), the paper's sun-coupling 0.03 kept;
+    """Type C: at most three fitted numbers, the paper's sun-coupling 0.03 kept;
     Type B: one shared washer and one pocket coefficient. Both within 3 % of the
     measurements, with their leave-one-out errors recorded."""
     for name, numbers in (("torsen-c", 3), ("torsen-b", 2)):

@@ -206,8 +206,8 @@ def test_figures_are_written(run, tmp_path) -> None:
 def test_through_zero_torque() -> None:
     """Tip-out and tip-in: 60 N m, a hold at exactly zero torque with the outputs at the same
     speed (no relative motion in the differential: the gears float in their clearances),
-    then -60 N m with the rear faster. The run completes (issue 16: this hold used to cost
-    minutes of wall time per simulated second); in the zero hold both outputs deliver no
+    then -60 N m with the rear faster. The run completes (a hold where the gears float can
+    cost minutes of wall time per simulated second); in the zero hold both outputs deliver no
     torque (measured 1.2e-3 and 3e-4 N m of residual vibration, 2e-5 of the load), and the
     loaded level after it is mode 2 with the analytic TDR."""
     p = read_library_file("torsen-c", [
@@ -223,7 +223,7 @@ def test_through_zero_torque() -> None:
 
 
 def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) -> None:
-    """Issue 16: a zero-torque hold should cost no more per simulated second than a loaded
+    """A zero-torque hold should cost no more per simulated second than a loaded
     hold. The work is counted, not timed (the same on every machine): Newton iterations of every
     attempt, accepted or rejected, plus eight per factorisation (a factorisation of the
     Type C costs about eight iterations: its matrix and LU against a residual and a solve;
@@ -231,11 +231,11 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
     profile is the shipped one's first three levels: 125 N m, 60 N m, then zero torque after
     a 0.25 s ramp. Measured: 15 000 and 14 800 per simulated second in the loaded holds,
     14 350 in the zero hold (0.97 times the lesser; 2.1 iterations and 0.10 factorisations per
-    step against 1.9 and 0.13). The bound below, 1.1, catches each of the regressions seen:
-    with newton_kernel.FLOOR_REL at 1e-4 the zero hold took 3.8 times the loaded ones' work;
+    step against 1.9 and 0.13). The bound below, 1.1, catches each known way to lose it:
+    with newton_kernel.FLOOR_REL at 1e-4 the zero hold takes 3.8 times the loaded ones' work;
     with the factorisation refreshed after every correction that did not contract, even when
-    the next check converged (before issue 16's sixth round), 1.66 times (0.42 factorisations
-    per step: the ratio of two tiny last corrections is noise at zero load)."""
+    the next check converged, 1.66 times (0.42 factorisations per step: the ratio of two tiny
+    last corrections is noise at zero load)."""
     p = read_library_file("torsen-c", ["vehicle.torque_levels=[125.0, 60.0, 0.0]",
                                        "vehicle.speed_diff=[-2.0, -2.0, -2.0]"])[0]
     with caplog.at_level(logging.DEBUG, logger="drivedyn"):

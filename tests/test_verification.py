@@ -6,8 +6,8 @@
   widened to make a run pass.
 * The exact references (closed forms and quadratures) are checked independently of the
   simulator, mostly against high-accuracy ODE integration with scipy.
-* Engine problems found while writing these cases are pinned by regression tests at the
-  end of this file (free body, equations without terms of their own, dead-centre start).
+* Engine situations that the cases exercise are pinned by direct tests at the end of this
+  file (free body, equations without terms of their own, dead-centre start).
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from drivedyn.validation import base
 from drivedyn.validation import common as VC  # noqa: N812
 from drivedyn.validation import engine as VE  # noqa: N812
 from drivedyn.validation import exact as X  # noqa: N812
+from drivedyn.validation import integrator as VI  # noqa: N812
 from drivedyn.validation import rigid_models as RM  # noqa: N812
 
 CASE_NAMES = ("torque_free_body", "heavy_top", "pendulum", "slider_crank", "screw",
@@ -79,7 +80,7 @@ def test_convergence_errors_asymptotic() -> None:
     """Besides the fitted slope (checked by the case), each halving of h must divide the
     error by 4 within 10 % (asymptotic range, no round-off floor)."""
     hs = 4e-3 / 2.0 ** np.arange(3)
-    errs, runs = VE.convergence_errors(hs, 0.25)
+    errs, runs = VI.convergence_errors(hs, 0.25)
     assert all(r.success for r in runs)
     ratios = errs[:-1] / errs[1:]
     # second order: ratio 4; 10 % allows for the next term of the error expansion
@@ -90,10 +91,10 @@ def test_rotation_convergence_is_second_order() -> None:
     """Lie-group generalized-alpha on a constrained 3-D rotation (torque-free body pinned at
     its centre of mass): each halving of h divides the rotation error by 4 within 1 %
     (measured within 2e-5), and the reference is orthogonal to round-off."""
-    R_ref = VE.free_rotation_reference(1.0)
+    R_ref = VI.free_rotation_reference(1.0)
     assert np.linalg.norm(R_ref.T @ R_ref - np.eye(3)) < 1e-12
     hs = 8e-3 / 2.0 ** np.arange(3)
-    errs, runs = VE.rotation_convergence_errors(hs, 1.0)
+    errs, runs = VI.rotation_convergence_errors(hs, 1.0)
     assert all(r.success for r in runs)
     ratios = errs[:-1] / errs[1:]
     assert np.all(np.abs(ratios / 4.0 - 1.0) < 0.01), ratios
@@ -235,9 +236,8 @@ def test_crossings_and_peak() -> None:
 
 
 # ---------------------------------------------------------------------------------------------
-# regressions of engine problems found by the validation work (fixed 2026-11-21: the Newton
-# test now scales each equation by the sum of |terms| with a model-wide floor and accepts
-# corrections at round-off)
+# engine situations the cases rely on: the Newton test scales each equation by the sum of
+# |terms| with a model-wide floor and accepts corrections at round-off
 # ---------------------------------------------------------------------------------------------
 
 

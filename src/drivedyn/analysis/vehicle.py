@@ -24,13 +24,13 @@ profile, with its quicker tip-ins: 0.66). At exactly zero torque the
 gears float in their clearances (the planets' centrifugal force opens the sun meshes by
 nanometres) and the internal gear floats axially between its washers; the steps stay at the
 0.2 ms cap and a zero-torque hold costs no more than a loaded one per simulated second
-(0.29 s against 0.30 s; 0.62 against 0.49-0.57 s before Newton's deferred refresh, issue 16's
-sixth round). It cost 10-15 minutes per simulated second
-before issue 16 (the gear element lent its mesh stiffness to the iteration matrix for gaps up
-to 10 nm, where Newton then converged only linearly), 4.4-5.2 s before the model files' 20 nm
-flank onset (``GearPair.flank_onset``: a flank closing within a step with its full stiffness
-made Newton diverge), and 2-3 s before Newton's residual floor went from 1e-4 to 1e-2 of the
-largest force sum (``newton_kernel.FLOOR_REL``: the floating gear was iterated below the
+(0.29 s against 0.30 s; without Newton's deferred refresh 0.62 against 0.49-0.57 s). It
+costs 10-15 minutes per simulated second if the gear element lends its mesh stiffness to the
+iteration matrix for gaps up to 10 nm instead of 1 pm (``TANGENT_BAND``; Newton then
+converges only linearly), 4.4-5.2 s without the model files' 20 nm flank onset
+(``GearPair.flank_onset``: a flank closing within a step with its full stiffness makes
+Newton diverge), and 2-3 s with Newton's residual floor at 1e-4 instead of 1e-2 of the
+largest force sum (``newton_kernel.FLOOR_REL``: the floating gear is then iterated below the
 round-off of its position).
 """
 

@@ -108,7 +108,7 @@ def console() -> None:
 
     A command that ran a simulation leaves numba's compiler objects behind, several hundred
     thousand of them in reference cycles; the interpreter's last garbage collection at exit
-    took 0.5 s deallocating them (10 % of a warm ``drivedyn tdr torsen-c --mode all``). Here
+    takes 0.5 s deallocating them (10 % of a warm ``drivedyn tdr torsen-c --mode all``). Here
     the garbage that exists when the command ends is collected (its finalisers run: files
     flush and close), then every object still alive is frozen (``gc.freeze``), so the exit's
     collection skips them; their memory goes back with the process. Objects freed by

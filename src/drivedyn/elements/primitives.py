@@ -18,13 +18,13 @@ Performance: everything is written with explicit 3x3 loops on preallocated work 
 dwarfs a 3x3 product, and small allocations in the element loop cost more than the maths.
 Kernels run their element loop in two copies, specialised by LLVM on ``full`` (True /
 False, :func:`drivedyn.jit.outlined`), so that the residual-only copy has the Hessian
-branches removed. The loops compile without reference counting: an array view passed to a
-non-inlined call inside the loop was reference-counted on every iteration, which cost 6x the
-primitive itself (measured when the loops counted references).
+branches removed. The loops compile without reference counting: with it, an array view
+passed to a non-inlined call inside the loop is reference-counted on every iteration, which
+costs 6x the primitive itself (measured).
 The few-statement helpers (``mv``, ``mtv``, ``cross``, ``unwrap``) are plain ``njit``
 functions that LLVM inlines, not inlined at numba's IR level: same stepping cost, shorter
 first compilation (see :mod:`drivedyn.jit`). ``mm``, ``mtm``, ``set_skew`` and ``gather_v``
-stay IR-inlined: left to LLVM, the joints' matrix pass took 28 % longer (measured).
+stay IR-inlined: left to LLVM, the joints' matrix pass takes 28 % longer (measured).
 """
 
 from __future__ import annotations

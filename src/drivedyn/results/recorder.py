@@ -179,8 +179,8 @@ class Recorder:
         self.h: list[float] = []
         # all groups' outputs in one copy of model.aux_all per output when every group's
         # aux is a view of it (the compiled model's layout): one copy instead of one per
-        # group, 3.7 % of the Type C vehicle configuration's run (benchmarks/README.md,
-        # issue 16 eighteenth round); ``_slices[gi]``: (offset, shape) of group gi in it
+        # group, 3.7 % of the Type C vehicle configuration's run (benchmarks/README.md);
+        # ``_slices[gi]``: (offset, shape) of group gi in it
         self._slices = _aux_slices(model)
 
     def record(self, st: State, h: float = 0.0) -> None:

@@ -438,7 +438,7 @@ DENSE_MAX = 150
 #: share of the dense matrix (a body that every joint hangs on couples all unknowns: the 387
 #: of the 4WD vehicle fill 93 % with COLAMD's order, and the sparse LU's scalar loops lose to
 #: LAPACK by far), up to DENSE_FILL_MAX unknowns; a banded chain of 330-396 unknowns fills a
-#: few % and SuperLU took 0.5 ms against 1.2-1.9 ms dense (measured 2026-11-26); the
+#: few % and SuperLU takes 0.5 ms against 1.2-1.9 ms dense (measured); the
 #: 2200-unknown chain's factors fill 0.9 % and refactorise in 0.37 ms
 DENSE_FILL = 0.3
 DENSE_FILL_MAX = 1500

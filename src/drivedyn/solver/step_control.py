@@ -87,10 +87,10 @@ def next_step(cs, ctl, t, touts):
     is capped by ``h_max``, every interval is then stepped at one constant size; a short or
     stretched last step before each output time (as fixed steps still have) changes the
     step size twice per interval, and each change costs a factorisation of the iteration
-    matrix (``newton_kernel.H_REUSE``). Measured (benchmarks/README.md, issue 16 seventh
-    round): the Type C vehicle profile with 1.44 ms output intervals at a 0.2 ms cap went
-    from 14 168 to 6 072 factorisations. Fixed steps keep their size and shorten or
-    stretch (by up to 25 %, not right after a rejection) the one that reaches the output
+    matrix (``newton_kernel.H_REUSE``). Measured (benchmarks/README.md): the Type C vehicle
+    profile with 1.44 ms output intervals at a 0.2 ms cap takes 6 072 factorisations with
+    even steps, 14 168 with a short or stretched last step. Fixed steps keep their size and
+    shorten or stretch (by up to 25 %, not right after a rejection) the one that reaches the output
     time."""
     adaptive = ctl[CT_ADAPTIVE] != 0.0
     h_max = ctl[CT_HMAX]
@@ -105,8 +105,8 @@ def next_step(cs, ctl, t, touts):
         if adaptive:
             # the fewest steps of at most h_try to t_next, all of one size. The 1e-6: t
             # carries the round-off of its sum of steps (1e-12 of a 1 ms interval at t = 2 s
-            # after a few steps); without it an interval of exactly n steps took n + 1 now
-            # and then, and the step-size changes made a TORSEN zero-torque hold's Newton
+            # after a few steps); without it an interval of exactly n steps takes n + 1 now
+            # and then, and the step-size changes make a TORSEN zero-torque hold's Newton
             # chatter (4.3 times a loaded hold's work, tests/test_torsen_vehicle.py)
             n = np.ceil((t_next - t) / h_try - 1e-6)
             h_try = (t_next - t) / max(n, 1.0)

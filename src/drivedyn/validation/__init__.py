@@ -1,6 +1,7 @@
 """Validation cases run by ``drivedyn validate``: each compares a simulated quantity with an
 exact or published reference. One module per subject registers its cases:
-:mod:`~drivedyn.validation.engine` (rigid bodies, joints, integrator),
+:mod:`~drivedyn.validation.engine` (rigid bodies, joints),
+:mod:`~drivedyn.validation.integrator` (convergence order, energy account),
 :mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears`,
 :mod:`~drivedyn.validation.beams`, :mod:`~drivedyn.validation.fe`,
 :mod:`~drivedyn.validation.torsen` and :mod:`~drivedyn.validation.torsen_b`."""
@@ -12,6 +13,7 @@ import time
 # import order = the order of the cases in reports (engine first)
 # isort: off
 from drivedyn.validation import engine  # noqa: F401  (registers the cases)
+from drivedyn.validation import integrator  # noqa: F401
 from drivedyn.validation import contact  # noqa: F401
 from drivedyn.validation import gears  # noqa: F401
 from drivedyn.validation import beams  # noqa: F401

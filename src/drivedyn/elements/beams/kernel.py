@@ -130,7 +130,7 @@ def _term_scale(rabs, dofs, d, L, eps0, Ks, TiP, TiM, RsA, CA, RsB, CB, a, w):
     removes. They are counted at ``ROUNDOFF_SCALE`` of their size (mapped to the node
     equations by ``|B^T Ti^T|``): the relative test (1e-8) then stops at 1e-14 of them,
     100 times the round-off, instead of asking for digits that do not exist, and stays as
-    strict as before wherever the forces do not cancel."""
+    strict as without them wherever the forces do not cancel."""
     for j in range(6):
         a[j] = ROUNDOFF_SCALE * Ks[j] * (abs(d[j]) / L + abs(eps0[j]))
     for side in range(2):

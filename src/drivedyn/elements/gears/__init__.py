@@ -78,9 +78,9 @@ Contact status changes the iteration matrix, so a flank within ``TANGENT_BAND``
 (1 pm) of contact while neither flank is loaded lends its stiffness to the matrix (not to
 the residual): a zero-backlash mesh that is unloaded when the matrix is factorised (at
 t = 0, say) would otherwise enter it with no stiffness. The band is kept at round-off size:
-with 10 nm, planets floating a few nanometres off the sun at zero torque kept the lent
-stiffness in a matrix whose residual had none, and Newton converged only linearly (a
-zero-torque hold cost minutes per simulated second). The code that only bevel and
+with 10 nm, planets floating a few nanometres off the sun at zero torque keep the lent
+stiffness in a matrix whose residual has none, and Newton converges only linearly (a
+zero-torque hold costs minutes per simulated second). The code that only bevel and
 crossed pairs need and the assembly of the matrices are compiled out of line (first
 compilation ~70 s instead of ~2 min), and the residual-only loop over parallel pairs is a
 separate copy with the kind a compile-time constant (fixed loop lengths: 1.5x faster).

@@ -2,7 +2,7 @@ r"""Quasi-static torque distribution ratio of the TORSEN Type C, derived by hand
 
 This model shares only the *parameters* with the simulator (the model file); every force
 is written out below from the equilibrium of each part at constant speeds, so that it can
-check the multibody simulation (issue 5: simulated and analytic TDR agree within 2 %).
+check the multibody simulation (simulated and analytic TDR agree within 2 %).
 
 Frame and signs: axis z, forward rotation +z, speeds relative to the housing
 ``w_s' = w_s - w_h``, ``w_c' = w_c - w_h`` (ring = coupling), planet spin
