@@ -17,7 +17,7 @@ import drivedyn as dd
 from drivedyn.model.spec import ModelError
 from drivedyn.solver.assembly import System
 from element_cases import contact as cc
-from test_contact import check_tangents, random_state
+from fdcheck import check_tangents, random_state
 
 
 def _model(offset_z: float, mu: float, ground_a: bool = False):

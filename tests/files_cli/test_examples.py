@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+from repo import EXAMPLES
+
 SCRIPTS = sorted(EXAMPLES.glob("*.py"))
 
 

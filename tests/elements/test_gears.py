@@ -671,13 +671,12 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     gives, bit for bit, in every evaluation mode and at a state with the flanks loaded."""
     import dataclasses
 
-    from tests.element_cases.gears import parallel_case
-
     from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
     from drivedyn.model.compile import compile_model
     from drivedyn.rotations import exp_so3
     from drivedyn.solver.assembly import System
+    from element_cases.gears import parallel_case
 
     model = compile_model(parallel_case(internal))
     sys = System(model)
