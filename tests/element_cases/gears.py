@@ -1,4 +1,4 @@
-"""Small gear-pair models for the registry tangent test (``tests/test_tangents.py``).
+"""Small gear-pair models for the registry tangent test (``tests/elements/test_tangents.py``).
 
 Every case places two wheels on bodies with off-centre masses and arbitrary orientations and
 switches on every term of the mesh law that applies: helix, backlash, transmission error,

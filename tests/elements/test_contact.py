@@ -1,7 +1,7 @@
 """Point/sphere-on-plane contact: geometry, outputs, statics, two-body impacts, and the
-tangents in the branches the registry test (tests/test_tangents.py) does not reach: the first
-step of a contact, a clipped (would-pull) force, no contact, zero sliding speed, contacts
-without friction.
+tangents in the branches the registry test (tests/elements/test_tangents.py) does not reach:
+the first step of a contact, a clipped (would-pull) force, no contact, zero sliding speed,
+contacts without friction.
 
 ``fdcheck.check_tangents`` repeats the registry test's finite differences (through the
 Lie-group update for rotations) on a given state, so that the internal state ``es`` can be set.

@@ -1,7 +1,7 @@
 """Gear pair element against exact results: force components, deflection, ISO stiffness,
 kinematic ratios over many revolutions, natural frequency, backlash, energy, friction power,
 worm efficiency, bevel forces, a planetary set (Willis equation, torque split) and the model
-checks. The registry tangent test (tests/test_tangents.py) covers its matrices."""
+checks. The registry tangent test (tests/elements/test_tangents.py) covers its matrices."""
 
 from __future__ import annotations
 
