@@ -1,6 +1,9 @@
-"""Small models shared by several test modules."""
+"""Small models, and the rotation matrices that place their parts, shared by several test
+modules."""
 
 from __future__ import annotations
+
+import numpy as np
 
 import drivedyn as dd
 
@@ -17,3 +20,15 @@ def speed_jump_spec() -> dd.Spec:
     jump = dd.Table([0.0, 0.5, 0.5 + 1e-9, 1.0], [0.0, 0.0, 1e3, 1e3])
     spec.add(dd.JointDriver("d", "h", jump, quantity="speed"))
     return spec
+
+
+def rot_y(a: float) -> np.ndarray:
+    """Rotation by ``a`` [rad] about the y axis."""
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(a: float) -> np.ndarray:
+    """Rotation by ``a`` [rad] about the z axis."""
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

@@ -2,14 +2,16 @@
 
 :data:`TANGENT_CASES` maps each family's registry name (``drivedyn.elements.REGISTRY``) to
 functions returning a small :class:`~drivedyn.model.spec.Spec` that exercises it; the registry
-tangent test (``tests/test_tangents.py``) checks every family's tangent matrices on them and
-fails for a registered family that has no entry here, so a new family cannot be forgotten.
+tangent test (``tests/elements/test_tangents.py``) checks every family's tangent matrices on
+them and fails for a registered family that has no entry here, so a new family cannot be
+forgotten.
 
 The tables themselves: :mod:`element_cases.basic` (bodies, joints, drivers, springs, loads),
 :mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film),
 :mod:`element_cases.gears` (gear pairs), :mod:`element_cases.beams` (beams) and
-:mod:`element_cases.flexible` (reduced flexible bodies). Tests import
-this package as a top-level module (pytest puts ``tests/`` on ``sys.path``, as for ``fdcheck``).
+:mod:`element_cases.flexible` (reduced flexible bodies). Tests in every tier import this
+package as a top-level module (``pythonpath`` in pyproject.toml puts ``tests/`` on
+``sys.path``, as for ``fdcheck``).
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Small models exercising the contact families, for the registry tangent test
-(``tests/test_tangents.py``) and the contact tests.
+(``tests/elements/test_tangents.py``) and the contact tests.
 
 Every case puts the contact well inside its active branch (penetration of a few cm against
 the 1e-2 m position perturbations of the test, impact speed floor large against the random
@@ -155,7 +155,7 @@ def unilateral_case() -> Spec:
     """Active and sticking (penetration 0.05 m, p d_n ~ -50 N against multiplier forces of a
     few N, mu N > |sigma_t|): the branch where the contact is a bilateral constraint, so the
     acceleration- and velocity-level rows are checked as well. The other branches (no contact,
-    slip) are checked in ``tests/test_contact_unilateral.py``."""
+    slip) are checked in ``tests/elements/test_contact_unilateral.py``."""
     from drivedyn.elements.unilateral import UnilateralContact
 
     spec = Spec(gravity=(0.0, 0.0, -9.81))

@@ -1,4 +1,4 @@
-"""Small gear-pair models for the registry tangent test (``tests/test_tangents.py``).
+"""Small gear-pair models for the registry tangent test (``tests/elements/test_tangents.py``).
 
 Every case places two wheels on bodies with off-centre masses and arbitrary orientations and
 switches on every term of the mesh law that applies: helix, backlash, transmission error,
@@ -14,21 +14,12 @@ import numpy as np
 
 from drivedyn.model.spec import Spec
 from drivedyn.rotations import exp_so3
+from small_models import rot_y, rot_z
 
 _RA = exp_so3(np.array([0.3, -0.5, 0.8]))
 _RB = exp_so3(np.array([-0.7, 0.2, 0.4]))
 _RM = exp_so3(np.array([0.2, 0.9, -0.3]))  # global frame of the gear set
 _J = np.array([[2.0, 0.1, 0.0], [0.1, 3.0, 0.2], [0.0, 0.2, 2.5]])
-
-
-def _rz(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def _ry(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def _wheel(spec: Spec, name: str, centre, frame, body_rot, body_pos, ground: bool) -> str:
@@ -63,9 +54,9 @@ def parallel_case(internal: str | None = None, ground_a: bool = False,
         geo = CylindricalPair.build(za, zb, mn, an, beta)
     c0 = np.array([0.1, -0.2, 0.3])
     FA = _RM
-    FB = _RM @ _rz(0.4)
+    FB = _RM @ rot_z(0.4)
     if flip_b:
-        FB = FB @ _ry(np.pi)  # wheel B's marker z against A's
+        FB = FB @ rot_y(np.pi)  # wheel B's marker z against A's
     cB = c0 + geo.centre_distance * _RM[:, 0]
     a = _wheel(spec, "A", c0, FA, _RA, c0 + np.array([0.05, 0.0, -0.03]), ground_a)
     b = _wheel(spec, "B", cB, FB, _RB, cB + np.array([-0.02, 0.04, 0.01]), False)
@@ -92,8 +83,8 @@ def bevel_case() -> Spec:
     ao, bo = _RM[:, 2], _RM[:, 0]
     cA = O + Rm * np.cos(gA) * ao
     cB = O + Rm * np.cos(gB) * bo
-    FA = _RM @ _rz(0.2)
-    FB = _RM @ _ry(-np.pi / 2)  # z along -bo (towards the apex)
+    FA = _RM @ rot_z(0.2)
+    FB = _RM @ rot_y(-np.pi / 2)  # z along -bo (towards the apex)
     a = _wheel(spec, "A", cA, FA, _RA, cA + np.array([0.02, 0.0, 0.01]), False)
     b = _wheel(spec, "B", cB, FB, _RB, cB + np.array([0.0, -0.03, 0.02]), False)
     spec.add(GearPair("g", a, b, za, zb, mn, 0.05, helix_angle=beta, kind="bevel",
@@ -120,7 +111,7 @@ def crossed_case() -> Spec:
     # point (e_A = e, e_B = -e)
     Sig = -(bA + bB)
     FB = _RM @ np.array([[1.0, 0, 0], [0, np.cos(Sig), -np.sin(Sig)],
-                         [0, np.sin(Sig), np.cos(Sig)]]) @ _rz(0.7)
+                         [0, np.sin(Sig), np.cos(Sig)]]) @ rot_z(0.7)
     cB = c0 + np.array([rA + rB]) * e
     a = _wheel(spec, "A", c0, FA, _RA, c0 + np.array([0.0, 0.02, 0.03]), False)
     b = _wheel(spec, "B", cB, FB, _RB, cB + np.array([0.01, 0.0, -0.02]), False)

@@ -107,7 +107,7 @@ def next_step(cs, ctl, t, touts):
             # carries the round-off of its sum of steps (1e-12 of a 1 ms interval at t = 2 s
             # after a few steps); without it an interval of exactly n steps takes n + 1 now
             # and then, and the step-size changes make a TORSEN zero-torque hold's Newton
-            # chatter (4.3 times a loaded hold's work, tests/test_torsen_vehicle.py)
+            # chatter (4.3 times a loaded hold's work, tests/models/test_torsen_vehicle.py)
             n = np.ceil((t_next - t) / h_try - 1e-6)
             h_try = (t_next - t) / max(n, 1.0)
         else:

@@ -57,7 +57,7 @@ states its value).
 
 Independent check, a power balance in the housing frame: at constant speeds the external
 power ``T_l w_l' + T_r w_r'`` equals the friction power of the washers, tips and end faces
-(tested in ``tests/test_torsen_b.py``), which gives the textbook form
+(tested in ``tests/models/test_torsen_b.py``), which gives the textbook form
 ``TDR = (1 + k)/(1 - k)`` with ``k`` the friction work per unit of transmitted work.
 """
 

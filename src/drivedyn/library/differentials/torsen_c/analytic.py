@@ -262,7 +262,7 @@ def pocket_only_ratio(rho: float, mu_p: float, r_tip: float, r_pitch: float,
     force and the tilt of the pocket reaction by the friction angle (it takes the pocket
     normal force as ``F_s + F_r`` instead of about ``(F_s + F_r) / sqrt(1 + mu_p^2)``); the
     exact pocket-only value, ``x = b / sqrt(1 + mu_p^2 - b^2 tan^2 alpha_t)`` in place of
-    ``b``, is derived and checked in ``tests/test_torsen_c.py``."""
+    ``b``, is derived and checked in ``tests/models/test_torsen_c.py``."""
     b = mu_p * r_tip / r_pitch
     k = (1 + b) / (1 - b)
     return rho * k if ring_drives else rho / k

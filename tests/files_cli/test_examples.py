@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+from repo import EXAMPLES
+
 SCRIPTS = sorted(EXAMPLES.glob("*.py"))
 
 
@@ -44,11 +45,10 @@ def test_beam_rollup_example() -> None:
     assert out["stress_error"] < 1e-12
 
 
-def test_flexible_washer_example(tmp_path, monkeypatch) -> None:
+def test_flexible_washer_example(drivedyn_cache) -> None:
     """The washer carries the load (equilibrium), its friction torque is mu F r_m within the
     faceting of the 36-cell mesh (measured 0.25 %), and its stress is the full FE model's
     under the same pressures (static modes; measured 2e-4, the rest is dynamics)."""
-    monkeypatch.setenv("DRIVEDYN_CACHE", str(tmp_path))
     ns = runpy.run_path(str(EXAMPLES / "07_flexible_washer.py"), run_name="example_07")
     out = ns["main"]()
     assert abs(out["force"] / 2000.0 - 1) < 1e-9

@@ -1,10 +1,10 @@
 """Point/sphere-on-plane contact: geometry, outputs, statics, two-body impacts, and the
-tangents in the branches the registry test (tests/test_tangents.py) does not reach: the first
-step of a contact, a clipped (would-pull) force, no contact, zero sliding speed, contacts
-without friction.
+tangents in the branches the registry test (tests/elements/test_tangents.py) does not reach:
+the first step of a contact, a clipped (would-pull) force, no contact, zero sliding speed,
+contacts without friction.
 
-``check_tangents`` repeats the registry test's finite differences (through the Lie-group
-update for rotations) on a given state, so that the internal state ``es`` can be set.
+``fdcheck.check_tangents`` repeats the registry test's finite differences (through the
+Lie-group update for rotations) on a given state, so that the internal state ``es`` can be set.
 """
 
 from __future__ import annotations
@@ -15,71 +15,12 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements.base import MODE_ACC, MODE_VEL
 from drivedyn.elements.impact_laws import NSTATE, ST_ACC, ST_FLAG, ST_PEN, ST_RATE
 from drivedyn.library import bouncing_ball as bb
 from drivedyn.model.spec import ModelError
-from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System
 from element_cases import contact as cc
-from fdcheck import EPS, assembled, check, perturb, residual
-
-
-def check_tangents(model, st, acc_vel: bool = False) -> None:
-    """Stiffness (with multiplier columns), damping and mass blocks against central
-    differences at state ``st``; with ``acc_vel`` also the acceleration- and velocity-level
-    constraint Jacobians."""
-    sys = System(model)
-    nd, neq = model.nd, model.neq
-    rmax = np.abs(residual(sys, st)).max()
-    K = assembled(sys, st, 0.0, 0.0, 1.0)
-    F = np.zeros((neq, neq))
-    for j in range(neq):
-        F[:, j] = (residual(sys, perturb(st, j, EPS, nd))
-                   - residual(sys, perturb(st, j, -EPS, nd))) / (2 * EPS)
-    check(K, F, "stiffness", rmax)
-    C = assembled(sys, st, 0.0, 1.0, 0.0)[:nd, :nd]
-    M = assembled(sys, st, 1.0, 0.0, 0.0)[:nd, :nd]
-    for what, A, attr in (("damping", C, "v"), ("mass", M, "vd")):
-        F = np.zeros((nd, nd))
-        for j in range(nd):
-            sp, sm = st.copy(), st.copy()
-            getattr(sp, attr)[j] += EPS
-            getattr(sm, attr)[j] -= EPS
-            F[:, j] = (residual(sys, sp) - residual(sys, sm))[:nd] / (2 * EPS)
-        check(A, F, what, rmax)
-    if acc_vel:
-        for mode, attr in ((MODE_ACC, "vd"), (MODE_VEL, "v")):
-            A = assembled(sys, st, 1.0, 0.0, 0.0, mode)
-            F = np.zeros((neq, neq))
-            for j in range(neq):
-                if j < nd:
-                    sp, sm = st.copy(), st.copy()
-                    getattr(sp, attr)[j] += EPS
-                    getattr(sm, attr)[j] -= EPS
-                else:
-                    sp, sm = perturb(st, j, EPS, nd), perturb(st, j, -EPS, nd)
-                F[:, j] = (residual(sys, sp, mode) - residual(sys, sm, mode)) / (2 * EPS)
-            if mode == MODE_ACC:
-                check(A, F, "acceleration-level matrix", rmax)
-            else:  # velocity projection: constraint rows and multiplier columns
-                check(A[nd:], F[nd:], "velocity-level rows", rmax)
-                check(A[:nd, nd:], F[:nd, nd:], "velocity-level multiplier columns", rmax)
-
-
-def random_state(model, seed=7, scale_v=1.0):
-    rng = np.random.default_rng(seed)
-    st = model.initial_state()
-    nn = model.nn
-    st.x[:nn] += 1e-2 * rng.standard_normal((nn, 3))
-    for i in range(nn):
-        st.R[i] = st.R[i] @ exp_so3(0.05 * rng.standard_normal(3))
-    st.v[:] = scale_v * rng.standard_normal(model.nd)
-    st.vd[:] = rng.standard_normal(model.nd)
-    if model.nm:
-        st.lam[:] = 5.0 * rng.standard_normal(model.nm) / model.meta["kscale"][model.nd:]
-    st.t = 0.37
-    return st
+from fdcheck import check_tangents, random_state
 
 
 def _group(model, name):

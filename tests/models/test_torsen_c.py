@@ -180,7 +180,7 @@ def test_bench_arguments_are_checked():
 def test_bench_model_structure():
     """One planar guide and one pocket per planet, two meshes per planet, five washers, and
     the planar joint family is compiled (its tangents are checked by the registry loop of
-    tests/test_tangents.py, which runs over every registered family)."""
+    tests/elements/test_tangents.py, which runs over every registered family)."""
     p = params({"gears.planets": 3})
     model = compile_model(bench_spec(p, "front")[0])
     count = {k: v["count"] for k, v in model_summary(model)["elements"].items()}

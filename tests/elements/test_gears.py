@@ -1,7 +1,7 @@
 """Gear pair element against exact results: force components, deflection, ISO stiffness,
 kinematic ratios over many revolutions, natural frequency, backlash, energy, friction power,
 worm efficiency, bevel forces, a planetary set (Willis equation, torque split) and the model
-checks. The registry tangent test (tests/test_tangents.py) covers its matrices."""
+checks. The registry tangent test (tests/elements/test_tangents.py) covers its matrices."""
 
 from __future__ import annotations
 
@@ -671,13 +671,12 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     gives, bit for bit, in every evaluation mode and at a state with the flanks loaded."""
     import dataclasses
 
-    from tests.element_cases.gears import parallel_case
-
     from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
     from drivedyn.model.compile import compile_model
     from drivedyn.rotations import exp_so3
     from drivedyn.solver.assembly import System
+    from element_cases.gears import parallel_case
 
     model = compile_model(parallel_case(internal))
     sys = System(model)

@@ -3,11 +3,10 @@
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from repo import REPO_ROOT
 
 
 def test_ruff_clean():
@@ -17,6 +16,6 @@ def test_ruff_clean():
         pytest.skip("ruff is not installed (pip install -e '.[test]')")
     proc = subprocess.run(
         [sys.executable, "-m", "ruff", "check", "src", "tests", "benchmarks", "examples"],
-        cwd=ROOT, capture_output=True, text=True,
+        cwd=REPO_ROOT, capture_output=True, text=True,
     )
     assert proc.returncode == 0, proc.stdout + proc.stderr

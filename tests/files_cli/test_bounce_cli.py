@@ -18,11 +18,6 @@ CONTACT_CASES = ("bouncing_ball", "restitution_laws", "contact_friction", "thrus
                  "squeeze_film")
 
 
-@pytest.fixture(scope="module")
-def runner() -> CliRunner:
-    return CliRunner()
-
-
 def test_bounce_json_defaults(runner: CliRunner) -> None:
     res = runner.invoke(main, ["bounce", "--json", "--t-end", "1.5"])
     assert res.exit_code == 0, res.output

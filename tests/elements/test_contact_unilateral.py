@@ -5,7 +5,7 @@ constraint). Here: no contact, slip (Alart-Curnier return mapping, non-symmetric
 multiplier-multiplier coupling), frictionless, and the acceleration/velocity-level rows of a
 slipping and of an initially sliding contact; then a ball resting on the plane, lift-off, a
 ball launched from the floor (its velocity is not projected away) and the incline cases in
-tests/test_friction.py.
+tests/elements/test_friction.py.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import drivedyn as dd
 from drivedyn.model.spec import ModelError
 from drivedyn.solver.assembly import System
 from element_cases import contact as cc
-from test_contact import check_tangents, random_state
+from fdcheck import check_tangents, random_state
 
 
 def _model(offset_z: float, mu: float, ground_a: bool = False):

@@ -45,11 +45,6 @@ def fake_cases(monkeypatch: pytest.MonkeyPatch) -> dict:
     return registry
 
 
-@pytest.fixture
-def runner() -> CliRunner:
-    return CliRunner()
-
-
 def test_version(runner: CliRunner) -> None:
     res = runner.invoke(main, ["--version"])
     assert res.exit_code == 0

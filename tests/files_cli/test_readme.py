@@ -1,16 +1,15 @@
 """The README's Python API example runs as written."""
 
 import re
-from pathlib import Path
 
 import matplotlib
 
-ROOT = Path(__file__).resolve().parents[1]
+from repo import REPO_ROOT
 
 
 def test_readme_python_api_block_runs(tmp_path, monkeypatch):
     matplotlib.use("Agg")
-    text = (ROOT / "README.md").read_text()
+    text = (REPO_ROOT / "README.md").read_text()
     section = text.split("## Python API", 1)[1]
     block = re.search(r"```python\n(.*?)```", section, re.S).group(1)
     monkeypatch.chdir(tmp_path)

@@ -2,7 +2,7 @@
 the validation cases and the convergence order of the element.
 
 The tangent of the element is checked against finite differences by the registry test
-(``tests/test_tangents.py``, cases in ``element_cases/beams.py``).
+(``tests/elements/test_tangents.py``, cases in ``element_cases/beams.py``).
 """
 
 from __future__ import annotations

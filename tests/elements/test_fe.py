@@ -37,10 +37,7 @@ from drivedyn.validation import base
 FE_CASES = ("fe_cantilever", "fe_annular_plate", "fe_modes", "ffrf_energy", "washer_pressure")
 STEEL = SolidMaterial()
 
-
-@pytest.fixture(autouse=True)
-def _cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("DRIVEDYN_CACHE", str(tmp_path / "cache"))
+pytestmark = pytest.mark.usefixtures("drivedyn_cache")  # reductions cached in tmp_path/cache
 
 
 def _volume(m: SolidMesh) -> float:
@@ -191,13 +188,13 @@ def test_static_modes_reproduce_the_full_static_solution():
     assert np.abs(s_red - s_full).max() <= 1e-9 * s_full.max()
 
 
-def test_reduction_is_cached_on_disk(tmp_path):
+def test_reduction_is_cached_on_disk(drivedyn_cache):
     _, part = _washer_part()
     _, again = _washer_part()
     assert again.key == part.key
     np.testing.assert_array_equal(again.Kr, part.Kr)
     np.testing.assert_array_equal(again.stress, part.stress)
-    files = list((tmp_path / "cache" / "reduction").glob("*.npz"))
+    files = list((drivedyn_cache / "reduction").glob("*.npz"))
     assert len(files) == 1
     files[0].write_bytes(b"damaged")          # a damaged entry is recomputed
     _, third = _washer_part()

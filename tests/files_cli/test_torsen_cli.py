@@ -27,11 +27,6 @@ SHORT = ["--set", "bench.ramp=0.1", "--set", "bench.transition=[0.5, 0.8]",
          "--set", "bench.window_coast=[0.9, 1.1]"]
 
 
-@pytest.fixture
-def runner() -> CliRunner:
-    return CliRunner()
-
-
 def test_tdr_json_short_protocol(runner: CliRunner) -> None:
     res = runner.invoke(main, ["tdr", "torsen-c", "--mode", "1", "--json", *SHORT])
     assert res.exit_code == 0, res.output

@@ -22,15 +22,11 @@ import pytest
 import drivedyn as dd
 from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar
 from drivedyn.model.spec import ModelError
+from small_models import rot_y
 
 G = 9.81
 MASS = 2.0
 K_N = 1e6  # normal penalty stiffness [N/m]
-
-
-def _rot_y(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def incline(theta: float, v0: float = 0.0, friction: FrictionLaw | None = None,
@@ -38,7 +34,7 @@ def incline(theta: float, v0: float = 0.0, friction: FrictionLaw | None = None,
     """Block on the slope, released with speed ``v0`` downhill; a PlaneContact with a damped
     penalty law (starting at its static penetration) or, with ``mu_al``, a
     UnilateralContact touching the plane."""
-    R = _rot_y(theta)
+    R = rot_y(theta)
     n, t = R[:, 2], R[:, 0]
     spec = dd.Spec(gravity=(0.0, 0.0, -G))
     spec.add_marker("slope", dd.GROUND, rotation=R)
@@ -54,7 +50,7 @@ def incline(theta: float, v0: float = 0.0, friction: FrictionLaw | None = None,
 
 
 def _slope_motion(res, theta):
-    t_axis = _rot_y(theta)[:, 0]
+    t_axis = rot_y(theta)[:, 0]
     s = res["block.position"].values @ t_axis
     v = res["block.velocity"].values @ t_axis
     return res.time, s, v

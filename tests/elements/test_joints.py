@@ -8,20 +8,16 @@ from scipy.special import ellipk
 
 import drivedyn as dd
 from drivedyn.rotations import frame_from_axis
+from small_models import rot_y
 
 G = 9.81
-
-
-def _rot_y(a: float) -> np.ndarray:
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
 
 
 def test_fixed_joint_makes_one_rigid_body():
     """A rod with a second body welded on by a Fixed joint swings as one compound pendulum:
     period 4 sqrt(I_o/(m g d)) K(k^2) with the combined mass properties."""
     th0 = 1.5
-    Rb = _rot_y(np.pi / 2 - th0)  # body x axis from the pivot, theta0 from hanging
+    Rb = rot_y(np.pi / 2 - th0)  # body x axis from the pivot, theta0 from hanging
     spec = dd.Spec(gravity=(0.0, 0.0, -G))
     J1 = np.diag([1e-3, 0.08, 0.08])
     J2 = np.diag([0.01, 0.02, 0.03])

@@ -1,0 +1,31 @@
+"""Fixtures shared by every tier of the tests (``tests/verification``, ``elements``,
+``models``, ``files_cli``, ``internals`` and the modules left at the top level).
+
+Helpers that test modules import by name sit next to this file, on ``sys.path`` through
+``pythonpath`` in pyproject.toml: ``repo`` (``REPO_ROOT``, ``EXAMPLES``), ``fdcheck``
+(finite-difference tangent checks), ``small_models`` (small models, ``rot_y``/``rot_z``),
+``element_cases`` (``TANGENT_CASES``), ``same_runs`` and ``ir_compare``. The markers
+(``slow``, ``fuzz_long``) are registered in pyproject.toml.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+
+@pytest.fixture
+def runner() -> CliRunner:
+    """A click test runner: the command line in-process (``runner.invoke(main, [...])``)."""
+    return CliRunner()
+
+
+@pytest.fixture
+def drivedyn_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """``$DRIVEDYN_CACHE`` (the on-disk cache of Craig-Bampton reductions) set to the test's
+    own ``tmp_path / "cache"``: nothing is read from or left in the user's cache."""
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("DRIVEDYN_CACHE", str(cache))
+    return cache
