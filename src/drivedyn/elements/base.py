@@ -91,7 +91,7 @@ def scatter_local(
 def local_arrays(nd, nm):
     """Work arrays of one element for :func:`scatter_local`: ``rq`` (nd,), ``rl`` (nm,),
     ``M, C, K`` (nd, nd) and ``G`` (nm, nd), zeroed; allocated once per kernel call, as views
-    of one buffer (:mod:`drivedyn.jit_arena`)."""
+    of one buffer (:mod:`drivedyn.elements.work_arrays`)."""
     return local_arrays_at(np.zeros(local_size(nd, nm)), 0, nd, nm)
 
 
@@ -116,9 +116,8 @@ def scatter_element(
     rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode, want, full, r, rabs,
     data,
 ):
-    """:func:`scatter_local` from an element loop: with ``full`` false no matrix is
-    scattered, and the residual-only copy of the loop (where LLVM knows ``full`` is false,
-    :func:`~drivedyn.jit.outlined`) carries no matrix code."""
+    """:func:`scatter_local` from an element loop: with ``full`` false (a residual-only
+    evaluation) no matrix is scattered."""
     scatter_local(rq, rl, M, C, K, G, nnode, lnodes, dofs, kmap, Tn, cM, cC, cK, mode,
                   want and full, r, rabs, data)
 

@@ -16,14 +16,11 @@ Derivation (right perturbation): ``R exp(d) u = R u + R (d x u)`` so
 Performance: everything is written with explicit 3x3 loops on preallocated work arrays
 (``ws`` (8, 3, 3) and ``wv`` (8, 3)), because numba's ``@`` calls BLAS, whose overhead
 dwarfs a 3x3 product, and small allocations in the element loop cost more than the maths.
-Kernels run their element loop in two copies, specialised by LLVM on ``full`` (True /
-False, :func:`drivedyn.jit.outlined`), so that the residual-only copy has the Hessian
-branches removed. The loops compile without reference counting: with it, an array view
-passed to a non-inlined call inside the loop is reference-counted on every iteration, which
-costs 6x the primitive itself (measured).
+Kernels run their element loop with a flag ``full`` (matrices wanted) that skips the
+Hessian branches in a residual-only evaluation.
 The few-statement helpers (``mv``, ``mtv``, ``cross``, ``unwrap``) are plain ``njit``
 functions that LLVM inlines, not inlined at numba's IR level: same stepping cost, shorter
-first compilation (see :mod:`drivedyn.jit`). ``mm``, ``mtm``, ``set_skew`` and ``gather_v``
+first compilation. ``mm``, ``mtm``, ``set_skew`` and ``gather_v``
 stay IR-inlined: left to LLVM, the joints' matrix pass takes 28 % longer (measured).
 """
 
@@ -254,9 +251,7 @@ def prim_axial(xA, RA, xB, RB, pA, pB, abar, g, H, want, ws, wv):
 @njit(cache=True)
 def _hess_distance(RA, RB, pA, pB, n, RAn, RBn, L, H, ws):
     """Hessian of prim_distance (out of line, see _hess_dot). It allocates its two (3, 12)
-    work arrays, freed before it returns: compiled with reference counting (``_nrt=True``)
-    although the element loops calling it are compiled without (:func:`drivedyn.jit.outlined`;
-    a callee would inherit their setting and fail to compile)."""
+    work arrays, freed before it returns."""
     # Jd = [-I, R_A pA~, I, -R_B pB~]; H = Jd^T (I - n n^T)/L Jd + curvature terms
     Jd = np.zeros((3, 12))
     for i in range(3):

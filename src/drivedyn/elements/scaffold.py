@@ -3,7 +3,7 @@
 A family writes the loop over its elements (the physics) and a thin kernel with the calling
 convention of :mod:`drivedyn.elements.base` (its parameters, then the common arguments)::
 
-    @outlined                                   # drivedyn.jit.outlined
+    @njit(cache=True)
     def _springs(P, C, W, full):
         stiff, damp = P                         # the family's parameter arrays
         L, vl, (ws, wv) = W                     # work arrays, allocated once per call
@@ -26,41 +26,34 @@ convention of :mod:`drivedyn.elements.base` (its parameters, then the common arg
 
 ``P`` is the family's parameter tuple, ``C`` the common arguments in the order of the kernel
 contract (fields named by the constants below, read through the helpers), ``W`` the family's
-work arrays: allocated once per kernel call, never inside the element loop (small
-allocations cost more than the maths), and best not at all: a kernel can carve every work
-array (:func:`drivedyn.jit_arena.carve`) from a buffer allocated with its group, its last
-parameter ``work`` (:func:`work_buffer`; the ``*_at`` helpers below and
-``local_arrays_at`` carve the usual sets). The buffer comes to the compiled
-stepping loop's kernel calls without an owner, as every parameter does, so its views count
-no references either. The rigid bodies, loads, joints, drivers, gear pairs and contacts do
-so: on the Type C vehicle configuration allocations (``malloc``, ``free``, numba's
-wrapper) took 13 % of the run's time, 1 % now (benchmarks/README.md, issue 16 seventeenth
-round). Families that allocate per call (``local_arrays``, :func:`grad_hess`...) get one
-allocation per helper: each carves its arrays from one zeroed buffer, and vectors of one
-length are the rows of one array (``V = np.zeros((k, 12))``; ``V[0]``...).
+work arrays: never allocated inside the element loop (small allocations cost more than the
+maths), and best not at all: a kernel can carve every work array
+(:func:`drivedyn.elements.work_arrays.carve`) from a buffer allocated with its group, its
+last parameter ``work`` (:func:`work_buffer`; the ``*_at`` helpers below and
+``local_arrays_at`` carve the usual sets). The rigid bodies, loads, joints, drivers, gear
+pairs and contacts do so: allocating per call (``malloc``, ``free``, numba's wrapper) took
+13 % of the Type C vehicle configuration's run (measured with ``perf``). Families that
+allocate per call (``local_arrays``, :func:`grad_hess`...) get one allocation per helper:
+each carves its arrays from one zeroed buffer, and vectors of one length are the rows of one
+array (``V = np.zeros((k, 12))``; ``V[0]``...).
 
-:func:`run` calls the loop at two sites, one where ``full`` is true (a matrix is wanted,
-or consistent accelerations) and one where it is false (residual only). The loop is an
-:func:`~drivedyn.jit.outlined` function: numba compiles it once, with ``full`` a run-time
-flag and without reference counting (a loop allocates nothing; the kernel holds its arrays),
-and LLVM inlines it at both sites, where constant propagation specialises each copy: the
-residual-only copy carries no matrix code (see :mod:`drivedyn.elements.primitives`). The loop
-is a dispatcher argument of an inlined function, so it is resolved at compile time inside the
-family's own kernel: the kernel's signature holds only arrays and scalars and numba's cache
-(``cache=True``) keeps working (a non-inlined generic function taking the loop, or a kernel
-made by a closure, recompiles in every process: measured). The loop and the kernel stay
-module-level functions of the family's module, so editing the physics invalidates the cache.
+:func:`run` calls the loop with ``full`` true when a matrix is wanted (or consistent
+accelerations) and false for a residual only; the loop skips its matrix branches when
+``full`` is false. The loop is a dispatcher argument of an inlined function, so it is
+resolved at compile time inside the family's own kernel: the kernel's signature holds only
+arrays and scalars and numba's cache (``cache=True``) keeps working (a non-inlined generic
+function taking the loop, or a kernel made by a closure, recompiles in every process:
+measured). The loop and the kernel stay module-level functions of the family's module, so
+editing the physics invalidates the cache.
 
-Two rules kept the loop fast while loops counted references (measured then: breaking them
-doubled the time of a spring group): unpack ``P``, ``W`` and the arrays of ``C``
-(:func:`state`) *before* the element loop, not per element (a tuple unpacked inside the loop
-cost reference counting on every element); the per-element helpers below read only scalars
-and rows of ``C``, as the hand-written loops did. A helper that takes a tuple (``C``, a law
-table row...) reads it in a straight-line prefix only (a tuple still needed after a branch
-was reference-counted on every call: a ``full_pass(C)`` with a short-circuit ``or`` cost
-0.2 us per kernel call; it takes the two scalars instead). The loops follow them still: they
-cost nothing and keep a loop valid if it is ever compiled with reference counting. No Python
-runs per element: one kernel call evaluates the whole group.
+Two rules keep the loop fast (measured: breaking them doubled the time of a spring group):
+unpack ``P``, ``W`` and the arrays of ``C`` (:func:`state`) *before* the element loop, not
+per element (a tuple unpacked inside the loop is reference-counted on every element); the
+per-element helpers below read only scalars and rows of ``C``. A helper that takes a tuple
+(``C``, a law table row...) reads it in a straight-line prefix only (a tuple still needed
+after a branch is reference-counted on every call: a ``full_pass(C)`` with a short-circuit
+``or`` cost 0.2 us per kernel call; it takes the two scalars instead). No Python runs per
+element: one kernel call evaluates the whole group.
 
 Numba's cache checks only the source file of the cached function: after editing this module
 (or :mod:`~drivedyn.elements.base`, :mod:`~drivedyn.elements.primitives`), kernels cached
@@ -95,16 +88,9 @@ def full_pass(want, mode):
 
 @njit(cache=True, inline="always")
 def run(elements, P, C, W):
-    """``elements(P, C, W, full)`` at two call sites, one per value of ``full``.
-
-    ``elements`` is an :func:`~drivedyn.jit.outlined` loop: compiled once with ``full`` a
-    run-time flag, inlined by LLVM at both sites, where ``full`` is known (the branch it sits
-    in), so each copy is specialised: the residual-only one carries no matrix code."""
-    full = full_pass(C[WANT], C[MODE])
-    if full:
-        elements(P, C, W, full)
-    else:
-        elements(P, C, W, full)
+    """``elements(P, C, W, full)``, ``full`` true when the element matrices are needed
+    (:func:`full_pass`)."""
+    elements(P, C, W, full_pass(C[WANT], C[MODE]))
 
 
 @njit(cache=True, inline="always")
@@ -275,18 +261,14 @@ def work_buffer(work, n):
     """The group's work buffer ``work`` (a kernel parameter, allocated zeroed with the
     group), or a new zeroed buffer of ``n`` entries if it is shorter.
 
-    A kernel that carves its work arrays from it allocates nothing per call, and its views
-    count no references: the group's parameters reach the compiled stepping loop's kernels
-    without an owner (:mod:`drivedyn.solver.kernel_calls`), so neither does what is carved
-    from them.
+    A kernel that carves its work arrays from it allocates nothing per call.
 
     Not zeroed at each call: the kernels set every work array they read within the element
     that reads it (or never write it: it stays zero), so an evaluation does not depend on
-    what earlier ones left in the buffer (``tests/test_jit_arena.py`` evaluates every
-    element case after evaluations at other states, with and without the matrix, against a
-    fresh buffer). Zeroing it at each call was 4.6 % of the Type C vehicle configuration's
-    run (the gear pairs' 2454 entries at every evaluation; benchmarks/README.md, issue 16
-    eighteenth round)."""
+    what earlier ones left in the buffer (``tests/elements/test_work_arrays.py`` evaluates
+    every element case after evaluations at other states, with and without the matrix,
+    against a fresh buffer). Zeroing it at each call was 4.6 % of the Type C vehicle
+    configuration's run (the gear pairs' 2454 entries at every evaluation)."""
     if work.shape[0] < n:
         return np.zeros(n)
     return work

@@ -45,9 +45,8 @@ class LinearSolver(abc.ABC):
     def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
         """``(dispatcher, argument types)`` of the compiled functions that ``factor_csc`` and
         ``solve`` call from Python for a matrix of this CSC pattern, for the first-run
-        precompile (:mod:`~drivedyn.solver.precompile`): the compiled stepping loop links
-        the same functions without entry points (:mod:`drivedyn.jit_linked`), so without
-        this the first run would compile them in its own process after the workers."""
+        precompile (:mod:`~drivedyn.solver.precompile`): without this the first run would
+        compile them in its own process after the workers."""
         return []
 
 

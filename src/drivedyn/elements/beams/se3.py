@@ -84,7 +84,7 @@ def tangent_inv_se3(d, sign, out, S, U):
             out[3 + i, j] = 0.0
 
 
-@njit(cache=True)  # allocates internally: see drivedyn.jit.outlined
+@njit(cache=True)
 def log_se3(xA, RA, xB, RB, out):
     """``out`` (6,) <- ``log(H_A^-1 H_B)`` of two frames (positions (3,) [m], rotations
     (3, 3)): the relative rotation vector ``theta`` and ``u = T(-theta)^-1 R_A^T (x_B - x_A)``

@@ -329,8 +329,7 @@ def _gears(P, C, W, full, skew, idx):
 
 @njit(cache=True)
 def _parallel_gears(P, C, W, full, idx):
-    """:func:`_gears` over parallel-axis pairs only (``full`` a run-time flag:
-    :func:`~drivedyn.jit.outlined`)."""
+    """:func:`_gears` over parallel-axis pairs only (``full``: matrices wanted)."""
     _gears(P, C, W, full, False, idx)
 
 
