@@ -16,6 +16,7 @@ from typing import Any
 _EXPORTS: dict[str, str] = {
     "AdaptiveStep": "drivedyn.solver",
     "Constant": "drivedyn.timefunctions",
+    "configure": "drivedyn.settings",
     "Cylindrical": "drivedyn.elements",
     "Fixed": "drivedyn.elements",
     "FixedStep": "drivedyn.solver",
@@ -135,6 +136,7 @@ __all__ = [
     "add_flexible_body",
     "add_straight_beam",
     "compile_model",
+    "configure",
     "dashboard_figures",
     "element_outputs",
     "engineering_figures",

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_stepper import ReferenceStepper
 
 from drivedyn.elements import REGISTRY
 from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
@@ -21,7 +22,6 @@ from drivedyn.model.compile import compile_model
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System
 from drivedyn.solver.settings import GeneralizedAlpha, Newton
-from drivedyn.solver.stepper import Stepper
 from element_cases import TANGENT_CASES
 from element_cases.basic import joint_case
 from fdcheck import EPS, assembled, check, perturb, residual
@@ -161,7 +161,7 @@ def test_newton_matrix_of_a_step_against_finite_differences():
     rng = np.random.default_rng(11)
     sn = _perturbed_state(model, rng)
     sn.a[:] = rng.standard_normal(model.nd)
-    stepper = Stepper(model, GeneralizedAlpha(0.7), Newton(max_iter=0))
+    stepper = ReferenceStepper(model, GeneralizedAlpha(0.7), Newton(max_iter=0))
     h = 0.05  # a large step so that T(h dq) is far from identity
     stepper.step(sn, h)
     hdq0 = stepper.hdq.copy()

@@ -202,17 +202,20 @@ def test_tdr_sides_in_parallel_give_the_same_results() -> None:
     if (os.cpu_count() or 1) < 2 or not sys.platform.startswith("linux"):
         pytest.skip("one CPU, or no fork: the sides run one after the other")
     out = {}
-    for flag in ("0", "1"):
-        code = ("import json, sys; from drivedyn.analysis import tdr; "
-                "from drivedyn.cli import main; "
-                "print(json.dumps(tdr.parallel_sides()), file=sys.stderr); main()")
+    # the decision evaluate takes, printed when it is taken
+    code = ("import json, sys; from drivedyn.analysis import tdr; "
+            "from drivedyn.cli import main; decide = tdr.parallel_sides\n"
+            "def shown(requested=True):\n"
+            "    d = decide(requested); print(json.dumps(d), file=sys.stderr); return d\n"
+            "tdr.parallel_sides = shown; main()")
+    for flag in ("--sequential", "--json"):
         res = subprocess.run([sys.executable, "-c", code, "tdr", "torsen-c", "--mode", "all",
-                              "--json", *SHORT], capture_output=True, text=True, timeout=600,
-                             env={**os.environ, "DRIVEDYN_PARALLEL_SIDES": flag})
+                              "--json", flag, *SHORT], capture_output=True, text=True,
+                             timeout=600)
         assert res.returncode == 0, res.stderr
-        assert res.stderr.splitlines()[0] == ("true" if flag == "1" else "false")
+        assert ("true" if flag == "--json" else "false") in res.stderr.splitlines()
         out[flag] = json.loads(res.stdout)
-    seq, par = out["0"], out["1"]
+    seq, par = out["--sequential"], out["--json"]
     assert [m["tdr"] for m in seq["modes"]] == [m["tdr"] for m in par["modes"]]
     assert all(math.isfinite(m["tdr"]) for m in par["modes"])
     assert seq["metrics"] == par["metrics"]
@@ -253,9 +256,8 @@ def test_tdr_parallel_sides_import_xarray_before_the_fork() -> None:
         tdr.evaluate(p, [1, 3])
         print(json.dumps(seen))
     """)
-    env = {**os.environ, "DRIVEDYN_PARALLEL_SIDES": "1"}
     for what in ("compile", "check"):
-        res = subprocess.run([sys.executable, "-c", code, what, *SHORT[1::2]], env=env,
+        res = subprocess.run([sys.executable, "-c", code, what, *SHORT[1::2]],
                              capture_output=True, text=True, timeout=600)
         assert res.returncode == 0, res.stderr[-3000:]
     assert json.loads(res.stdout.strip().splitlines()[-1]) == [True]

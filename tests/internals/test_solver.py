@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
+from drivedyn.solver.linear import DenseLU
 from drivedyn.solver.simulate import consistent_initial_state
 
 M, K = 2.0, 200.0  # oscillator mass [kg] and stiffness [N/m]: omega = 10 rad/s
@@ -251,18 +252,10 @@ def test_auto_lu_keeps_sparse_for_a_banded_matrix_and_goes_dense_when_it_fills()
         assert np.allclose(A @ lin.solve(b), b, rtol=1e-12, atol=1e-12)
 
 
-class _StalledSolver:
-    """A linear solver whose corrections are zero: Newton stalls with the residual where
-    the predictor left it (the situation an acceptance at the positions' round-off alone
-    would let through)."""
-
-    def __init__(self) -> None:
-        from drivedyn.solver.linear import DenseLU
-
-        self.inner = DenseLU()
-
-    def factor_csc(self, data, indices, indptr, n) -> None:
-        self.inner.factor_csc(data, indices, indptr, n)
+class _StalledSolver(DenseLU):
+    """A dense LU whose corrections are zero (in the Python oracle, which solves through
+    ``solve``): Newton stalls with the residual where the predictor left it (the situation
+    an acceptance at the positions' round-off alone would let through)."""
 
     def solve(self, b):
         return np.zeros_like(b)
@@ -270,18 +263,19 @@ class _StalledSolver:
 
 def test_newton_accepts_a_step_only_when_the_residual_criterion_holds():
     """A zero correction is 'at round-off' of the positions, but the residual of the
-    predictor is far above the tolerance: the step must not be accepted."""
+    predictor is far above the tolerance: the step must not be accepted. Checked on the
+    oracle (reference_stepper.py), which the engine matches bit for bit
+    (test_step_loop.py); accepting on the correction's size alone makes it fail."""
+    from reference_stepper import ReferenceStepper
+
     from drivedyn.solver.settings import StepStatus
-    from drivedyn.solver.stepper import Stepper
 
     model = dd.compile_model(oscillator(c=1.0))
     st = model.initial_state()
-    stepper = Stepper(model, dd.GeneralizedAlpha(0.8), dd.Newton(), _StalledSolver())
-    consistent_initial_state(model, st, stepper.sys, stepper.lin.inner)
+    stepper = ReferenceStepper(model, dd.GeneralizedAlpha(0.8), dd.Newton(), _StalledSolver())
+    consistent_initial_state(model, st, stepper.sys, DenseLU())
     out = stepper.step(st, 1e-3)
     assert out.status is StepStatus.NEWTON_MAX_ITER
-    res = dd.simulate(model, 0.01, linear_solver=_StalledSolver(), step=dd.FixedStep(1e-3))
-    assert not res.success
 
 
 def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch):
@@ -289,11 +283,12 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     constraint forces stalls at the round-off of the positions (|A| eps |x|). Each accepted
     step's residual, evaluated afresh, is within the tolerance beyond that level, computed
     here independently from the dense iteration matrix (the floor of each equation's scale
-    is FLOOR_REL of the largest force sum carried so far). Run by the Python loop, one
-    Stepper.step per step (the compiled loop takes the same steps: test_step_loop.py)."""
-    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
+    is FLOOR_REL of the largest force sum carried so far). Run by the oracle, one
+    ReferenceStepper.step per step (the engine takes the same steps: test_step_loop.py)."""
+    from reference_stepper import ReferenceStepper, reference_runs
+
     from drivedyn.elements.base import MODE_DYN
-    from drivedyn.solver.stepper import FLOOR_REL, ROUNDOFF_ULPS, Stepper
+    from drivedyn.solver.newton_kernel import FLOOR_REL, ROUNDOFF_ULPS
     from drivedyn.timefunctions import SmoothStep
     from drivedyn.validation.engine import slider_crank_model
 
@@ -302,7 +297,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     nd = model.nd
     newton = dd.Newton()
     checked = []
-    original = Stepper.step
+    original = ReferenceStepper.step
 
     def step(self, sn, h):
         carried = self.force_scale  # the largest force sum of the steps before this one
@@ -323,12 +318,10 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
                                (beyond[nd:] / self.sys.kscale[nd:]).max() / newton.phi_tol))
         return out
 
-    Stepper.step = step
-    try:
+    monkeypatch.setattr(ReferenceStepper, "step", step)
+    with reference_runs(monkeypatch):
         res = dd.simulate(model, 0.05, step=dd.FixedStep(1e-3), newton=newton,
                           integrator=dd.GeneralizedAlpha(0.9))
-    finally:
-        Stepper.step = original
     assert res.success, res.message
     assert checked and max(checked) <= 1.0
 
@@ -367,7 +360,7 @@ def test_residual_floor_is_the_largest_force_sum_carried() -> None:
     force sum, of the state or carried before (``amin``): an unloaded state (a differential
     at zero torque after a loaded level) is solved to the same absolute accuracy as the
     loaded one, not to 1e-12 of its own round-off-sized forces."""
-    from drivedyn.solver.stepper import FLOOR_REL, residual_norms
+    from drivedyn.solver.newton_kernel import FLOOR_REL, residual_norms
 
     r = np.array([1e-9, -2e-6, 0.0, 3e-12])  # two node equations, two constraint rows
     rabs = np.array([1e-3, 4.0, 0.0, 0.0])

@@ -130,24 +130,24 @@ def run_bench(p, side: str, torque: float | None = None,
     return run
 
 
-def parallel_sides() -> bool:
+def parallel_sides(requested: bool = True) -> bool:
     """Whether :func:`evaluate` runs two bench sides at the same time, the second in a forked
-    process: with two or more CPUs, on Linux, from a process that is neither a daemon (a
-    Dask or pool worker) nor multi-threaded (forking a threaded process is unsafe), unless
-    ``DRIVEDYN_PARALLEL_SIDES=0``."""
+    process: when ``requested``, with two or more CPUs, on Linux, from a process that is
+    neither a daemon (a Dask or pool worker) nor multi-threaded (forking a threaded process
+    is unsafe)."""
     import multiprocessing as mp
     import os
     import sys
     import threading
 
-    return (os.environ.get("DRIVEDYN_PARALLEL_SIDES", "1") != "0"
-            and (os.cpu_count() or 1) >= 2 and sys.platform.startswith("linux")
+    return (requested and (os.cpu_count() or 1) >= 2 and sys.platform.startswith("linux")
             and "fork" in mp.get_all_start_methods() and not mp.current_process().daemon
             and threading.active_count() == 1)
 
 
 def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
-                speed_diff: float, friction_scale: float, on_run, meanwhile=None):
+                speed_diff: float, friction_scale: float, on_run, meanwhile=None,
+                parallel: bool = True):
     """``(side, BenchRun)`` of every side in ``sides``, in order. Two sides run at the same
     time when :func:`parallel_sides` allows: the kernels are compiled (or loaded) here first
     for the first side's model (:func:`~drivedyn.solver.simulate.load_kernels`), then a
@@ -160,7 +160,7 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
     for side, pair in sides:
         if on_run is not None:
             on_run(side, pair)
-    if len(sides) == 2 and parallel_sides():
+    if len(sides) == 2 and parallel_sides(parallel):
         import multiprocessing as mp
 
         from drivedyn.model.compile import compile_model
@@ -244,7 +244,7 @@ class TdrEvaluation:
 
 def evaluate(p, modes: list[int], torque: float | None = None,
              speed_diff: float | None = None, friction_scale: float = 1.0,
-             analytic_only: bool = False, on_run=None) -> TdrEvaluation:
+             analytic_only: bool = False, on_run=None, parallel: bool = True) -> TdrEvaluation:
     """Simulate the bench runs that cover ``modes`` and give every mode's TDR with its
     analytic and measured values (the computation behind ``drivedyn tdr`` and TDR sweeps).
 
@@ -257,6 +257,8 @@ def evaluate(p, modes: list[int], torque: float | None = None,
         analytic_only: only the analytic quasi-static TDR (no simulation).
         on_run: ``on_run(side, pair)`` called before each bench run, ``on_run(run)`` after
             (a :class:`BenchRun`); for progress messages.
+        parallel: run the two bench sides at the same time where :func:`parallel_sides`
+            allows (False: one after the other; the results are the same).
     """
     diff = differentials.of(p)
     T0 = p.bench.torque if torque is None else torque
@@ -280,7 +282,8 @@ def evaluate(p, modes: list[int], torque: float | None = None,
         sides = [(s, pair) for s, pair in side_modes(p).items() if set(pair) & set(modes)]
         # the analytic values (their first call imports scipy.optimize, 0.4-0.7 s) while
         # the second side runs in its own process: no wall time there
-        for side, run in _bench_runs(p, sides, T0, dw, friction_scale, on_run, analytic):
+        for side, run in _bench_runs(p, sides, T0, dw, friction_scale, on_run, analytic,
+                                     parallel):
             m = run_metrics(run.results)
             metrics["dissipated_energy"] += m["dissipated_energy"]
             if not metrics["peak_pressure"] >= m["peak_pressure"]:

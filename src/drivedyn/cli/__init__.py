@@ -89,10 +89,20 @@ def _is_input_error(exc: Exception) -> bool:
 @click.group(cls=_Group, help=HELP, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(None, "--version", "-V", package_name="drivedyn", prog_name="drivedyn")
 @click.option("--debug", is_flag=True, help="Show the Python traceback of an unexpected error.")
+@click.option("--compile-workers", type=click.IntRange(0), default=None, metavar="N",
+              help="Processes that compile a model's kernels at the same time on a first run "
+                   "(default: one per CPU; 0 compiles in this process).")
+@click.option("--cache-dir", type=click.Path(file_okay=False), default=None, metavar="DIR",
+              help="drivedyn's cache folder (reduced flexible parts, the record of compiled "
+                   "kernels; default: $DRIVEDYN_CACHE or ~/.cache/drivedyn).")
 @click.pass_context
-def main(ctx: click.Context, debug: bool) -> None:
+def main(ctx: click.Context, debug: bool, compile_workers: int | None,
+         cache_dir: str | None) -> None:
     """drivedyn command line (see HELP)."""
+    from drivedyn import settings
+
     ctx.meta["drivedyn.debug"] = debug
+    settings.configure(compile_workers=compile_workers, cache_dir=cache_dir)
 
 
 for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep, view,

@@ -75,9 +75,12 @@ def _progress_note(quiet: bool):
                    "--set 'gears.helix_angle=\"28 deg\"'. Repeatable.")
 @click.option("--analytic-only", is_flag=True,
               help="Only the analytic quasi-static TDR (no simulation).")
+@click.option("--sequential", is_flag=True,
+              help="Run the two bench sides one after the other (default: at the same time "
+                   "with two or more CPUs; the results are the same).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | None,
-        friction_scale: float, sets: tuple[str, ...], analytic_only: bool,
+        friction_scale: float, sets: tuple[str, ...], analytic_only: bool, sequential: bool,
         as_json: bool) -> None:
     """Torque distribution ratio of a differential on the simulated test bench (seed 003).
 
@@ -86,7 +89,7 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
     difference; drive then coast in one run per side, TDR = applied / resistant torque
     averaged over the steady windows. Prints the simulated, analytic (quasi-static) and
     measured TDR of each mode. With two or more CPUs the two sides run at the same time
-    (DRIVEDYN_PARALLEL_SIDES=0: one after the other).
+    (--sequential: one after the other; the results are the same).
 
     \b
     Examples:
@@ -123,7 +126,7 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
             click.echo(size_text(args[0].size), err=True)
 
     ev = evaluate(p, modes, torque, None if speed_diff is None else speed_diff * RPM,
-                  friction_scale, analytic_only, on_run=on_run)
+                  friction_scale, analytic_only, on_run=on_run, parallel=not sequential)
     T0, dw, rows, runs, failed = ev.torque, ev.speed_diff, ev.rows, ev.runs, ev.failed
     wall = time.perf_counter() - t0
     if as_json:

@@ -34,7 +34,8 @@ def carve(buf: np.ndarray, off: int, shape: int | tuple[int, ...]) -> np.ndarray
 
 @overload(carve, inline="always")
 def _carve(buf, off, shape):
-    if not (isinstance(buf, types.Array) and buf.ndim == 1 and buf.layout == "C"):
+    if not (isinstance(buf, types.Array) and buf.ndim == 1 and buf.layout == "C"
+            and buf.dtype == types.float64):
         return None
     if isinstance(shape, types.Integer):
         def view1(buf, off, shape):

@@ -1,17 +1,17 @@
 """The Newton iteration of one step as one compiled function.
 
-:meth:`drivedyn.solver.stepper.Stepper.step` runs the predictor, the Newton iterations, the
-factorisations and the convergence tests of a step. In Python that orchestration (seven group
-calls per evaluation with 29 arguments to unbox each, the norms, the solve, the update) took
-about 40 % of the Type C bench's wall time (benchmarks/README.md, issue 16's third round).
-:func:`newton_iterations` is the same algorithm, statement for statement, in numba: one call
-from Python per step. It calls the element kernels through their addresses
+:func:`newton_iterations` runs the predictor, the Newton iterations, the factorisations and
+the convergence tests of a step, inside the compiled stepping loop
+(:func:`drivedyn.solver.step_loop.run_steps`). In Python that orchestration (seven group calls
+per evaluation with 29 arguments to unbox each, the norms, the solve, the update) took about
+40 % of the Type C bench's wall time. It calls the element kernels through their addresses
 (:mod:`drivedyn.solver.kernel_calls`), so it is compiled once per combination of argument
 types and cached; the kernels stay compiled and cached once each.
 
-The two implementations are kept in step by a test that runs a model both ways and compares
-every step bit for bit (``tests/test_compiled_step.py``); a change to the algorithm goes into
-both.
+A Python transcription of the algorithm, statement for statement, is the tests' oracle
+(``tests/internals/reference_stepper.py``); a test runs models both ways and compares every
+step bit for bit (``tests/internals/test_step_loop.py``), so a change to the algorithm goes
+into both.
 
 Arrays shared with :class:`~drivedyn.solver.stepper.Stepper` (its Newton memory):
     ``istate`` (int64, NISTATE): factorisation valid (0/1), round-off levels valid (0/1),
@@ -187,7 +187,7 @@ REFACTOR_AFTER = 4
 # gear flanks within their onset). One converged on its own new factorisation does not: the
 # matrix changed within the step (a block sticking on a slope failed without this).
 # Refreshing there cost the Type C's zero holds 0.42 factorisations per step against 0.13 in
-# loaded holds; deferred, 0.10 (benchmarks/README.md, issue 16 sixth round). The price: a
+# loaded holds; deferred, 0.10. The price: a
 # stale step that has not converged assembles its matrix in an evaluation of its own.
 
 # outcome codes of newton_iterations (mapped to StepStatus by the stepper)
@@ -337,7 +337,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                 return NONFINITE_RESIDUAL, it, istate[I_NFAC] - nfac0
             if (rq_max > tol or ph_max > phi_tol) and last <= stall:
                 # stagnation at the round-off of the positions: discount the residual a
-                # round-off change of the unknowns produces (Stepper.step explains)
+                # round-off change of the unknowns produces (the tests' reference stepper
+                # explains)
                 if istate[I_LU] != 0 and istate[I_ROFF] == 0:
                     roundoff_levels(data, indices, indptr, nd, absmax(x) if x.size else 1.0,
                                     lam, roundoff_ulps, roff)

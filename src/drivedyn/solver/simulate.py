@@ -5,10 +5,9 @@ would fall below ``h_min`` (or too many consecutive rejections happen) the run s
 results up to that time are returned with ``success = False`` and a message naming the time,
 the worst equation (element and dof) and its residual.
 
-The steps run in the compiled loop of :mod:`~drivedyn.solver.step_loop`, one call per output
-interval, when it can run the model; otherwise in :func:`_python_loop`, one
-:meth:`~drivedyn.solver.stepper.Stepper.step` per attempt. Both take their step sizes from
-:mod:`~drivedyn.solver.step_control`.
+The steps run in the compiled loop of :mod:`~drivedyn.solver.step_loop` (drivedyn's one
+stepping engine), which returns to Python after a batch of output times; its step sizes come
+from :mod:`~drivedyn.solver.step_control`.
 """
 
 from __future__ import annotations
@@ -26,6 +25,7 @@ from drivedyn.results.recorder import EnergyAccount, Recorder
 from drivedyn.results.results import Results, RunStats
 from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
+from drivedyn.solver.newton_kernel import FLOOR_REL, residual_norms
 from drivedyn.solver.settings import (
     AdaptiveStep,
     FixedStep,
@@ -36,22 +36,16 @@ from drivedyn.solver.settings import (
 )
 from drivedyn.solver.step_control import (
     CS_IOUT,
-    accept_step,
     control_arrays,
-    next_step,
-    reject_step,
-    step_error,
 )
-from drivedyn.solver.step_control import signatures as control_signatures
 from drivedyn.solver.step_loop import (
     RUN_END,
     RUN_FAILED,
     RUN_OUTPUT,
     StepLoop,
-    loop_allowed,
     precompile_loop,
 )
-from drivedyn.solver.stepper import FLOOR_REL, Stepper, residual_norms
+from drivedyn.solver.stepper import Stepper
 
 log = logging.getLogger("drivedyn")
 
@@ -143,16 +137,12 @@ def _set_up(model: Model, st: State, integrator: GeneralizedAlpha, newton: Newto
     """The stepper, linear solver and energy account of a run from ``st``, with every
     compiled function the run calls handed to the System's first-evaluation precompile."""
     lin = linear_solver or default_linear_solver(model.neq)
-    stepper = Stepper(model, integrator, newton, lin, loop=loop_allowed(model))
+    stepper = Stepper(model, integrator, newton, lin)
     sys = stepper.sys
     energy = EnergyAccount(model)
-    if stepper.loop:
-        precompile_loop(stepper, st, energy)
-    else:
-        sys.precompile_also.extend(control_signatures(model.nd))
-    calls = getattr(lin, "compiled_calls", None)  # a solver of the user's may not say
-    if calls is not None and (initialize or not stepper.loop):  # its Python calls
-        sys.precompile_also.extend(calls(model.indices, model.indptr))
+    precompile_loop(stepper, st, energy)
+    if initialize:  # the consistent initial state calls the linear solver from Python
+        sys.precompile_also.extend(lin.compiled_calls(model.indices, model.indptr))
     return stepper, lin, energy
 
 
@@ -167,7 +157,7 @@ def load_kernels(model: Model, *, integrator: GeneralizedAlpha | None = None,
     Used before forking processes that run the same model (``drivedyn tdr``'s two bench
     sides): each inherits the loaded functions. It replaces a one-step run, which also made
     the state consistent, recorded it and built a results dataset (0.2-0.3 s on the Type C
-    bench, issue 16 sixteenth round). Other keywords of :func:`simulate` (``step``,
+    bench). Other keywords of :func:`simulate` (``step``,
     ``output_dt``...) are accepted and change nothing here; any other keyword is a
     TypeError."""
     unknown = sorted(set(_run_settings) - set(inspect.signature(simulate).parameters))
@@ -208,11 +198,11 @@ def simulate(
         step: :class:`FixedStep` (default h = 1 ms) or :class:`AdaptiveStep`.
         output_dt, output_times: when to record (default about 1000 outputs); steps are
             shortened to land on output times.
-        linear_solver: default: dense LU up to 150 unknowns, sparse LU above.
+        linear_solver: :class:`DenseLU`, :class:`SparseLU` or :class:`AutoLU` (default: dense
+            LU up to 150 unknowns, sparse LU above).
         progress: called as ``progress(t, h, steps)`` after accepted steps: after each batch
-            of output times (about every 0.05 s of wall) when the compiled loop runs the
-            steps (:mod:`~drivedyn.solver.step_loop`), after every one with DEBUG logging or
-            in the Python loop.
+            of output times (about every 0.05 s of wall; :mod:`~drivedyn.solver.step_loop`),
+            after every one with DEBUG logging.
         initialize: make velocities and accelerations consistent first (default True).
         variables: glob patterns of the sensors to keep (default all), e.g.
             ``["crank.*", "*.torque"]``; energy terms are always kept.
@@ -262,21 +252,15 @@ def simulate(
     debug = log.isEnabledFor(logging.DEBUG)
     loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug, rec.extendable)
     try:
-        if loop is not None:
-            success, message = _compiled_loop(loop, model, st, rec, stats, progress, debug)
-        else:
-            success, message = _python_loop(stepper, model, st, touts, ctl, cs, energy, rec,
-                                            stats, progress, debug)
+        success, message = _run_loop(loop, model, st, rec, stats, progress, debug)
     except KeyboardInterrupt:
         # Ctrl-C: stop cleanly with what was computed (the caller writes partial results)
-        if loop is not None:
-            loop.flush(rec)  # the outputs the loop stored before it returned
+        loop.flush(rec)  # the outputs the loop stored before it returned
         success = False
         message = (f"interrupted by the user at t = {st.t:.9g} s; results up to "
                    f"t = {st.t:.9g} s are kept")
         log.error(message)
-    if loop is not None:
-        loop.add_stats(stats)
+    loop.add_stats(stats)
     stats.factorizations = stepper.factorizations
     stats.residual_evaluations = sys.nevals
     stats.wall_s = _time.perf_counter() - wall0
@@ -305,58 +289,9 @@ def _log_attempt(model: Model, t: float, h: float, out: StepOutcome) -> None:
                   model.eq_labels[out.worst_eq] if out.worst_eq >= 0 else "-", out.residual)
 
 
-def _python_loop(stepper: Stepper, model: Model, st: State, touts: np.ndarray,
-                 ctl: np.ndarray, cs: np.ndarray, energy: EnergyAccount, rec: Recorder,
-                 stats: RunStats, progress, debug: bool) -> tuple[bool, str]:
-    """The stepping loop in Python, one step per :meth:`Stepper.step` (for the models the
-    compiled loop of :mod:`~drivedyn.solver.step_loop` cannot run); returns (success,
-    message)."""
-    while True:
-        h_try = next_step(cs, ctl, st.t, touts)
-        if h_try == 0.0:
-            return True, ""
-        out: StepOutcome = stepper.step(st, h_try)
-        stats.newton_iterations += out.iterations
-        err = 0.0
-        if out.ok:
-            err, ierr = step_error(ctl, stepper.trial.a, st.a, stepper.hdq, h_try)
-            if err > 1.0:
-                out.status = StepStatus.ERROR_TOO_LARGE
-                out.worst_eq = int(ierr)
-                out.residual = float(err)
-        if out.ok:
-            trial = stepper.trial
-            for g in model.groups:
-                if g.commit is not None:
-                    g.commit(g, trial)
-            energy.advance(h_try)
-            stepper.accepted(st)
-            st.assign(trial)
-            stats.steps += 1
-            stats.h_min_used = min(stats.h_min_used, h_try)
-            stats.h_max_used = max(stats.h_max_used, h_try)
-            t, landed = accept_step(cs, ctl, st.t, h_try, err, out.iterations, touts)
-            st.t = float(t)
-            if landed:
-                rec.record(st, h_try)
-            if debug:
-                _log_attempt(model, st.t, h_try, out)
-            if progress is not None:
-                progress(st.t, h_try, stats.steps)
-            continue
-        if debug:
-            _log_attempt(model, st.t, h_try, out)
-        stats.rejected += 1
-        stepper.invalidate()
-        if reject_step(cs, ctl, st.t, h_try, err, out.status is StepStatus.ERROR_TOO_LARGE):
-            message = _failure_message(model, st.t, h_try, out)
-            log.error(message)
-            return False, message
-
-
-def _compiled_loop(loop: StepLoop, model: Model, st: State, rec: Recorder, stats: RunStats,
-                   progress, debug: bool) -> tuple[bool, str]:
-    """The stepping loop compiled (:mod:`~drivedyn.solver.step_loop`), back in Python after
+def _run_loop(loop: StepLoop, model: Model, st: State, rec: Recorder, stats: RunStats,
+              progress, debug: bool) -> tuple[bool, str]:
+    """The compiled stepping loop (:mod:`~drivedyn.solver.step_loop`), back in Python after
     a batch of output times (and after every attempt when ``debug``); returns (success,
     message). ``progress`` is called at each return after an accepted step (the last output
     time of a batch; after every accepted step when ``debug``)."""

@@ -6,7 +6,7 @@ Python around each step (its call and the unboxing of its 50 arrays, the error e
 the groups' commits, the energy account, the copy of the state, the step-size control) cost
 about 50 us per step: 15-25 % of the TORSEN runs' wall time, and more than the whole
 budget of a step for faster than real time at 5000 steps per simulated second
-(benchmarks/README.md, issue 16). :func:`run_steps` does all of that between two output
+(measured). :func:`run_steps` does all of that between two output
 times without returning to Python: it runs the Newton iterations (inlined), the error
 estimate and the step-size control of :mod:`~drivedyn.solver.step_control` (the same
 functions the Python loop calls), copies the committed columns of the elements' outputs into
@@ -19,12 +19,11 @@ returns), at the end, when the sparse LU must factorise (in Python, as for the c
 step), when the run fails, and, with ``every`` set (step logging at DEBUG level), after
 every attempt. Returning at every output time cost 50-60 us each (the call's unboxing of
 about 60 arrays, the record in Python): 6-8 % of the Type C vehicle configuration's run at
-its 1.44 ms output interval (benchmarks/README.md, issue 16 eighteenth round).
+its 1.44 ms output interval.
 
-The Python loop of ``simulate`` remains for models this loop cannot run (a linear solver
-other than the dense LU, the sparse LU and AutoLU, a family whose commit is not a copy of
-columns, ``DRIVEDYN_COMPILED_NEWTON=0``) and when ``DRIVEDYN_COMPILED_LOOP=0``; both give
-the same steps, states and outputs bit for bit (``tests/test_step_loop.py``).
+This loop is drivedyn's one stepping engine. A Python transcription of the same algorithm
+(``tests/internals/reference_stepper.py``) is the tests' oracle: both give the same steps,
+states and outputs bit for bit (``tests/internals/test_step_loop.py``).
 
 Arrays of the loop (the ``control`` argument)::
 
@@ -41,7 +40,6 @@ Arrays of the loop (the ``control`` argument)::
 
 from __future__ import annotations
 
-import os
 import time
 from typing import Any
 
@@ -52,7 +50,7 @@ from drivedyn.elements.base import COMMIT_TIME, aux_offset
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, advance_energy
 from drivedyn.solver import newton_kernel as nk
-from drivedyn.solver.newton_kernel import I_DENSE, I_NEVAL, I_PHASE, _forget, newton_iterations
+from drivedyn.solver.newton_kernel import I_NEVAL, I_PHASE, _forget, newton_iterations
 from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
 
 # wall time [s] between two returns of the loop that StepLoop sizes its output batches for:
@@ -228,21 +226,31 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
 
 def commit_table(model: Model) -> tuple[np.ndarray, np.ndarray] | None:
     """``(dst, src)`` of every group's commit (``Group.commit_cols``) into ``State.es``, from
-    ``model.aux_all`` (``src`` -1: the time); None if a group commits otherwise or the
-    groups' outputs are not views of ``model.aux_all``."""
+    ``model.aux_all`` (``src`` -1: the time).
+
+    Raises:
+        ModelError: a group that commits otherwise than by copying columns, or whose
+            outputs are not views of ``model.aux_all`` (a group built outside
+            :func:`~drivedyn.model.compile.compile_model`).
+    """
+    from drivedyn.errors import ModelError
+
     aux_all = model.aux_all
     if aux_all is None:
-        return None
+        raise ModelError("the model has no output table (aux_all): compile it with "
+                         "compile_model")
     dst: list[int] = []
     src: list[int] = []
     for g in model.groups:
         if g.commit is None:
             continue
         if not g.commit_cols:
-            return None
+            raise ModelError(f"element family {g.family!r} commits its state by a function: "
+                             "the stepping loop copies columns (declare Group.commit_cols)")
         off = aux_offset(g, aux_all)
         if off < 0:
-            return None
+            raise ModelError(f"the outputs of the {g.family!r} group are not a view of the "
+                             "model's output table (aux_all)")
         ncol = g.aux.shape[1]
         for e in range(g.nel):
             for j, c in enumerate(g.commit_cols):
@@ -283,8 +291,6 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
 
     m, sys = stepper.model, stepper.sys
     commits = commit_table(m)
-    if not stepper.loop or commits is None:
-        return
     try:
         G = KernelTable([(0, pre, post) for _k, pre, _mid, post
                          in sys._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True)])
@@ -302,21 +308,12 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
     sys.precompile_also.append((run_steps, sig))
 
 
-def loop_allowed(model: Model) -> bool:
-    """The compiled loop can run ``model`` (unless ``DRIVEDYN_COMPILED_LOOP=0``); the
-    stepper must also allow its compiled step."""
-    return (os.environ.get("DRIVEDYN_COMPILED_LOOP", "1") != "0"
-            and model.eout_all is not None and commit_table(model) is not None)
-
-
 class StepLoop:
     """Drives :func:`run_steps` for :func:`~drivedyn.solver.simulate.simulate`: holds its
-    argument tuples (built once), factorises for the sparse LU between calls, and calls the
-    compiled overload straight after the first call (as ``Stepper._call_compiled``).
+    argument tuples (built once) and factorises for the sparse LU between calls.
 
     Args:
-        stepper: the run's :class:`~drivedyn.solver.stepper.Stepper` (its compiled step must
-            be available: :meth:`create` checks).
+        stepper: the run's :class:`~drivedyn.solver.stepper.Stepper`.
         st: the accepted state (updated in place; its ``t`` after every call).
         touts: output times [s].
         ctl, cs: the step-size control's arrays (:mod:`~drivedyn.solver.step_control`).
@@ -340,7 +337,6 @@ class StepLoop:
         self.energy = _energy_args(energy)
         self.commits = (commits[0], commits[1], m.aux_all)
         self.head = _head(stepper, st, self.prev_vd, every)
-        self._entries: dict[tuple, Any] = {}
         self._nn, self._nd = int(m.nn), int(m.nd)
         self._sizes = (int(m.aux_all.size), int(energy.diss.size), int(energy.acc.size))
         self.buffered = buffered
@@ -350,37 +346,17 @@ class StepLoop:
     @classmethod
     def create(cls, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
                cs: np.ndarray, energy: EnergyAccount, every: bool,
-               buffered: bool = True) -> StepLoop | None:
-        """The loop for this run, or None if it cannot run the model (the caller then runs
-        the Python loop)."""
-        m = stepper.model
-        if not stepper.loop or energy.eout is not m.eout_all:
-            return None
-        commits = commit_table(m)
-        if commits is None or stepper._compiled is False:
-            return None
-        if stepper._compiled is None:
-            stepper._compiled = stepper._compiled_step(st)
-        if not stepper._compiled:
-            return None
+               buffered: bool = True) -> StepLoop:
+        """The loop for this run (the kernels bound in the stepper's kernel table)."""
+        commits = commit_table(stepper.model)
+        stepper.kernel_table(st)
         return cls(stepper, st, touts, ctl, cs, energy, commits, every, buffered)
 
     def _call(self) -> int:
         s = self.stepper
         lin = s._linear_arrays()
-        args = (s._G, *self.head, *lin, s._par, s._istate, s._fstate, self.control,
-                self.energy, self.commits, self.snaps)
-        key = (int(s._istate[I_DENSE]), lin[1] is s._no_sparse)
-        entry = self._entries.get(key)
-        if entry is not None:
-            return entry(*args)
-        out = run_steps(*args)
-        try:
-            sig = tuple(run_steps.typeof_pyval(a) for a in args)
-            self._entries[key] = run_steps.overloads[sig].entry_point
-        except (AttributeError, KeyError, TypeError, ValueError):  # keep the dispatcher
-            self._entries[key] = run_steps
-        return out
+        return run_steps(s._G, *self.head, *lin, s._par, s._istate, s._fstate, self.control,
+                         self.energy, self.commits, self.snaps)
 
     def run(self) -> int:
         """Run to the next return (RUN_END, RUN_OUTPUT, RUN_FAILED or RUN_ATTEMPT); the

@@ -1,4 +1,4 @@
-"""One step of the Lie-group generalized-alpha scheme with Newton iterations.
+"""The Lie-group generalized-alpha scheme with Newton iterations: the run's Newton memory.
 
 Scheme (Arnold & Bruls 2007; Bruls, Cardona & Arnold 2012), with ``vd`` the accelerations
 and ``a`` the pseudo-accelerations::
@@ -16,12 +16,17 @@ matrix is ``[M / (beta' h^2) + gamma' C / (beta' h) + K T, G^T; G T, 0]`` where 
 the tangent operator of each node's rotation increment. Working on position corrections
 (not accelerations) is the scaling by ``beta' h^2`` that keeps the matrix conditioned as
 ``h -> 0``.
+
+The steps run in one compiled engine, :func:`drivedyn.solver.step_loop.run_steps`, with the
+Newton iterations of :func:`drivedyn.solver.newton_kernel.newton_iterations`. :class:`Stepper`
+holds what that engine keeps between calls (the trial state, the Newton memory, the
+integrator's coefficients, the linear solver's arrays, the kernel table) and turns its codes
+into :class:`~drivedyn.solver.settings.StepOutcome` values. A Python transcription of the
+same algorithm lives with the tests as their oracle (``tests/internals/reference_stepper.py``).
 """
 
 from __future__ import annotations
 
-import logging
-import os
 from typing import Any
 
 import numpy as np
@@ -30,7 +35,7 @@ from drivedyn.elements.base import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver import lapack
 from drivedyn.solver import newton_kernel as nk
-from drivedyn.solver.assembly import System, lie_update, tangents
+from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import (
     AutoLU,
     DenseLU,
@@ -39,30 +44,18 @@ from drivedyn.solver.linear import (
     default_linear_solver,
 )
 from drivedyn.solver.newton_kernel import (
-    EPS,
     F_FORCE,
     F_LU_H,
     FLOOR_REL,
-    H_REUSE,
     I_DENSE,
     I_EXTERNAL,
     I_LU,
-    I_NEVAL,
     I_NFAC,
-    I_PHASE,
     I_ROFF,
-    REFACTOR_AFTER,
     ROUNDOFF_ULPS,
     STALL_ULPS,
-    absmax,
-    newton_update,
-    predict,
-    residual_norms,
-    roundoff_levels,
 )
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
-
-log = logging.getLogger("drivedyn")
 
 
 def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarray, np.ndarray]:
@@ -81,12 +74,16 @@ def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarr
 
 
 class Stepper:
-    """Advances a state by one step; keeps the factorisation between steps (modified Newton).
+    """The Newton memory and arrays of a run, shared with the compiled stepping loop
+    (:mod:`~drivedyn.solver.step_loop`); the factorisation is kept between steps (modified
+    Newton).
 
-    A step runs as one compiled call (:mod:`~drivedyn.solver.newton_kernel`) with the dense
-    LU, the sparse LU and AutoLU; the Python loop of :meth:`step` is the same algorithm, kept for
-    other linear solvers and ``DRIVEDYN_COMPILED_NEWTON=0``, and the reference the compiled
-    one is tested against. A change to one goes into both.
+    Args:
+        model: the compiled model.
+        integrator, newton: the run's settings.
+        linear_solver: DenseLU, SparseLU or AutoLU (default: by the model's size).
+    Raises:
+        TypeError: another linear solver.
 
     Attributes:
         lu_h: step size the current factorisation was built for (None: none).
@@ -94,7 +91,7 @@ class Stepper:
     """
 
     def __init__(self, model: Model, integrator: GeneralizedAlpha, newton: Newton,
-                 linear_solver: LinearSolver | None = None, loop: bool = False) -> None:
+                 linear_solver: LinearSolver | None = None) -> None:
         self.model = model
         self.sys = System(model)
         self.integrator = integrator
@@ -116,7 +113,6 @@ class Stepper:
         self._no_roff = np.zeros(model.neq)
         self._prev_t: float | None = None  # time and accelerations of the state before sn
         self._prev_vd = np.zeros(model.nd)
-        self._compiled: Any = None  # the model's compiled step (False: Python loop)
         self._par = np.array([am, af, g, b, self.bp, self.gp, newton.tol, newton.phi_tol,
                               newton.contraction, newton.max_iter,
                               1.0 if newton.strategy == "full" else 0.0, FLOOR_REL,
@@ -129,11 +125,10 @@ class Stepper:
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
         self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
                            i0, f0)
-        # the compiled stepping loop (step_loop) will run the steps: it has its compiled step
-        # inlined, and simulate hands its signature to the precompile instead
-        self.loop = loop and self._compiled_allowed()
-        if self._compiled_allowed() and not self.loop:
-            self._precompile_with_kernels()
+        if self._solvers() is None:
+            raise TypeError(f"linear_solver must be a DenseLU, SparseLU or AutoLU (got "
+                            f"{type(self.lin).__name__}): the compiled stepping loop "
+                            "factorises and solves with them")
 
     @property
     def lu_h(self) -> float | None:
@@ -170,160 +165,6 @@ class Stepper:
         self._istate[I_ROFF] = 0
         self.roff[:] = 0.0
 
-    def _roundoff(self, st: State) -> np.ndarray:
-        """Round-off levels of the residual for the factorised matrix (``sys.data`` holds
-        it until the next factorisation), computed once per factorisation, when needed;
-        zeros without a factorisation."""
-        if self._istate[I_LU] and not self._istate[I_ROFF]:
-            m = self.model
-            roundoff_levels(self.sys.data, m.indices, m.indptr, m.nd,
-                            absmax(st.x) if st.x.size else 1.0, st.lam,
-                            ROUNDOFF_ULPS, self.roff)
-            self._istate[I_ROFF] = 1
-        return self.roff
-
-    def _evaluate(self, st: State, cM: float, cC: float, want: bool) -> bool:
-        """Residual at ``st``, with the iteration matrix if ``want`` (the next iteration
-        factorises: one evaluation gives both, instead of a residual now and residual and
-        matrix again in :meth:`_factor`); returns ``want``."""
-        if want:
-            tangents(self.hdq, self.model.nn, self.sys.Tn)
-        self.sys.evaluate(st, cM, cC, 1.0, MODE_DYN, want)
-        return want
-
-    def _factor(self, st: State, h: float, assembled: bool = False) -> StepOutcome | None:
-        """Factorise the iteration matrix at ``st`` (assembled already if ``assembled``)."""
-        sys = self.sys
-        if not assembled:
-            tangents(self.hdq, self.model.nn, sys.Tn)
-            sys.evaluate(st, 1.0 / (self.bp * h * h), self.gp / (self.bp * h), 1.0, MODE_DYN,
-                         True)
-        try:
-            sys.factor(self.lin)
-        except (np.linalg.LinAlgError, ValueError) as exc:
-            self._forget()
-            return StepOutcome(StepStatus.SINGULAR, message=str(exc))
-        self._istate[I_LU] = 1
-        self._istate[I_ROFF] = 0  # computed from this matrix when Newton first stagnates on it
-        self._fstate[F_LU_H] = h
-        self._istate[I_NFAC] += 1
-        return None
-
-    def step(self, sn: State, h: float) -> StepOutcome:
-        """Attempt the step from ``sn`` to ``sn.t + h``; the result is left in ``self.trial``
-        (converged or not). ``sn`` is not modified."""
-        m = self.model
-        nd = m.nd
-        nw = self.newton
-        sys = self.sys
-        st = self.trial
-        am, af, gamma, beta = self.am, self.af, self.gamma, self.beta
-        st.assign(sn)
-        st.t = sn.t + h
-        # predictor: accelerations extrapolated linearly from the last two accepted steps
-        # (constant at the start): halves the Newton iterations on smooth motion
-        w = 0.0
-        if self._prev_t is not None and sn.t > self._prev_t and self._prev_vd.shape == sn.vd.shape:
-            w = min(h / (sn.t - self._prev_t), 1.0)
-        if self._compiled is None:
-            self._compiled = self._compiled_step(sn)
-        if self._compiled:
-            out = self._step_compiled(sn, h, w)
-            if out is not None:
-                return out
-        hdq = self.hdq
-        predict(sn.vd, sn.a, sn.v, self._prev_vd, w, h, af, am, gamma, beta, st.vd, st.a, st.v,
-                hdq)
-        lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
-        # a factorisation for a step size within H_REUSE of h still converges
-        # well; the contraction monitor below refactors if it does not
-        if self.lu_h is not None and abs(self.lu_h - h) > H_REUSE * h:
-            self._forget()
-        full = nw.strategy == "full"
-        cM = 1.0 / (self.bp * h * h)
-        cC = self.gp / (self.bp * h)
-        ca = (1.0 - af) / (1.0 - am) * cM
-        # without a factorisation the first iteration factorises (the predictor itself
-        # converges in about 2 % of the steps)
-        assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
-        nfac0 = self.factorizations
-        prev = np.inf
-        fresh = False
-        since_factor = 0
-        worst, wval = -1, 0.0
-        kscale = sys.kscale
-        stall = STALL_ULPS * EPS * max(1.0, absmax(st.x))
-        last = np.inf
-        stale = False
-        for it in range(nw.max_iter + 1):
-            rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                    self._no_roff, self.force_scale)
-            if not finite:
-                return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
-                                   message="non-finite residual")
-            if (rq_max > nw.tol or ph_max > nw.phi_tol) and last <= stall:
-                # Newton stagnates at the round-off of the positions: the part of the
-                # residual that a round-off change of the unknowns produces (a stiff
-                # constraint or contact turning the last bit of a position into a force)
-                # cannot be reduced; the rest must still meet the criteria. A step is never
-                # accepted on the size of the correction alone.
-                rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                   self._roundoff(st), self.force_scale)
-            if rq_max <= nw.tol and ph_max <= nw.phi_tol:
-                if stale and self.factorizations != nfac0:
-                    # no contraction on this step's own factorisation: an event (contact,
-                    # stick-slip) within the step (newton_kernel's note on the deferral)
-                    self._forget()
-                elif it >= 3 and self.factorizations == nfac0:
-                    # converged, but slowly, on a factorisation from an earlier step: it is
-                    # stale (contacts or gear flanks changed since); refresh it next step
-                    self._forget()
-                if nd:
-                    self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
-                return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
-            if it == nw.max_iter:
-                break
-            if stale:  # newton_kernel's note on the deferred refresh
-                self._forget()
-                stale = False
-            # modified Newton: a factorisation that needed several iterations already is
-            # stale (the configuration moved on); refresh it rather than creep along
-            if full or self.lu_h is None or since_factor >= REFACTOR_AFTER:
-                out = self._factor(st, h, assembled)
-                if out is not None:
-                    out.iterations = it
-                    out.factorizations = self.factorizations - nfac0
-                    return out
-                fresh = True
-                since_factor = 0
-            since_factor += 1
-            delta = self.lin.solve(-sys.r)
-            nrm, finite = newton_update(delta, nd, hdq, st.vd, st.a, st.v, st.lam, cM, ca, cC)
-            if not finite:
-                return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
-                                   message="non-finite Newton correction")
-            ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
-            if it > 0 and ratio > nw.contraction:
-                if ratio > 2.0 and fresh:
-                    sq, sphi = scaled_residual(sys)
-                    worst, wval = _worst(sys, sq, sphi)
-                    return StepOutcome(StepStatus.NEWTON_DIVERGED, it + 1,
-                                       self.factorizations - nfac0, worst_eq=worst,
-                                       residual=wval, message="corrections grow")
-                stale = True  # refactor at the next iteration unless it has converged
-            prev = nrm if nrm > 0 else prev
-            last = nrm
-            fresh = False
-            lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
-            # the matrix with the residual when the next iteration factorises for certain
-            # (no factorisation); not after a correction that did not contract or after
-            # three iterations on one factorisation, where the next check often converges
-            assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
-        sq, sphi = scaled_residual(sys)
-        worst, wval = _worst(sys, sq, sphi)
-        return StepOutcome(StepStatus.NEWTON_MAX_ITER, nw.max_iter, self.factorizations - nfac0,
-                           worst_eq=worst, residual=wval)
-
     def _solvers(self) -> tuple[DenseLU | None, SparseLU | None] | None:
         """(dense LU, sparse LU) of the linear solver, one of them active and the other
         None; None for a solver the compiled step cannot use."""
@@ -336,12 +177,6 @@ class Stepper:
             return None, lin
         return None
 
-    def _compiled_allowed(self) -> bool:
-        """The compiled step is used unless ``DRIVEDYN_COMPILED_NEWTON=0`` or the linear
-        solver is not one of the dense LU, the sparse LU and AutoLU."""
-        return (os.environ.get("DRIVEDYN_COMPILED_NEWTON", "1") != "0"
-                and self._solvers() is not None)
-
     def _state_args(self, sn: State) -> tuple:
         """The ``accepted``, ``trial`` and ``arrays`` arguments of the compiled step."""
         m, sys, st, tf = self.model, self.sys, self.trial, self.model.tf
@@ -350,44 +185,19 @@ class Stepper:
                 (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind, tf.par,
                  tf.fstart, tf.tab, m.indices, m.indptr))
 
-    def _precompile_with_kernels(self) -> None:
-        """Add the compiled step, for this model's argument types, to the compilations the
-        System runs in parallel worker processes before its first evaluation
-        (:mod:`~drivedyn.solver.precompile`): a first run then compiles it while the kernels
-        compile, not after them. Its types do not depend on the kernels' addresses."""
-        from drivedyn.solver.kernel_calls import KernelTable
-
-        m, sys, st = self.model, self.sys, self.trial
-        try:
-            G = KernelTable([(0, pre, post) for _k, pre, _mid, post
-                             in sys._kernel_args(st, 1.0, 1.0, 1.0, MODE_DYN, True)])
-            lu, piv, ib, tr = self._no_dense
-            args = (G, (int(m.nn), int(m.nd), 0.0, 0.0, 1.0), *self._state_args(st),
-                    (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), self._no_sparse,
-                    self._par, self._istate, self._fstate)
-            sig = tuple(nk.newton_iterations.typeof_pyval(a) for a in args)
-        except (AttributeError, TypeError, ValueError):  # not typeable: compiled on first use
-            return
-        sys.precompile_also.append((nk.newton_iterations, sig))
-
-    def _compiled_step(self, sn: State) -> Any:
-        """The compiled Newton iterations (:func:`~drivedyn.solver.newton_kernel.
-        newton_iterations`) with the model's kernel table, or False: with the dense LU,
-        the sparse LU (factorised here, between two calls) or AutoLU, and unless
-        ``DRIVEDYN_COMPILED_NEWTON=0``."""
-        if not self._compiled_allowed():
-            return False
+    def kernel_table(self, sn: State) -> Any:
+        """The model's :class:`~drivedyn.solver.kernel_calls.KernelTable` for states of
+        the arrays of ``sn`` (the kernels compiled or loaded first); kept as ``_G``."""
         sys = self.sys
         G = sys.kernel_table(sn)
         if G is None:  # kernels not compiled yet for these types: evaluate once
             sys.evaluate(sn, 0.0, 0.0, 1.0, MODE_DYN, False)
             G = sys.kernel_table(sn)
         if G is None:
-            return False
+            raise RuntimeError("the element kernels could not be bound for the compiled "
+                               "stepping loop (an argument numba cannot type)")
         self._G = G
-        self._args_of = None
-        self._entries: dict[tuple, Any] = {}
-        return nk.newton_iterations
+        return G
 
     def _linear_arrays(self) -> tuple[tuple, tuple]:
         """The ``linear`` and ``sparse`` arguments of the compiled step for the active
@@ -404,63 +214,6 @@ class Stepper:
         self._istate[I_EXTERNAL] = 0 if dense is not None else 1
         self._istate[I_DENSE] = 1 if dense is not None else 0
         return (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), sp_args
-
-    def _call_compiled(self, args: tuple) -> tuple[int, int, int]:
-        """One call of the compiled step. The first call with given argument types goes
-        through the numba dispatcher; later ones straight to the overload it chose: the
-        dispatcher types every argument at every call (the kernel table, a custom type, in
-        Python: about 10 us per step, 15 % of the Python around a step). The types can only
-        change with the state objects (:meth:`_step_compiled` then clears the entries) or the
-        linear solver's arrays (the key below)."""
-        lin = self._linear_arrays()
-        key = (int(self._istate[I_DENSE]), lin[1] is self._no_sparse)
-        entry = self._entries.get(key)
-        if entry is not None:
-            return entry(*args, *lin, self._par, self._istate, self._fstate)
-        full = (*args, *lin, self._par, self._istate, self._fstate)
-        out = self._compiled(*full)
-        try:
-            sig = tuple(self._compiled.typeof_pyval(a) for a in full)
-            self._entries[key] = self._compiled.overloads[sig].entry_point
-        except (AttributeError, KeyError, TypeError, ValueError):  # keep the dispatcher
-            self._entries[key] = self._compiled
-        return out
-
-    def _step_compiled(self, sn: State, h: float, w: float) -> StepOutcome | None:
-        """:meth:`step` by the compiled Newton iterations (the trial state is ``sn``
-        copied, at time ``sn.t + h``); None if the compiled step cannot be used (then it
-        is not tried again). A sparse factorisation is done here when the compiled
-        iteration asks for it, and the iteration resumes."""
-        m = self.model
-        sys = self.sys
-        st = self.trial
-        n0 = int(self._istate[I_NEVAL])
-        if sn is not self._args_of:  # the argument tuples of these states (built once)
-            self._args_of = sn
-            self._args = self._state_args(sn)
-            self._entries = {}
-        args = (self._G, (m.nn, m.nd, w, st.t, h), *self._args)
-        self._istate[I_PHASE] = 0
-        try:
-            code, it, nfac = self._call_compiled(args)
-        except Exception as exc:  # not compilable for these argument types: Python loop
-            log.warning("compiled Newton step unavailable, using the Python loop (%s)", exc)
-            self._compiled = False
-            self._istate[I_PHASE] = 0
-            st.assign(sn)
-            st.t = sn.t + h
-            return None
-        while code == nk.NEED_FACTOR:
-            try:
-                sys.factor(self.lin)
-            except (np.linalg.LinAlgError, ValueError) as exc:
-                self._istate[I_PHASE] = 0
-                self._forget()
-                sys.nevals += int(self._istate[I_NEVAL]) - n0
-                return StepOutcome(StepStatus.SINGULAR, it, nfac, message=str(exc))
-            code, it, nfac = self._call_compiled(args)
-        sys.nevals += int(self._istate[I_NEVAL]) - n0
-        return self.outcome_of(code, it, nfac)
 
     def outcome_of(self, code: int, it: int, nfac: int) -> StepOutcome:
         """The :class:`StepOutcome` of a compiled step's code (newton_kernel), with the

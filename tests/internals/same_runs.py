@@ -1,16 +1,17 @@
-"""Running a simulation two ways and checking the two runs are the same, bit for bit (the
-compiled Newton step against Stepper.step's Python loop, the compiled stepping loop against
-simulate's Python loop)."""
+"""Running a simulation two ways and checking the two runs are the same, bit for bit: the
+stepping engine against its oracle (internals/reference_stepper.py)."""
 
 from __future__ import annotations
 
 import numpy as np
 
 
-def run_both(monkeypatch, run, module, name: str, env: str):
-    """``run()`` with ``env=0`` (the Python way) and with ``env=1`` (the compiled one), with
-    ``module.name`` (the compiled function) counting its calls; returns both Results and the
+def run_both(monkeypatch, run, module, name: str):
+    """``run()`` with the oracle (the Python stepper and loop) and with the engine, with
+    ``module.name`` (the compiled loop) counting its calls; returns both Results and the
     number of calls of the compiled function."""
+    from reference_stepper import reference_runs
+
     calls = []
     compiled = getattr(module, name)
 
@@ -19,10 +20,9 @@ def run_both(monkeypatch, run, module, name: str, env: str):
         return compiled(*args)
 
     monkeypatch.setattr(module, name, counting)
-    monkeypatch.setenv(env, "0")
-    slow = run()
+    with reference_runs(monkeypatch):
+        slow = run()
     assert not calls
-    monkeypatch.setenv(env, "1")
     fast = run()
     return slow, fast, len(calls)
 

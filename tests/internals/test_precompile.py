@@ -1,9 +1,9 @@
 """First compilation in worker processes (drivedyn.solver.precompile), run in a fresh
 process with an empty numba cache: the missing kernels are compiled by the workers, the
 process loads them from the cache without compiling, and a second pass finds nothing
-missing. Kernels here are two small functions so that the test is quick; the library's
-kernels go the same way (cold `drivedyn tdr torsen-c --mode all`: about 160 s -> 56 s on two
-cores, benchmarks/README.md)."""
+missing; a later process finds them in the record of compiled kernels and loads them
+without workers, until their source file changes. Kernels here are two small functions so
+that the test is quick; the library's kernels go the same way."""
 
 from __future__ import annotations
 
@@ -83,10 +83,12 @@ if __name__ == "__main__":
 """
 
 
-def _run(tmp_path: Path, workers: int) -> dict:
-    (tmp_path / "kmod.py").write_text(textwrap.dedent(KMOD))
+def _run(tmp_path: Path, workers: int, write: bool = True) -> dict:
+    if write:
+        (tmp_path / "kmod.py").write_text(textwrap.dedent(KMOD))
     (tmp_path / "run.py").write_text(SCRIPT.replace("WORKERS", str(workers)))
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"),
+           "DRIVEDYN_CACHE": str(tmp_path / "drivedyn-cache"),
            "PYTHONPATH": os.pathsep.join([str(tmp_path), *sys.path])}
     proc = subprocess.run([sys.executable, "run.py"], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=300)
@@ -117,6 +119,32 @@ def test_without_workers_the_kernels_compile_in_this_process(tmp_path) -> None:
     assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
     assert out["waited"] == []  # nothing compiles in parallel: nothing to wait for
+
+
+@pytest.mark.skipif(not _FORK, reason="workers are forked (Linux)")
+def test_a_later_process_loads_the_recorded_kernels_until_their_source_changes(
+        tmp_path) -> None:
+    """The record of compiled kernels (drivedyn's cache folder) tells a later process that
+    numba's cache holds the kernels: it loads them in the process, with no worker and no
+    compilation. Editing the kernels' source file makes them missing again (numba's cache
+    is keyed on that file), so the workers compile them. Fails if the record is ignored
+    (workers every time) or if its stamp omits the source file (a stale kernel loaded)."""
+    import time
+
+    first = _run(tmp_path, 2)
+    assert first["first"]["compiled_in_workers"] == 2
+    later = _run(tmp_path, 2, write=False)
+    assert later["first"]["missing"] == 0 and later["first"]["compiled_in_workers"] == 0
+    assert later["compiled_here"] == ["caller"] and later["values"] == [5.0, 7.0, 8.0]
+    record = json.loads((tmp_path / "drivedyn-cache" / "compiled-kernels.json").read_text())
+    assert len(record) == 2 and all(v["seconds"] >= 0.0 for v in record.values())
+    time.sleep(0.01)
+    src = tmp_path / "kmod.py"
+    src.write_text(src.read_text().replace("a * b + 1.0", "a * b + 1.0  # edited"))
+    edited = _run(tmp_path, 2, write=False)
+    # both kernels live in the edited file
+    assert edited["first"]["missing"] == 2 and edited["first"]["compiled_in_workers"] == 2
+    assert edited["values"] == [5.0, 7.0, 8.0]
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc/self/statm")
@@ -153,7 +181,7 @@ def _first_precompile(monkeypatch, run) -> list:
 
     seen: list = []
 
-    def record(calls, workers=None, while_waiting=None):
+    def record(calls, workers=None, while_waiting=None, progress=None):
         seen.extend((d.py_func.__qualname__, sig) for d, sig in calls)
         raise _Stop
 

@@ -1,10 +1,15 @@
-"""The compiled stepping loop (drivedyn.solver.step_loop.run_steps) against the Python loop of
-simulate with the compiled Newton step: the same steps, so every run must give the same
-statistics, messages and recorded outputs (states, element outputs, energy account) bit for
-bit. Cases: a TORSEN bench with rejections (adaptive steps, dense LU), the same on the sparse
-LU (factorisations in Python between calls), a tyre (a commit of the step's time), a run
-that fails down to h_min with fixed steps (sub-steps after a failure) and with adaptive ones,
-and the step-by-step mode of DEBUG logging (the same log lines)."""
+"""drivedyn's stepping engine (the compiled loop of drivedyn.solver.step_loop with the Newton
+iterations of drivedyn.solver.newton_kernel) against its oracle, the same algorithm in Python
+(reference_stepper.py): every run must give the same statistics, messages and recorded
+outputs (states, element outputs, energy account) bit for bit, since both call the same
+element kernels and the same LAPACK routines in the same order. Cases: a TORSEN bench with
+rejections (adaptive steps, dense LU, three output batchings), the same on the sparse LU
+(factorisations in Python between calls) and on AutoLU gone dense, a slider-crank at a dead
+centre (round-off stagnation test) with modified and full Newton, a tyre (a commit of the
+step's time), runs that fail down to h_min with fixed and adaptive steps, and the
+step-by-step mode of DEBUG logging (the same log lines). A deliberate change to either side
+(e.g. REFACTOR_AFTER = 4 in the reference only, or the predictor's weight capped at 0.5 in
+newton_kernel.predict) makes these fail."""
 
 from __future__ import annotations
 
@@ -12,16 +17,16 @@ import logging
 
 import numpy as np
 import pytest
+from same_runs import assert_identical, run_both
 
 import drivedyn as dd
 from drivedyn.solver import step_loop
-from same_runs import assert_identical, run_both
 
 
 def _run_both(monkeypatch, run):
-    """``run()`` with the Python loop and with the compiled loop; returns both Results and
-    the number of compiled loop calls."""
-    return run_both(monkeypatch, run, step_loop, "run_steps", "DRIVEDYN_COMPILED_LOOP")
+    """``run()`` with the oracle and with the engine; returns both Results and the number of
+    calls of the compiled loop."""
+    return run_both(monkeypatch, run, step_loop, "run_steps")
 
 
 def _torsen_c_bench(side: str):
@@ -160,7 +165,6 @@ def test_progress_is_called_after_each_batch_of_outputs(monkeypatch, batching, t
     p, model = _torsen_c_bench("front")
     _batches(monkeypatch, batching)
     marks = []
-    monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "1")
     res = dd.simulate(model, 0.016, **p.solver.settings(), output_dt=2e-3,
                       progress=lambda t, h, n: marks.append((t, n)))
     assert [t for t, _ in marks] == pytest.approx(times, abs=0)
@@ -188,27 +192,139 @@ def test_batches_follow_the_wall_time_between_returns() -> None:
         assert loop.snaps[7].shape[0] == k
 
 
-def test_a_custom_commit_runs_the_python_loop(monkeypatch) -> None:
-    """A family whose commit is not a copy of columns: the compiled loop refuses the model
-    (it could not run that commit) and simulate runs the Python loop, which calls it after
-    every accepted step."""
-    from drivedyn.elements.base import commit_columns
-    from drivedyn.solver.step_loop import commit_table, loop_allowed
+
+def test_a_commit_that_is_not_a_copy_is_refused(monkeypatch) -> None:
+    """A family whose commit is a function (not a copy of columns) cannot run in the
+    compiled loop: simulate refuses the model naming the family, before any step."""
+    from drivedyn.errors import ModelError
+    from drivedyn.solver.step_loop import commit_table
 
     p, model = _torsen_c_bench("front")
-    assert loop_allowed(model)
+    commit_table(model)
     g = next(g for g in model.groups if g.commit_cols)
-    committed = []
-
-    def custom(group, state):
-        committed.append(state.t)
-        commit_columns(group, state)
-
-    g.commit = custom
+    g.commit = lambda group, state: None
     g.commit_cols = ()
-    assert commit_table(model) is None and not loop_allowed(model)
-    calls = []
-    compiled = step_loop.run_steps
-    monkeypatch.setattr(step_loop, "run_steps", lambda *a: calls.append(1) or compiled(*a))
-    res = dd.simulate(model, 0.004, **p.solver.settings(), output_dt=2e-3)
-    assert res.success and not calls and len(committed) == res.stats.steps
+    with pytest.raises(ModelError, match=g.family):
+        dd.simulate(model, 0.004, **p.solver.settings(), output_dt=2e-3)
+
+
+def test_dead_centre_round_off_stagnation_is_the_same(monkeypatch) -> None:
+    """A slider-crank started at a dead centre stagnates at the round-off of the positions
+    (the round-off levels of the residual are used): both loops decide alike."""
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)),
+                               guide_spring=(2000.0, 5.0))
+
+    def run():
+        return dd.simulate(model, 0.05, step=dd.FixedStep(1e-3),
+                           integrator=dd.GeneralizedAlpha(0.9))
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert slow.success and ncalls >= 1
+    assert_identical(slow, fast)
+
+
+def test_full_newton_is_the_same(monkeypatch) -> None:
+    """``strategy="full"`` (a factorisation every iteration) on the dead-centre case."""
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+
+    def run():
+        return dd.simulate(model, 0.02, step=dd.FixedStep(1e-3),
+                           newton=dd.Newton(strategy="full"))
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert ncalls > 0 and slow.stats.factorizations >= slow.stats.newton_iterations
+    assert_identical(slow, fast)
+
+
+def test_kernel_table_refuses_arguments_it_cannot_pass() -> None:
+    from drivedyn.solver.kernel_calls import KernelTable
+
+    t = KernelTable([(0, (np.zeros((2, 3)), 1.5, 3, True), (np.zeros(4, np.int32),))])
+    assert t.table.size == 1 + (1 + 2 + 2) + 3 + (1 + 1 + 1)
+    assert t.table[1] == t.arrays[0].ctypes.data and list(t.table[2:6]) == [2, 3, 24, 8]
+    assert t.table[6] == np.float64(1.5).view(np.int64) and list(t.table[7:9]) == [3, 1]
+    with pytest.raises(TypeError, match="not supported"):
+        KernelTable([(0, ("text",), ())])
+
+
+def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
+    """AutoLU goes dense when the sparse LU's factors fill more than DENSE_FILL of the
+    matrix, which for the Type C bench happens at its first factorisation (the initial
+    state); the steps then run on the dense LU and match the oracle."""
+    from drivedyn.config import read_library_file
+    from drivedyn.library.differentials import of
+    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.solver.linear import AutoLU
+
+    p = read_library_file("torsen-c")[0]
+    model = dd.compile_model(bench_spec(of(p), p, "rear")[0])
+    lins = []
+
+    def run():
+        lins.append(AutoLU())
+        return dd.simulate(model, 0.02, **p.solver.settings(), output_dt=1e-3,
+                           linear_solver=lins[-1])
+
+    slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert all(lin.dense is not None for lin in lins)
+    assert slow.success and ncalls >= 1
+    assert_identical(slow, fast)
+
+
+def test_the_loop_is_precompiled_for_the_types_it_runs_with(monkeypatch) -> None:
+    """simulate hands the compiled loop's signature (``run_steps``), the System its kernels'
+    and time functions', to the first-evaluation precompile (parallel workers): each must
+    be the signature the run then calls, or the workers would compile an overload nobody
+    calls and the run would compile its own after them. Dense and sparse LU."""
+    from drivedyn.solver import precompile
+    from drivedyn.solver.linear import SparseLU
+    from drivedyn.solver.step_loop import run_steps
+    from drivedyn.timefunctions import SmoothStep, eval_time_functions
+    from drivedyn.validation.engine import slider_crank_model
+
+    handed = []
+
+    def capture(calls, workers=None, while_waiting=None, progress=None):
+        handed.append(list(calls))
+        return {"missing": 0, "compiled_in_workers": 0, "wall_s": 0.0}
+
+    monkeypatch.setattr(precompile, "precompile_kernels", capture)
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+    for lin in (None, SparseLU()):
+        handed.clear()
+        watched = (run_steps, eval_time_functions)
+        before = {d: set(d.overloads) for d in watched}
+        # adaptive steps, so the error norm runs too
+        res = dd.simulate(model, 0.005, step=dd.AdaptiveStep(1e-3), linear_solver=lin)
+        assert res.success
+        (calls,) = handed
+        for d in watched:
+            sigs = {sig for disp, sig in calls if disp is d}
+            assert len(sigs) == 1, d.py_func.__name__
+            # the run compiled (or loaded) exactly the handed signature, no other
+            assert set(d.overloads) == before[d] | sigs, d.py_func.__name__
+
+
+def test_another_linear_solver_is_refused() -> None:
+    """The engine factorises with DenseLU, SparseLU or AutoLU: another solver is refused
+    with a TypeError naming it, before any step."""
+    from drivedyn.solver.linear import LinearSolver
+    from drivedyn.timefunctions import SmoothStep
+    from drivedyn.validation.engine import slider_crank_model
+
+    class Mine(LinearSolver):
+        def factor(self, A):
+            return None
+
+        def solve(self, b):
+            return b
+
+    model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
+    with pytest.raises(TypeError, match="Mine"):
+        dd.simulate(model, 0.005, linear_solver=Mine())
