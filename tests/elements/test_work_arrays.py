@@ -1,4 +1,4 @@
-"""drivedyn.elements.work_arrays: views carved from one buffer are the arrays they stand for,
+"""drivedyn.elements.framework.work_arrays: views carved from one buffer are the arrays they stand for,
 and the groups' work buffers do not change an evaluation."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 from numba import njit
 from numba.core.errors import TypingError
 
-from drivedyn.elements.work_arrays import carve
+from drivedyn.elements.framework.work_arrays import carve
 
 
 @njit
@@ -87,7 +87,7 @@ def test_wrong_buffers_are_refused_at_typing() -> None:
             fn()
 
 
-# --- the groups' work buffers (elements.scaffold.work_buffer) ---------------------------------
+# --- the groups' work buffers (elements.framework.scaffold.work_buffer) ---------------------------------
 
 
 def _work_params(group) -> list[int]:
@@ -101,7 +101,7 @@ def _work_params(group) -> list[int]:
 
 def _evaluations(model, st) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Residual with the matrix, the matrix, and the residual of an evaluation without it."""
-    from drivedyn.elements.base import MODE_DYN
+    from drivedyn.elements.framework.base import MODE_DYN
     from drivedyn.solver.assembly import System
 
     sys = System(model)

@@ -8,9 +8,11 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import Group, local_arrays_at, local_size
-from drivedyn.elements.building import make_group, node_dofs
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.base import Group, local_arrays_at, local_size
+from drivedyn.elements.framework.building import make_group, node_dofs
+from drivedyn.elements.framework.primitives import prim_axial
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar, friction_table
 from drivedyn.elements.impact_laws import (
     NSTATE,
@@ -23,8 +25,6 @@ from drivedyn.elements.impact_laws import (
     law_table,
     normal_force,
 )
-from drivedyn.elements.primitives import prim_axial
-from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
 
 # --- kernels ------------------------------------------------------------------------------------

@@ -35,7 +35,7 @@ dissipated (physics.md 3, seeds 000-002). Markers on the ground are allowed on e
   in the plane of marker B's origin (model a long journal with several elements).
 
 Formulation: the residual is a sum of scalar forces times gradients of kinematic functions
-(:mod:`drivedyn.elements.primitives`): ``delta`` (distance along a marker axis, or the norm
+(:mod:`drivedyn.elements.framework.primitives`): ``delta`` (distance along a marker axis, or the norm
 of two of them for the journal) and velocity-level sliding rates ``s = J(q) . v``, for which
 ``J`` and ``dJ/dq`` are known (relative spin projected on a marker axis,
 :func:`~drivedyn.elements._contact_common.omega_projection`). The stiffness is
@@ -66,7 +66,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
+import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements._contact_common import (
     CONTACT_POWER,
     GAP_RATE,
@@ -89,19 +89,19 @@ from drivedyn.elements._contact_common import (
     work_offsets,
     work_size,
 )
-from drivedyn.elements.base import (
+from drivedyn.elements.framework.base import (
     Family,
     Group,
     TwoMarkerSpec,
     local_arrays_at,
     register,
 )
-from drivedyn.elements.building import two_markers, what_of
-from drivedyn.elements.checks import check_number
+from drivedyn.elements.framework.building import two_markers, what_of
+from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.primitives import add_scaled, prim_axial
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
-from drivedyn.elements.primitives import add_scaled, prim_axial
-from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
 
 # --- point / sphere on plane ----------------------------------------------------------------
@@ -412,7 +412,7 @@ class ThrustWasherContact(TwoMarkerSpec):
     def visuals(self) -> tuple:
         """The washer as an annulus behind face A (thickness a tenth of its radial width)
         and its normal force as an arrow along the washer normal."""
-        from drivedyn.elements.visuals import arrow, cylinder
+        from drivedyn.elements.framework.visuals import arrow, cylinder
 
         t = 0.1 * (self.r_ext - self.r_int)
         return (cylinder(self.marker_a, self.r_ext, t, inner_radius=self.r_int, z0=-t,
@@ -466,7 +466,7 @@ class JournalContact(TwoMarkerSpec):
     def visuals(self) -> tuple:
         """The contact force on the pin, at the bore wall where the pin presses (on the
         line from the bore axis through the pin centre)."""
-        from drivedyn.elements.visuals import point_force
+        from drivedyn.elements.framework.visuals import point_force
 
         return (point_force(self.marker_a, self.marker_b, f"{self.name}.normal_force",
                             self.bore_radius, radial=True, label=self.name),)

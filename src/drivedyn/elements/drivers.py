@@ -21,8 +21,8 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import (
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.base import (
     MODE_ACC,
     MODE_DYN,
     ElementSpec,
@@ -32,10 +32,10 @@ from drivedyn.elements.base import (
     local_size,
     register,
 )
-from drivedyn.elements.building import make_group, what_of
+from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.primitives import prim_angle, quad_form, unwrap
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
-from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
-from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")

@@ -63,7 +63,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.checks import check_number
+from drivedyn.elements.framework.checks import check_number
 from drivedyn.errors import ModelError
 
 LAW_NAMES = ("penalty", "hunt-crossley", "lankarani-nikravesh", "flores", "gonthier",

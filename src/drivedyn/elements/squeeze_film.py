@@ -47,7 +47,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
+import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements._contact_common import (
     add_normal,
     add_velocity_force,
@@ -65,9 +65,9 @@ from drivedyn.elements._contact_common import (
     washer_work,
     work_size,
 )
-from drivedyn.elements.base import Family, Group, TwoMarkerSpec, register
-from drivedyn.elements.building import two_markers, what_of
-from drivedyn.elements.checks import check_number
+from drivedyn.elements.framework.base import Family, Group, TwoMarkerSpec, register
+from drivedyn.elements.framework.building import two_markers, what_of
+from drivedyn.elements.framework.checks import check_number
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError

@@ -56,9 +56,9 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
+import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements._contact_common import axial_motion, commit_range
-from drivedyn.elements.base import (
+from drivedyn.elements.framework.base import (
     MODE_ACC,
     MODE_DYN,
     MODE_VEL,
@@ -69,9 +69,9 @@ from drivedyn.elements.base import (
     register,
     tangent_columns,
 )
-from drivedyn.elements.building import make_group, two_markers, what_of
-from drivedyn.elements.checks import check_number, check_optional
-from drivedyn.elements.primitives import prim_axial, quad_form
+from drivedyn.elements.framework.building import make_group, two_markers, what_of
+from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.primitives import prim_axial, quad_form
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
 NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A

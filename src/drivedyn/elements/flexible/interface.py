@@ -27,8 +27,9 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import (
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.flexible.family import flexible_body_named
+from drivedyn.elements.framework.base import (
     MODE_ACC,
     MODE_DYN,
     ElementSpec,
@@ -37,9 +38,8 @@ from drivedyn.elements.base import (
     local_arrays,
     register,
 )
-from drivedyn.elements.building import make_group, what_of
-from drivedyn.elements.checks import check_optional
-from drivedyn.elements.flexible.family import flexible_body_named
+from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.checks import check_optional
 from drivedyn.errors import ModelError, did_you_mean
 
 #: (column of Rm, axis of the node frame, theta component) of the three rotation rows

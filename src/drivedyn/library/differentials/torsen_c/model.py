@@ -57,7 +57,7 @@ from drivedyn.elements import (
     Screw,
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
-from drivedyn.elements.visuals import cylinder
+from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
 

@@ -42,7 +42,7 @@ from drivedyn.elements import (
     TorsionalSpringDamper,
     TyreContact,
 )
-from drivedyn.elements.visuals import box
+from drivedyn.elements.framework.visuals import box
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
 from drivedyn.library.vehicles.bevel_differential import build_bevel

@@ -32,8 +32,8 @@ positive = internal/inertial, so ``r = M vd + f_int - f_ext``), the constraint r
 and the local matrices ``M = d rq / d vd``, ``C = d rq / d v``, ``K = d rq / d q`` (right
 perturbations) and ``G = d rl / d q``, then calls :func:`scatter_local`.
 
-Families write their kernels on :mod:`drivedyn.elements.scaffold` (dispatch, common
-arguments, scatter and outputs) and build their groups with :mod:`drivedyn.elements.building`.
+Families write their kernels on :mod:`drivedyn.elements.framework.scaffold` (dispatch, common
+arguments, scatter and outputs) and build their groups with :mod:`drivedyn.elements.framework.building`.
 
 Modes: ``MODE_DYN`` (time step / statics: ``rl = k Phi``; matrix
 ``[cM M + cC C + cK K T, G^T; G T, 0]``), ``MODE_ACC`` (consistent accelerations:
@@ -51,7 +51,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.work_arrays import carve
+from drivedyn.elements.framework.work_arrays import carve
 
 MODE_DYN = 0
 MODE_ACC = 1
@@ -91,7 +91,7 @@ def scatter_local(
 def local_arrays(nd, nm):
     """Work arrays of one element for :func:`scatter_local`: ``rq`` (nd,), ``rl`` (nm,),
     ``M, C, K`` (nd, nd) and ``G`` (nm, nd), zeroed; allocated once per kernel call, as views
-    of one buffer (:mod:`drivedyn.elements.work_arrays`)."""
+    of one buffer (:mod:`drivedyn.elements.framework.work_arrays`)."""
     return local_arrays_at(np.zeros(local_size(nd, nm)), 0, nd, nm)
 
 
@@ -312,7 +312,7 @@ class ElementSpec:
 
     def visuals(self) -> tuple:
         """The shapes the 3-D viewer draws for this element
-        (:class:`drivedyn.elements.visuals.Visual` records on its markers); none by default."""
+        (:class:`drivedyn.elements.framework.visuals.Visual` records on its markers); none by default."""
         return ()
 
 
