@@ -36,7 +36,7 @@ import numpy as np
 from numba import njit
 
 from drivedyn.config import read_library_file
-from drivedyn.elements.framework.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.library.differentials import of
 from drivedyn.library.differentials.protocol import bench_spec
 from drivedyn.model.compile import compile_model

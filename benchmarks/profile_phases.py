@@ -34,7 +34,7 @@ import resource
 import time
 
 from drivedyn.config import load_model, read_library_file
-from drivedyn.elements.framework.base import Group
+from drivedyn.elements.framework.group import Group
 from drivedyn.model.compile import compile_model
 from drivedyn.results.recorder import EnergyAccount, Recorder
 from drivedyn.solver.assembly import System

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from drivedyn.elements.framework.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System
 

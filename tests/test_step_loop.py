@@ -192,7 +192,7 @@ def test_a_custom_commit_runs_the_python_loop(monkeypatch) -> None:
     """A family whose commit is not a copy of columns: the compiled loop refuses the model
     (it could not run that commit) and simulate runs the Python loop, which calls it after
     every accepted step."""
-    from drivedyn.elements.framework.base import commit_columns
+    from drivedyn.elements.framework.group import commit_columns
     from drivedyn.solver.step_loop import commit_table, loop_allowed
 
     p, model = _torsen_c_bench("front")

@@ -671,7 +671,7 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     gives, bit for bit, in every evaluation mode and at a state with the flanks loaded."""
     import dataclasses
 
-    from drivedyn.elements.framework.base import MODE_ACC, MODE_DYN, MODE_VEL
+    from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
     from drivedyn.model.compile import compile_model
     from drivedyn.rotations import exp_so3

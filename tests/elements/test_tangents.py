@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from drivedyn.elements import REGISTRY
-from drivedyn.elements.framework.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.model.compile import compile_model
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System

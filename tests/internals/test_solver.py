@@ -292,7 +292,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     is FLOOR_REL of the largest force sum carried so far). Run by the Python loop, one
     Stepper.step per step (the compiled loop takes the same steps: test_step_loop.py)."""
     monkeypatch.setenv("DRIVEDYN_COMPILED_LOOP", "0")
-    from drivedyn.elements.framework.base import MODE_DYN
+    from drivedyn.elements.framework.contract import MODE_DYN
     from drivedyn.solver.stepper import FLOOR_REL, ROUNDOFF_ULPS, Stepper
     from drivedyn.timefunctions import SmoothStep
     from drivedyn.validation.engine import slider_crank_model
@@ -339,7 +339,7 @@ def test_bound_kernel_calls_equal_the_dispatcher_bit_for_bit(name: str) -> None:
     identified: residual, scales, matrix and element outputs must be those of
     the numba dispatcher, bit for bit, in every mode, also for a new State object."""
     from drivedyn.config.loader import load_model, resolve_path
-    from drivedyn.elements.framework.base import MODE_ACC, MODE_DYN, MODE_VEL
+    from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.solver.assembly import System
 
     model = load_model(resolve_path(name))

@@ -13,7 +13,8 @@ from drivedyn.elements.contact import (
 )
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver
 from drivedyn.elements.flexible import FlexibleBody
-from drivedyn.elements.framework.base import REGISTRY, ElementSpec, Family, Group, register
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import REGISTRY, ElementSpec, Family, register
 from drivedyn.elements.gears import GearPair
 from drivedyn.elements.joints import (
     Cylindrical,

@@ -9,8 +9,9 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.base import Group, local_arrays_at, local_size
 from drivedyn.elements.framework.building import make_group, node_dofs
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_axial
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar, friction_table

@@ -89,16 +89,12 @@ from drivedyn.elements._contact_common import (
     work_offsets,
     work_size,
 )
-from drivedyn.elements.framework.base import (
-    Family,
-    Group,
-    TwoMarkerSpec,
-    local_arrays_at,
-    register,
-)
 from drivedyn.elements.framework.building import two_markers, what_of
 from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.contract import local_arrays_at
+from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import add_scaled, prim_axial
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state

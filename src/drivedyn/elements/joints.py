@@ -40,18 +40,10 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.base import (
-    MODE_ACC,
-    MODE_DYN,
-    Family,
-    Group,
-    TwoMarkerSpec,
-    local_arrays_at,
-    local_size,
-    register,
-)
 from drivedyn.elements.framework.building import make_group, two_markers, what_of
 from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import (
     add_scaled,
     cross,
@@ -62,6 +54,7 @@ from drivedyn.elements.framework.primitives import (
     quad_form,
     unwrap,
 )
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 

@@ -65,9 +65,10 @@ from drivedyn.elements._contact_common import (
     washer_work,
     work_size,
 )
-from drivedyn.elements.framework.base import Family, Group, TwoMarkerSpec, register
 from drivedyn.elements.framework.building import two_markers, what_of
 from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError

@@ -45,17 +45,12 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.base import (
-    COMMIT_TIME,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-)
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
 from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.group import COMMIT_TIME, Group
 from drivedyn.elements.framework.primitives import mm
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError
 from drivedyn.rotations import exp_so3_into
 from drivedyn.tyres import Tyre, resolve_tyre

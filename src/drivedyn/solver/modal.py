@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drivedyn.elements.framework.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver.assembly import System
 

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.framework.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.solver.assembly import lie_update, tangents
 from drivedyn.solver.kernel_calls import call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve

@@ -20,7 +20,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from drivedyn.elements.framework.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, Recorder
 from drivedyn.results.results import Results, RunStats

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from drivedyn.elements.framework.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.assembly import System

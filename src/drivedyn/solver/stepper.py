@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements.framework.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver import lapack
 from drivedyn.solver import newton_kernel as nk

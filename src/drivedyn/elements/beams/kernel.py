@@ -41,7 +41,7 @@ from numba import njit
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.beams.se3 import log_se3, tangent_inv_se3
 from drivedyn.elements.beams.section import outer_fibre_stresses
-from drivedyn.elements.framework.base import local_arrays
+from drivedyn.elements.framework.contract import local_arrays
 from drivedyn.elements.framework.primitives import mm, mtv, set_skew
 
 ROUNDOFF_SCALE = 1e-6  # see _term_scale

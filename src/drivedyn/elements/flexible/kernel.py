@@ -41,7 +41,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.base import local_arrays
+from drivedyn.elements.framework.contract import local_arrays
 
 # Levi-Civita pairs (a, b, c) with e_abc = +1
 _EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))

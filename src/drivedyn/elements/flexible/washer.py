@@ -43,8 +43,10 @@ from numba import njit
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements._contact_common import check_laws, coerce_laws
 from drivedyn.elements.flexible.family import flexible_body_named, invariants
-from drivedyn.elements.framework.base import Family, Group, TwoMarkerSpec, local_arrays, register
 from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.friction import FrictionLaw
 from drivedyn.elements.impact_laws import NormalLaw, law_table
 from drivedyn.errors import ModelError

@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.base import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.primitives import cross
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.gears.kinematics import (
@@ -390,7 +390,7 @@ def gear_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     """All gear pairs of a model (``nel`` elements; trailing arguments: see
-    :mod:`drivedyn.elements.framework.base`).
+    :mod:`drivedyn.elements.framework.contract`).
 
     Parameters (per element ``e``; lengths in m, angles in rad):
         kind (nel,): KIND_PARALLEL or KIND_SKEW (bevel, crossed axes).

@@ -7,9 +7,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from drivedyn.elements.framework.base import TwoMarkerSpec
 from drivedyn.elements.framework.building import what_of
 from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.registry import TwoMarkerSpec
 from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.errors import ModelError
 
