@@ -43,9 +43,9 @@ import numpy as np
 
 from drivedyn.elements import Cylindrical, GearPair, Hinge, ParallelAxes
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import CylindricalPair, undercut_limits
-from drivedyn.elements.squeeze_film import SqueezeFilm
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 from drivedyn.model.spec import ModelError, Spec
 

@@ -57,7 +57,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements._contact_common import axial_motion, commit_range
+from drivedyn.elements.contact.common import axial_motion, commit_range
 from drivedyn.elements.framework.building import make_group, two_markers, what_of
 from drivedyn.elements.framework.checks import check_number, check_optional
 from drivedyn.elements.framework.contract import (

@@ -2,9 +2,9 @@
 ``thrust_washer_contact``, ``journal_contact``).
 
 Every contact computes a penetration ``delta`` [m] from the marker frames, a normal force from
-a :class:`~drivedyn.elements.impact_laws.NormalLaw` (penalty or continuous impact, with the
+a :class:`~drivedyn.elements.contact.impact_laws.NormalLaw` (penalty or continuous impact, with the
 approach speed at first contact kept in the State) and a friction force or torque from a
-:class:`~drivedyn.elements.friction.FrictionLaw`. It reports its normal force, gap, sliding
+:class:`~drivedyn.elements.contact.friction.FrictionLaw`. It reports its normal force, gap, sliding
 velocity, friction force or torque and dissipated power, puts the contact spring's potential
 energy into the energy account and counts the impact damping and friction power as
 dissipated (physics.md 3, seeds 000-002). Markers on the ground are allowed on either side.
@@ -38,12 +38,12 @@ Formulation: the residual is a sum of scalar forces times gradients of kinematic
 (:mod:`drivedyn.elements.framework.primitives`): ``delta`` (distance along a marker axis, or the norm
 of two of them for the journal) and velocity-level sliding rates ``s = J(q) . v``, for which
 ``J`` and ``dJ/dq`` are known (relative spin projected on a marker axis,
-:func:`~drivedyn.elements._contact_common.omega_projection`). The stiffness is
+:func:`~drivedyn.elements.contact.common.omega_projection`). The stiffness is
 ``F d2delta/dq2 + grad(delta) (dF/dq)^T`` plus the friction terms ``f dJ/dq + J (df/dq)^T``,
 the damping ``grad(delta) (dF/dv)^T + J (df/dv)^T``; both are non-symmetric, as the Newton
 matrix allows.
 
-Per-contact state (:data:`~drivedyn.elements.impact_laws.NSTATE` floats in ``State.es``):
+Per-contact state (:data:`~drivedyn.elements.contact.impact_laws.NSTATE` floats in ``State.es``):
 contact flag, approach speed at first contact, last penetration, rate, time and acceleration,
 last separation speed, number of contacts; the kernel writes the values of an accepted step
 into hidden ``aux`` columns and the group's ``commit`` copies them (never during Newton
@@ -53,8 +53,8 @@ Laws may be given as mappings (model files: TOML tables), e.g.
 ``law = {stiffness = 1e10, exponent = 1.5, law = "lankarani-nikravesh", restitution = 0.8}``.
 
 This module also re-exports the rest of the contact family's public API (:class:`NormalLaw`,
-:class:`FrictionLaw`, :class:`~drivedyn.elements.squeeze_film.SqueezeFilm`,
-:class:`~drivedyn.elements.unilateral.UnilateralContact`); importing it registers all of them.
+:class:`FrictionLaw`, :class:`~drivedyn.elements.contact.squeeze_film.SqueezeFilm`,
+:class:`~drivedyn.elements.contact.unilateral.UnilateralContact`); importing it registers all of them.
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements._contact_common import (
+from drivedyn.elements.contact.common import (
     CONTACT_POWER,
     GAP_RATE,
     MU_R,
@@ -89,6 +89,8 @@ from drivedyn.elements._contact_common import (
     work_offsets,
     work_size,
 )
+from drivedyn.elements.contact.friction import FrictionLaw
+from drivedyn.elements.contact.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.framework.building import two_markers, what_of
 from drivedyn.elements.framework.checks import check_number
 from drivedyn.elements.framework.contract import local_arrays_at
@@ -96,8 +98,6 @@ from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import add_scaled, prim_axial
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
-from drivedyn.elements.friction import FrictionLaw
-from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.errors import ModelError
 
 # --- point / sphere on plane ----------------------------------------------------------------
@@ -563,10 +563,3 @@ class JournalContactFamily(Family):
 register(PlaneContactFamily())
 register(ThrustWasherContactFamily())
 register(JournalContactFamily())
-
-# the rest of the contact family (importing this module registers all of it)
-from drivedyn.elements.squeeze_film import SqueezeFilm  # noqa: E402
-from drivedyn.elements.unilateral import UnilateralContact  # noqa: E402
-
-__all__ = ["FrictionLaw", "JournalContact", "NormalLaw", "PlaneContact", "SqueezeFilm",
-           "ThrustWasherContact", "UnilateralContact"]
