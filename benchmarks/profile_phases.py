@@ -37,7 +37,7 @@ from drivedyn.config import load_model, read_library_file
 from drivedyn.elements.framework.group import Group
 from drivedyn.model.compile import compile_model
 from drivedyn.results.recorder import EnergyAccount, Recorder
-from drivedyn.solver.assembly import System
+from drivedyn.solver.system import System
 
 # the modules (the package exports functions of the same names)
 simulate_mod = importlib.import_module("drivedyn.solver.simulate")
@@ -120,7 +120,7 @@ def build(args) -> tuple[object, float | None, dict]:
         model = load_model(args.model)
         return model, args.t_end, {}
     from drivedyn.library import differentials
-    from drivedyn.library.differentials.protocol import bench_spec, vehicle_spec
+    from drivedyn.library.differentials.scenarios import bench_spec, vehicle_spec
 
     p, _, _ = read_library_file(args.model)
     diff = differentials.of(p)

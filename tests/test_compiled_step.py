@@ -26,7 +26,7 @@ def _run_both(monkeypatch, run):
 def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch) -> None:
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
 
     p = read_library_file("torsen-c")[0]
     model = dd.compile_model(bench_spec(of(p), p, "front")[0])
@@ -98,7 +98,7 @@ def test_superlu_factorised_between_calls_is_the_same(monkeypatch) -> None:
     the same step for step."""
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
     from drivedyn.solver.linear import SparseLU
 
     p = read_library_file("torsen-c")[0]
@@ -133,7 +133,7 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     state); the steps then run compiled on the dense LU and match the Python loop."""
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
     from drivedyn.solver.linear import AutoLU
 
     p = read_library_file("torsen-c")[0]

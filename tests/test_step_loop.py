@@ -27,7 +27,7 @@ def _run_both(monkeypatch, run):
 def _torsen_c_bench(side: str):
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
 
     p = read_library_file("torsen-c")[0]
     return p, dd.compile_model(bench_spec(of(p), p, side)[0])

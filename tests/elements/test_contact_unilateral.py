@@ -15,7 +15,7 @@ import pytest
 
 import drivedyn as dd
 from drivedyn.model.spec import ModelError
-from drivedyn.solver.assembly import System
+from drivedyn.solver.system import System
 from element_cases import contact as cc
 from fdcheck import check_tangents, random_state
 

@@ -102,7 +102,7 @@ def _work_params(group) -> list[int]:
 def _evaluations(model, st) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Residual with the matrix, the matrix, and the residual of an evaluation without it."""
     from drivedyn.elements.framework.contract import MODE_DYN
-    from drivedyn.solver.assembly import System
+    from drivedyn.solver.system import System
 
     sys = System(model)
     sys.reset_tangent()

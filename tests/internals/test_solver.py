@@ -340,7 +340,7 @@ def test_bound_kernel_calls_equal_the_dispatcher_bit_for_bit(name: str) -> None:
     the numba dispatcher, bit for bit, in every mode, also for a new State object."""
     from drivedyn.config.loader import load_model, resolve_path
     from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
-    from drivedyn.solver.assembly import System
+    from drivedyn.solver.system import System
 
     model = load_model(resolve_path(name))
     st = model.initial_state()

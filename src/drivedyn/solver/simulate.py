@@ -24,7 +24,6 @@ from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, Recorder
 from drivedyn.results.results import Results, RunStats
-from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
 from drivedyn.solver.settings import (
     AdaptiveStep,
@@ -52,6 +51,7 @@ from drivedyn.solver.step_loop import (
     precompile_loop,
 )
 from drivedyn.solver.stepper import FLOOR_REL, Stepper, residual_norms
+from drivedyn.solver.system import System
 
 log = logging.getLogger("drivedyn")
 

@@ -30,7 +30,6 @@ from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver import lapack
 from drivedyn.solver import newton_kernel as nk
-from drivedyn.solver.assembly import System, lie_update, tangents
 from drivedyn.solver.linear import (
     AutoLU,
     DenseLU,
@@ -61,6 +60,7 @@ from drivedyn.solver.newton_kernel import (
     roundoff_levels,
 )
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
+from drivedyn.solver.system import System, lie_update, tangents
 
 log = logging.getLogger("drivedyn")
 

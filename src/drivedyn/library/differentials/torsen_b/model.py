@@ -30,7 +30,7 @@ they are pushed together (onto the middle washer) in one direction of the torque
 why their TDRs differ (seed 003, Table 2: 1.6 and 1.7). Each element gear's thrust from its
 side mesh and from its end meshes goes to one of its end faces.
 
-Bench and vehicle scenarios: :mod:`drivedyn.library.differentials.protocol`.
+Bench and vehicle scenarios: :mod:`drivedyn.library.differentials.scenarios`.
 """
 
 from __future__ import annotations

@@ -36,7 +36,7 @@ coast exchange their washers); spline and sun must have the same hand.
 
 The model is built from a validated :class:`~.schema.TorsenCFile` (the shipped ``torsen-c``
 file); the bench and vehicle scenarios are the shared ones of
-:mod:`drivedyn.library.differentials.protocol`.
+:mod:`drivedyn.library.differentials.scenarios`.
 """
 
 from __future__ import annotations
