@@ -26,7 +26,7 @@ from drivedyn.analysis.tdr import (
 )
 from drivedyn.config import read_library_file
 from drivedyn.library.differentials import of
-from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.model.compile import compile_model
 from drivedyn.solver.settings import AdaptiveStep, GeneralizedAlpha, Newton
 from drivedyn.solver.simulate import simulate

@@ -35,15 +35,15 @@ import numpy as np
 from numba import njit
 
 from drivedyn.config import read_library_file
-from drivedyn.elements.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.library.differentials import of
-from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.model.compile import compile_model
-from drivedyn.solver.assembly import System
 from drivedyn.solver.kernel_calls import KernelTable, call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve, workspace
 from drivedyn.solver.simulate import simulate
 from drivedyn.solver.step_loop import StepLoop
+from drivedyn.solver.system import System
 
 
 @njit

@@ -30,7 +30,7 @@ from __future__ import annotations
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from drivedyn.elements.impact_laws import restitution_from_chi
+from drivedyn.elements.contact.impact_laws import restitution_from_chi
 from drivedyn.library.bouncing_ball import plot_height, run_bounce
 
 # -- the seeds' parameters (SI units) -----------------------------------------------------

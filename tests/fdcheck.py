@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.rotations import exp_so3
-from drivedyn.solver.assembly import System
+from drivedyn.solver.system import System
 
 EPS = 1e-6
 RTOL = 1e-6

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from drivedyn.elements.friction import FrictionLaw
-from drivedyn.elements.impact_laws import NormalLaw
+from drivedyn.elements.contact.friction import FrictionLaw
+from drivedyn.elements.contact.impact_laws import NormalLaw
 from drivedyn.model.spec import Spec
 from drivedyn.rotations import exp_so3
 
@@ -128,7 +128,7 @@ def journal_ground_case() -> Spec:
 
 def squeeze_case() -> Spec:
     """Film only, thickness 0.1 m >= 2 h_min: the exact film law and the drag torque."""
-    from drivedyn.elements.squeeze_film import SqueezeFilm
+    from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 
     spec = Spec()
     a, b = two_bodies(spec, np.array([0.01, -0.02, 0.1]))
@@ -140,7 +140,7 @@ def squeeze_case() -> Spec:
 def squeeze_metal_case() -> Spec:
     """Thickness 0.06 m inside the conditioning blend (h_min = 0.06) and below the roughness
     (0.12): film, metal contact with a hysteresis law, metal friction and drag."""
-    from drivedyn.elements.squeeze_film import SqueezeFilm
+    from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 
     spec = Spec()
     a, b = two_bodies(spec, np.array([0.0, 0.01, 0.06]), ground_a=True)
@@ -156,7 +156,7 @@ def unilateral_case() -> Spec:
     few N, mu N > |sigma_t|): the branch where the contact is a bilateral constraint, so the
     acceleration- and velocity-level rows are checked as well. The other branches (no contact,
     slip) are checked in ``tests/elements/test_contact_unilateral.py``."""
-    from drivedyn.elements.unilateral import UnilateralContact
+    from drivedyn.elements.contact.unilateral import UnilateralContact
 
     spec = Spec(gravity=(0.0, 0.0, -9.81))
     a, b = two_bodies(spec, np.array([0.02, 0.01, -0.05]))
@@ -165,7 +165,7 @@ def unilateral_case() -> Spec:
 
 
 def unilateral_ground_case() -> Spec:
-    from drivedyn.elements.unilateral import UnilateralContact
+    from drivedyn.elements.contact.unilateral import UnilateralContact
 
     spec = Spec()
     a, b = two_bodies(spec, np.array([0.0, 0.0, -0.05]), ground_a=True)

@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements.impact_laws import NSTATE, ST_ACC, ST_FLAG, ST_PEN, ST_RATE
+from drivedyn.elements.contact.impact_laws import NSTATE, ST_ACC, ST_FLAG, ST_PEN, ST_RATE
 from drivedyn.library import bouncing_ball as bb
 from drivedyn.model.spec import ModelError
-from drivedyn.solver.assembly import System
+from drivedyn.solver.system import System
 from element_cases import contact as cc
 from fdcheck import check_tangents, random_state
 

@@ -15,7 +15,7 @@ import pytest
 
 import drivedyn as dd
 from drivedyn.model.spec import ModelError
-from drivedyn.solver.assembly import System
+from drivedyn.solver.system import System
 from element_cases import contact as cc
 from fdcheck import check_tangents, random_state
 
@@ -72,7 +72,7 @@ def ball_on_floor(h: float, v: float = 0.0, mu: float = 0.3, lift=None) -> dd.Mo
 def test_ball_set_down_rests_without_penetration() -> None:
     """A ball placed on the floor at rest: the normal force carries the weight exactly and
     the gap stays zero (the constraint is exact). Impacts at a non-zero speed are not this
-    element's job (see the module docstring of drivedyn.elements.unilateral)."""
+    element's job (see the module docstring of drivedyn.elements.contact.unilateral)."""
     res = dd.simulate(ball_on_floor(0.0), 0.3, integrator=dd.GeneralizedAlpha(0.8),
                       step=dd.FixedStep(1e-3), output_dt=1e-2)
     assert res.success, res.message

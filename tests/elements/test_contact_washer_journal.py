@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements.contact import washer_friction_radius
+from drivedyn.elements.contact.common import washer_friction_radius
 from drivedyn.model.spec import ModelError
 
 R_INT, R_EXT = 0.02, 0.04

@@ -1,5 +1,5 @@
 """Thrust-washer contact stiffness from the washer's elastic properties (shared by the
-differential models, :class:`drivedyn.library.differentials.common.ElasticWashers`).
+differential models, :class:`drivedyn.library.differentials.schema_sections.ElasticWashers`).
 
 Checks: the law's tangent at the rated load is the series stiffness of the washer layer and
 the rough faces (central finite difference of the force law, independent of the closed form);
@@ -17,8 +17,8 @@ import pytest
 from drivedyn.config import read_library_file
 from drivedyn.config.loader import ModelFileError
 from drivedyn.library.differentials import get
-from drivedyn.library.differentials.common import Contact, elastic_washer_stiffness
-from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.library.differentials.scenarios import bench_spec
+from drivedyn.library.differentials.schema_sections import Contact, elastic_washer_stiffness
 
 RI, RE = 0.020, 0.030
 AREA = math.pi * (RE**2 - RI**2)

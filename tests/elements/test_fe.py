@@ -370,7 +370,7 @@ def test_bad_part_definitions_exit_2_naming_the_key(override, message):
 def test_torsen_c_flexible_switches_build_the_parts():
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import get
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
     from drivedyn.library.differentials.torsen_c.model import WASHERS
 
     p, _, _ = read_library_file("torsen-c", ["flexible.washers=true", "flexible.case=true",

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar
+from drivedyn.elements.contact.friction import FrictionLaw, friction_phi, friction_scalar
 from drivedyn.model.spec import ModelError
 from small_models import rot_y
 

@@ -607,7 +607,7 @@ def test_only_a_flank_at_contact_lends_its_stiffness(gap, lends):
     planets floating a few nanometres off the sun at zero torque) enters with its true zero
     stiffness, so the matrix is the derivative of the residual (finite differences)."""
     from drivedyn.elements.gears.kernel import TANGENT_BAND
-    from drivedyn.solver.assembly import System
+    from drivedyn.solver.system import System
     from fdcheck import assembled, perturb, residual
 
     assert TANGENT_BAND < 2e-12
@@ -671,11 +671,11 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     gives, bit for bit, in every evaluation mode and at a state with the flanks loaded."""
     import dataclasses
 
-    from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+    from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
     from drivedyn.model.compile import compile_model
     from drivedyn.rotations import exp_so3
-    from drivedyn.solver.assembly import System
+    from drivedyn.solver.system import System
     from element_cases.gears import parallel_case
 
     model = compile_model(parallel_case(internal))

@@ -23,7 +23,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import drivedyn as dd
-from drivedyn.elements.impact_laws import (
+from drivedyn.elements.contact.impact_laws import (
     IMPACT_LAWS,
     LAW_NAMES,
     chi_from_restitution,

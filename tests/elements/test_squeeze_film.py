@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import drivedyn as dd
-from drivedyn.elements.squeeze_film import annulus_factor, effective_thickness
+from drivedyn.elements.contact.squeeze_film import annulus_factor, effective_thickness
 from drivedyn.model.spec import ModelError
 
 R_I, R_O = 0.015, 0.03

@@ -17,11 +17,11 @@ import pytest
 from reference_stepper import ReferenceStepper
 
 from drivedyn.elements import REGISTRY
-from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.model.compile import compile_model
 from drivedyn.rotations import exp_so3
-from drivedyn.solver.assembly import System
 from drivedyn.solver.settings import GeneralizedAlpha, Newton
+from drivedyn.solver.system import System
 from element_cases import TANGENT_CASES
 from element_cases.basic import joint_case
 from fdcheck import EPS, assembled, check, perturb, residual
@@ -169,7 +169,7 @@ def test_newton_matrix_of_a_step_against_finite_differences():
     bp, gp = stepper.bp, stepper.gp
     cM, cC = 1.0 / (bp * h * h), gp / (bp * h)
     sys = stepper.sys
-    from drivedyn.solver.assembly import lie_update
+    from drivedyn.solver.system import lie_update
 
     def res(delta):
         s = st.copy()

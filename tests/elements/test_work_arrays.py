@@ -1,5 +1,5 @@
-"""drivedyn.elements.work_arrays: views carved from one buffer are the arrays they stand for,
-and the groups' work buffers do not change an evaluation."""
+"""drivedyn.elements.framework.work_arrays: views carved from one buffer are the arrays they
+stand for, and the groups' work buffers do not change an evaluation."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 from numba import njit
 from numba.core.errors import TypingError
 
-from drivedyn.elements.work_arrays import carve
+from drivedyn.elements.framework.work_arrays import carve
 
 
 @njit
@@ -87,7 +87,7 @@ def test_wrong_buffers_are_refused_at_typing() -> None:
             fn()
 
 
-# --- the groups' work buffers (elements.scaffold.work_buffer) ---------------------------------
+# --- the groups' work buffers (elements.framework.scaffold.work_buffer) ----------------------
 
 
 def _work_params(group) -> list[int]:
@@ -101,8 +101,8 @@ def _work_params(group) -> list[int]:
 
 def _evaluations(model, st) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Residual with the matrix, the matrix, and the residual of an evaluation without it."""
-    from drivedyn.elements.base import MODE_DYN
-    from drivedyn.solver.assembly import System
+    from drivedyn.elements.framework.contract import MODE_DYN
+    from drivedyn.solver.system import System
 
     sys = System(model)
     sys.reset_tangent()

@@ -11,7 +11,7 @@ import pytest
 from click.testing import CliRunner
 
 from drivedyn.cli import main
-from drivedyn.elements.impact_laws import damping_factor, restitution_from_chi
+from drivedyn.elements.contact.impact_laws import damping_factor, restitution_from_chi
 from drivedyn.validation import base
 
 CONTACT_CASES = ("bouncing_ball", "restitution_laws", "contact_friction", "thrust_washer",

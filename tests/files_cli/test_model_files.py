@@ -283,7 +283,7 @@ def test_shipped_bouncing_ball_file_bounces_with_the_laws_restitution():
     """The model-file version of the seeds' benchmark: the first rebound apex is e^2 h0 with
     e the restitution the exact relation predicts for the Lankarani-Nikravesh law (gravity
     during the ~0.1 ms contact shifts it by ~1e-4 relative, see tests/elements/test_contact.py)."""
-    from drivedyn.elements.impact_laws import NormalLaw
+    from drivedyn.elements.contact.impact_laws import NormalLaw
 
     model = load_model("bouncing_ball", ["solver.t_end=0.9"])
     res = dd.simulate(model)

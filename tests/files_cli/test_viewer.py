@@ -16,9 +16,9 @@ from click.testing import CliRunner
 from drivedyn.cli import main
 from drivedyn.config.loader import load_model, resolve_path
 from drivedyn.elements import GearPair, Hinge
-from drivedyn.elements.visuals import Visual, cylinder
+from drivedyn.elements.framework.visuals import Visual, cylinder
 from drivedyn.model import Spec, compile_model
-from drivedyn.model.assembly import include
+from drivedyn.model.subassembly import include
 from drivedyn.results.scene import inertia_box, scene_description
 from drivedyn.viewer.gltf import accessor_array, read_glb, write_glb
 from drivedyn.viewer.meshes import (

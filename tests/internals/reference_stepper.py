@@ -18,9 +18,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from drivedyn.elements.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import State
-from drivedyn.solver.assembly import lie_update, tangents
 from drivedyn.solver.newton_kernel import (
     EPS,
     F_FORCE,
@@ -42,6 +41,7 @@ from drivedyn.solver.newton_kernel import (
 from drivedyn.solver.settings import StepOutcome, StepStatus
 from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
 from drivedyn.solver.stepper import Stepper, _worst, scaled_residual
+from drivedyn.solver.system import lie_update, tangents
 
 # the module (the package exports the function of the same name)
 sim = importlib.import_module("drivedyn.solver.simulate")

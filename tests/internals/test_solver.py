@@ -287,7 +287,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     ReferenceStepper.step per step (the engine takes the same steps: test_step_loop.py)."""
     from reference_stepper import ReferenceStepper, reference_runs
 
-    from drivedyn.elements.base import MODE_DYN
+    from drivedyn.elements.framework.contract import MODE_DYN
     from drivedyn.solver.newton_kernel import FLOOR_REL, ROUNDOFF_ULPS
     from drivedyn.timefunctions import SmoothStep
     from drivedyn.validation.engine import slider_crank_model
@@ -332,8 +332,8 @@ def test_bound_kernel_calls_equal_the_dispatcher_bit_for_bit(name: str) -> None:
     identified: residual, scales, matrix and element outputs must be those of
     the numba dispatcher, bit for bit, in every mode, also for a new State object."""
     from drivedyn.config.loader import load_model, resolve_path
-    from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
-    from drivedyn.solver.assembly import System
+    from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
+    from drivedyn.solver.system import System
 
     model = load_model(resolve_path(name))
     st = model.initial_state()

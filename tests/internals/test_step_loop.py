@@ -32,7 +32,7 @@ def _run_both(monkeypatch, run):
 def _torsen_c_bench(side: str):
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
 
     p = read_library_file("torsen-c")[0]
     return p, dd.compile_model(bench_spec(of(p), p, side)[0])
@@ -259,7 +259,7 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     state); the steps then run on the dense LU and match the oracle."""
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials import of
-    from drivedyn.library.differentials.protocol import bench_spec
+    from drivedyn.library.differentials.scenarios import bench_spec
     from drivedyn.solver.linear import AutoLU
 
     p = read_library_file("torsen-c")[0]

@@ -30,7 +30,7 @@ from drivedyn.analysis.vehicle import run_vehicle
 from drivedyn.config import read_library_file
 from drivedyn.config.loader import ModelFileError
 from drivedyn.library.differentials import get
-from drivedyn.library.differentials.protocol import (
+from drivedyn.library.differentials.scenarios import (
     bench_spec,
     level_times,
     vehicle_profile,

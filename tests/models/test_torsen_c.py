@@ -34,7 +34,7 @@ import pytest
 from drivedyn.analysis.tdr import run_bench
 from drivedyn.config import ModelFileError, read_library_file
 from drivedyn.library.differentials import get as get_differential
-from drivedyn.library.differentials.protocol import bench_spec as _bench_spec
+from drivedyn.library.differentials.scenarios import bench_spec as _bench_spec
 from drivedyn.library.differentials.torsen_c.analytic import (
     all_modes,
     bench_speeds,

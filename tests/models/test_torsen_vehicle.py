@@ -72,7 +72,7 @@ def test_mode_of_follows_the_modes_table() -> None:
 def test_vehicle_numerical_settings_replace_the_solver_ones() -> None:
     """``vehicle.h_max``, ``atol_rot`` and ``rho_inf`` reach the vehicle run's ``simulate``
     arguments; left out, the file's ``[solver]`` values do."""
-    from drivedyn.library.differentials.protocol import vehicle_settings
+    from drivedyn.library.differentials.scenarios import vehicle_settings
 
     p = read_library_file("torsen-c", ["vehicle.rho_inf=0.55", "vehicle.atol_rot=2e-5",
                                        "vehicle.h_max=0.15 ms"])[0]
@@ -93,7 +93,7 @@ def test_vehicle_numerical_settings_replace_the_solver_ones() -> None:
 def test_level_windows_match_the_profile(params) -> None:
     """Each analysis window lies where the engine torque and the speed difference hold
     their level (checked on the time functions the model is built from)."""
-    from drivedyn.library.differentials.protocol import vehicle_profile
+    from drivedyn.library.differentials.scenarios import vehicle_profile
 
     torque, _, diff, t_end = vehicle_profile(params)
     w = level_windows(params)

@@ -17,9 +17,9 @@ from drivedyn.elements import Hinge, JointDriver, Torque
 from drivedyn.errors import ModelError
 from drivedyn.library.vehicles.bevel_differential import build_bevel, clutch_split
 from drivedyn.library.vehicles.vehicle_4wd.schema import BevelDifferential, Vehicle4WDFile
-from drivedyn.model.assembly import include
 from drivedyn.model.compile import compile_model
 from drivedyn.model.spec import Spec
+from drivedyn.model.subassembly import include
 from drivedyn.solver import simulate
 from drivedyn.timefunctions import SmoothStep
 

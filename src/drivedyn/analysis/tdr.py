@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drivedyn.library import differentials
-from drivedyn.library.differentials.protocol import bench_spec
+from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.results.metrics import run_metrics
 
 

@@ -4,7 +4,7 @@ The engine torque acts on the housing and steps through ``vehicle.torque_levels`
 for ``vehicle.hold`` after a smooth ramp of ``vehicle.ramp``); both output speeds are
 prescribed (Type C: front = sun, rear = coupling; Type B: left and right side gears; second
 minus first = ``vehicle.speed_diff`` of the level), optionally again in backwards motion
-(:func:`drivedyn.library.differentials.protocol.vehicle_profile`).
+(:func:`drivedyn.library.differentials.scenarios.vehicle_profile`).
 
 Signs: the speed drivers' torques (``front_speed.torque``, ``rear_speed.torque``, ...) are
 the torques they apply on the outputs; the *output torques* reported here are the torques the
@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 from drivedyn.library import differentials
-from drivedyn.library.differentials.protocol import (
+from drivedyn.library.differentials.scenarios import (
     WINDOW_FRACTION,
     level_windows,
     vehicle_settings,

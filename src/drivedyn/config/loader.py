@@ -548,7 +548,7 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     """A parametric file's scenario (``[scenario] kind`` of a differential, or a vehicle) as
     a compiled model."""
     from drivedyn.library import differentials, vehicles
-    from drivedyn.library.differentials import protocol
+    from drivedyn.library.differentials import scenarios
     from drivedyn.model.compile import compile_model
 
     params, data, source = read_library_file(path, overrides)
@@ -569,13 +569,13 @@ def _load_library_model(path: str | Path, overrides) -> Model:
         diff = differentials.of(params)
         try:
             if params.scenario.kind == "bench":
-                spec, _ = protocol.bench_spec(diff, params,
+                spec, _ = scenarios.bench_spec(diff, params,
                                               params.scenario.modes or diff.sides[0])
                 t_end = params.bench.t_end
                 settings = params.solver.settings()
             else:
-                spec, _, t_end = protocol.vehicle_spec(diff, params)
-                settings = protocol.vehicle_settings(params)
+                spec, _, t_end = scenarios.vehicle_spec(diff, params)
+                settings = scenarios.vehicle_settings(params)
             model = compile_model(spec)
         except ModelError as exc:
             raise ModelError(f"{source}: {exc}") from None

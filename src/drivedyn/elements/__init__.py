@@ -1,7 +1,6 @@
 """Element families. Importing this package registers every family in ``REGISTRY``."""
 
 from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
-from drivedyn.elements.base import REGISTRY, ElementSpec, Family, Group, register
 from drivedyn.elements.beams import GeometricallyExactBeam
 from drivedyn.elements.contact import (
     FrictionLaw,
@@ -14,6 +13,8 @@ from drivedyn.elements.contact import (
 )
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver
 from drivedyn.elements.flexible import FlexibleBody
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import REGISTRY, ElementSpec, Family, register
 from drivedyn.elements.gears import GearPair
 from drivedyn.elements.joints import (
     Cylindrical,

@@ -15,10 +15,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import Family, Group, local_arrays_at, local_size, register
-from drivedyn.elements.building import make_group, node_dofs
-from drivedyn.elements.work_arrays import carve
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.building import make_group, node_dofs
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import Family, register
+from drivedyn.elements.framework.work_arrays import carve
 
 
 @njit(cache=True)

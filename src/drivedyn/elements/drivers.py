@@ -21,21 +21,14 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import (
-    MODE_ACC,
-    MODE_DYN,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays_at,
-    local_size,
-    register,
-)
-from drivedyn.elements.building import make_group, what_of
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.primitives import prim_angle, quad_form, unwrap
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
-from drivedyn.elements.primitives import prim_angle, quad_form, unwrap
-from drivedyn.elements.work_arrays import carve
 from drivedyn.errors import ModelError
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")

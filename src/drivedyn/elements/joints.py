@@ -1,7 +1,7 @@
 """Joints between two markers, by the augmented Lagrangian (one family for all joint types).
 
 Every joint is a set of scalar constraint rows ``Phi_i(q) = 0`` built from three primitives
-(:mod:`drivedyn.elements.primitives`) on the frames of marker A (axes ``a1, a2, a3``) and
+(:mod:`drivedyn.elements.framework.primitives`) on the frames of marker A (axes ``a1, a2, a3``) and
 marker B (axes ``b1, b2, b3``), with ``d = x_mB - x_mA``:
 
 ============  ==================================================  ==================
@@ -39,20 +39,12 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import (
-    MODE_ACC,
-    MODE_DYN,
-    Family,
-    Group,
-    TwoMarkerSpec,
-    local_arrays_at,
-    local_size,
-    register,
-)
-from drivedyn.elements.building import make_group, two_markers, what_of
-from drivedyn.elements.checks import check_number, check_optional
-from drivedyn.elements.primitives import (
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.building import make_group, two_markers, what_of
+from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.primitives import (
     add_scaled,
     cross,
     mv,
@@ -62,7 +54,8 @@ from drivedyn.elements.primitives import (
     quad_form,
     unwrap,
 )
-from drivedyn.elements.work_arrays import carve
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 
 ROW_AXIAL = 0  # d . a_i
@@ -260,7 +253,7 @@ class Joint(TwoMarkerSpec):
     def visuals(self) -> tuple:
         """The joint frame (z = joint axis) at ``marker_a``, drawn on request; length 0 lets
         the viewer size it to the scene."""
-        from drivedyn.elements.visuals import axes
+        from drivedyn.elements.framework.visuals import axes
 
         return (axes(self.marker_a, 0.0, label=self.name),)
 

@@ -14,10 +14,12 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import ElementSpec, Family, Group, local_arrays_at, local_size, register
-from drivedyn.elements.building import make_group, node_dofs, what_of
-from drivedyn.elements.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.building import make_group, node_dofs, what_of
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError
 
 

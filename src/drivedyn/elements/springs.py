@@ -19,12 +19,14 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
-from drivedyn.elements.building import make_group, node_dofs, two_markers, what_of
-from drivedyn.elements.checks import check_number, check_optional
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
+from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.primitives import prim_angle, prim_distance, unwrap
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.joints import relative_angle
-from drivedyn.elements.primitives import prim_angle, prim_distance, unwrap
 
 
 @njit(cache=True)

@@ -44,18 +44,13 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import (
-    COMMIT_TIME,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-)
-from drivedyn.elements.building import make_group, node_dofs, what_of
-from drivedyn.elements.checks import check_number
-from drivedyn.elements.primitives import mm
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.building import make_group, node_dofs, what_of
+from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.group import COMMIT_TIME, Group
+from drivedyn.elements.framework.primitives import mm
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError
 from drivedyn.rotations import exp_so3_into
 from drivedyn.tyres import Tyre, resolve_tyre
@@ -148,7 +143,7 @@ class TyreContact(ElementSpec):
     def visuals(self) -> tuple:
         """The wheel as a tyre (a tube of the unloaded radius, section width 0.35 R0, a rim
         of 0.65 R0) on the wheel marker, z = spin axis."""
-        from drivedyn.elements.visuals import cylinder
+        from drivedyn.elements.framework.visuals import cylinder
 
         try:
             r0 = self.resolved()[0].unloaded_radius

@@ -2,7 +2,7 @@
 
 A ball of mass ``m`` falls from the height ``h0`` under gravity ``g`` onto a rigid floor and
 bounces; the contact is a :class:`~drivedyn.elements.contact.PlaneContact` (point on plane)
-with a continuous-impact :class:`~drivedyn.elements.impact_laws.NormalLaw`
+with a continuous-impact :class:`~drivedyn.elements.contact.impact_laws.NormalLaw`
 ``F = K delta^n [1 + chi deltadot / v_s]``. The seeds' values: e = 0.8, n = 1.5,
 K = 1e10 N/m^1.5, h0 = 1 m, m = 0.85 kg, g = 10 m/s^2 (Lankarani-Nikravesh law).
 
@@ -11,7 +11,7 @@ first impact; steps of a few microseconds resolve it, free flight takes steps up
 interval) and extracts per bounce the approach and rebound speeds at ``delta = 0`` (from the
 contact's state outputs), the achieved restitution (rebound over approach speed) and the apex
 height of the following flight. The prediction of the exact restitution relation for the
-law's damping factor is :func:`~drivedyn.elements.impact_laws.restitution_from_chi`.
+law's damping factor is :func:`~drivedyn.elements.contact.impact_laws.restitution_from_chi`.
 
 The ball is a point at its lowest point (the contact point); "height" is the height of that
 point above the floor. Its inertia is that of a 30 mm sphere (it does not rotate).
@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from drivedyn.elements.contact import PlaneContact
-from drivedyn.elements.impact_laws import IMPACT_LAWS, NormalLaw, restitution_from_chi
+from drivedyn.elements.contact.impact_laws import IMPACT_LAWS, NormalLaw, restitution_from_chi
 from drivedyn.model.compile import compile_model
 from drivedyn.model.model import Model
 from drivedyn.model.spec import GROUND, Spec

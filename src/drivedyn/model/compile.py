@@ -7,7 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements.base import REGISTRY, allocate_outputs, family_of
+from drivedyn.elements.framework.group import allocate_outputs
+from drivedyn.elements.framework.registry import REGISTRY, family_of
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model, NodeInfo, State
 from drivedyn.model.spec import GROUND, ModelError, Spec

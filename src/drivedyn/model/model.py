@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements.base import Group
+from drivedyn.elements.framework.group import Group
 
 
 @dataclass
@@ -98,7 +98,8 @@ class Model:
         marker_frames: marker name -> (node index, offset (3,), rotation (3, 3)).
         k_default: default scaling factors (translation rows, rotation rows).
         eout_all, aux_all: every group's ``eout`` and ``aux``, group after group, of which
-            the groups' arrays are views (:func:`~drivedyn.elements.base.allocate_outputs`).
+            the groups' arrays are views
+            (:func:`~drivedyn.elements.framework.group.allocate_outputs`).
     """
 
     spec: Any

@@ -265,11 +265,11 @@ class Spec:
         return name
 
     def add_visual(self, visual: Any) -> Any:
-        """Add a shape for the 3-D viewer (:class:`drivedyn.elements.visuals.Visual`, e.g.
+        """Add a shape for the 3-D viewer (:class:`drivedyn.elements.framework.visuals.Visual`, e.g.
         ``cylinder("case_axis", 0.06, 0.1, role="case")``) on an existing marker; returns it.
         Elements declare their own shapes; this is for what only the assembly knows (cases,
         housings, shafts)."""
-        from drivedyn.elements.visuals import Visual
+        from drivedyn.elements.framework.visuals import Visual
 
         if not isinstance(visual, Visual):
             raise ModelError(f"add_visual: expected a Visual, got {type(visual).__name__}")

@@ -1,7 +1,8 @@
 """Samples node states, element outputs and the energy account at output times.
 
 The solver hands this module plain arrays only (the state and each group's per-element
-``eout``/``aux`` arrays, see :mod:`drivedyn.elements.base`); results never import the solver."""
+``eout``/``aux`` arrays, see :mod:`drivedyn.elements.framework.group`); results never import
+the solver."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import json
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import aux_offset
+from drivedyn.elements.framework.group import aux_offset
 from drivedyn.model.model import Model, State
 
 # fields of EnergyAccount.acc

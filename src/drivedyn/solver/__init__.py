@@ -1,6 +1,5 @@
 """Time integration, Newton iterations, linear solvers, step control and statics."""
 
-from drivedyn.solver.assembly import System, element_outputs
 from drivedyn.solver.linear import DenseLU, LinearSolver, SparseLU
 from drivedyn.solver.modal import Modes, linear_modes
 from drivedyn.solver.settings import (
@@ -13,6 +12,7 @@ from drivedyn.solver.settings import (
 )
 from drivedyn.solver.simulate import InitializationError, consistent_initial_state, simulate
 from drivedyn.solver.statics import StaticsError, solve_static
+from drivedyn.solver.system import System, element_outputs
 
 __all__ = [
     "AdaptiveStep",

@@ -15,7 +15,7 @@ linked in.
 
 Safety rests on one rule: the address of a group is the entry point of the kernel overload
 compiled for exactly the argument types the group is called with (:func:`entry_address`
-looks it up by those types, and :meth:`~drivedyn.solver.assembly.System.kernel_table` builds
+looks it up by those types, and :meth:`~drivedyn.solver.system.System.kernel_table` builds
 the table from the same arrays); :func:`call_groups` converts literal constants to the types
 they have as Python values (``int`` to int64, ``float`` to float64), as numba's dispatcher
 does. The table keeps the arrays alive; a group whose arrays are replaced needs a new table.
@@ -149,7 +149,7 @@ def _load_argument(context, builder, t, word):
 @intrinsic
 def call_groups(typingctx, G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want):
     """Call every group's kernel: ``G`` is a :class:`KernelTable`, the other arguments are
-    the middle ones of the kernel contract (:mod:`drivedyn.elements.base`)."""
+    the middle ones of the kernel contract (:mod:`drivedyn.elements.framework.contract`)."""
     if not isinstance(G, KernelTableType):
         return None
     mid_types = (x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want)

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drivedyn.elements.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
-from drivedyn.solver.assembly import System
+from drivedyn.solver.system import System
 
 _MASSLESS = 1e-12  # a mass eigenvalue below this x the largest is a massless coordinate
 

@@ -28,11 +28,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_DYN
-from drivedyn.solver.assembly import lie_update, tangents
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.solver.kernel_calls import call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve
 from drivedyn.solver.linear import sparse_lu_solve
+from drivedyn.solver.system import lie_update, tangents
 from drivedyn.timefunctions import eval_time_functions
 
 # Residual of an equation is measured against the sum of the absolute values of its terms;

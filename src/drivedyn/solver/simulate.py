@@ -19,11 +19,10 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from drivedyn.elements.base import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, Recorder
 from drivedyn.results.results import Results, RunStats
-from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
 from drivedyn.solver.newton_kernel import FLOOR_REL, residual_norms
 from drivedyn.solver.settings import (
@@ -46,6 +45,7 @@ from drivedyn.solver.step_loop import (
     precompile_loop,
 )
 from drivedyn.solver.stepper import Stepper
+from drivedyn.solver.system import System
 
 log = logging.getLogger("drivedyn")
 

@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from drivedyn.elements.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.rotations import exp_so3
-from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
 from drivedyn.solver.settings import Newton
 from drivedyn.solver.stepper import scaled_residual
+from drivedyn.solver.system import System
 
 
 class StaticsError(RuntimeError):

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import COMMIT_TIME, aux_offset
+from drivedyn.elements.framework.group import COMMIT_TIME, aux_offset
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, advance_energy
 from drivedyn.solver import newton_kernel as nk
@@ -286,7 +286,7 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
     :mod:`~drivedyn.solver.precompile`), when the run will use the compiled loop: a first
     run then compiles it while the kernels compile. Its types do not depend on the kernels'
     addresses nor on the sizes of the arrays."""
-    from drivedyn.elements.base import MODE_DYN
+    from drivedyn.elements.framework.contract import MODE_DYN
     from drivedyn.solver.kernel_calls import KernelTable
 
     m, sys = stepper.model, stepper.sys

@@ -31,11 +31,10 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver import lapack
 from drivedyn.solver import newton_kernel as nk
-from drivedyn.solver.assembly import System
 from drivedyn.solver.linear import (
     AutoLU,
     DenseLU,
@@ -56,6 +55,7 @@ from drivedyn.solver.newton_kernel import (
     STALL_ULPS,
 )
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
+from drivedyn.solver.system import System
 
 
 def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarray, np.ndarray]:

@@ -102,7 +102,7 @@ def bouncing_ball(quick: bool = False, figure_dir: str | None = None) -> list[Ca
 def restitution_laws(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Achieved restitution of every continuous-impact law for e = 0.2, 0.5, 0.8, 0.95:
     simulated collision without gravity vs the exact relation at the law's chi."""
-    from drivedyn.elements.impact_laws import IMPACT_LAWS, restitution_from_chi
+    from drivedyn.elements.contact.impact_laws import IMPACT_LAWS, restitution_from_chi
     from drivedyn.library.bouncing_ball import restitution_table
 
     t0 = time.perf_counter()
@@ -117,7 +117,7 @@ def restitution_laws(quick: bool = False, figure_dir: str | None = None) -> list
     def draw(fig):
         ax = fig.subplots()
         es = np.linspace(0.05, 0.99, 200)
-        from drivedyn.elements.impact_laws import damping_factor
+        from drivedyn.elements.contact.impact_laws import damping_factor
 
         for law in IMPACT_LAWS:
             ax.plot(es, [restitution_from_chi(damping_factor(law, e)) for e in es], lw=1,
@@ -241,7 +241,7 @@ def thrust_washer(quick: bool = False, figure_dir: str | None = None) -> list[Ca
 def squeeze_film(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Two annular faces squeezing the oil film under a constant load: film thickness vs the
     closed form 1/h^2 = 1/h0^2 + 4 F t / (3 pi mu C)."""
-    from drivedyn.elements.squeeze_film import annulus_factor
+    from drivedyn.elements.contact.squeeze_film import annulus_factor
 
     t0 = time.perf_counter()
     case = "squeeze_film"

@@ -190,7 +190,7 @@ def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[Case
     st.x[0] = Rrot @ st.x[0]
     for j in range(math.ceil(part.nq / 3)):
         st.x[1 + j] = ds[f"bar.q{j}.position"].values[-1]
-    from drivedyn.solver.assembly import System
+    from drivedyn.solver.system import System
 
     sysm = System(model)
     sysm.evaluate(st, 0.0, 0.0, 1.0, 0, False)

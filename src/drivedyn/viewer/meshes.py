@@ -1,4 +1,4 @@
-"""Triangle meshes of the visual shapes (:mod:`drivedyn.elements.visuals`).
+"""Triangle meshes of the visual shapes (:mod:`drivedyn.elements.framework.visuals`).
 
 Each function returns ``(V, F)``: vertices (n, 3) float64 [m] in the shape's frame (z = its
 axis, origin at the marker) and triangles (m, 3) int32, counter-clockwise seen from outside.

@@ -13,12 +13,13 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from drivedyn.elements.base import ElementSpec, Family, Group, register
 from drivedyn.elements.beams.kernel import beam_kernel
 from drivedyn.elements.beams.se3 import log_se3
 from drivedyn.elements.beams.section import Material, SectionProperties
-from drivedyn.elements.building import make_group, node_dofs, what_of
-from drivedyn.elements.checks import check_number
+from drivedyn.elements.framework.building import make_group, node_dofs, what_of
+from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError, did_you_mean
 
 #: per-element outputs (aux columns in this order)

@@ -38,11 +38,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import local_arrays
+import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.beams.se3 import log_se3, tangent_inv_se3
 from drivedyn.elements.beams.section import outer_fibre_stresses
-from drivedyn.elements.primitives import mm, mtv, set_skew
+from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.primitives import mm, mtv, set_skew
 
 ROUNDOFF_SCALE = 1e-6  # see _term_scale
 CSTEP = 1e-30  # complex step on d [m or rad]: no cancellation, so any tiny value is exact

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.primitives import mtm, set_skew
+from drivedyn.elements.framework.primitives import mtm, set_skew
 from drivedyn.rotations import exp_so3, log_so3, tangent
 
 # c(t) = sum_k |B_2k| t^(2k-2) / (2k)!  (Bernoulli numbers), k = 1..10: converges for t < 2 pi

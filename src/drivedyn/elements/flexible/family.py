@@ -18,9 +18,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from drivedyn.elements.base import ElementSpec, Family, Group, register
-from drivedyn.elements.building import make_group, what_of
 from drivedyn.elements.flexible.kernel import flexible_body_kernel
+from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError, did_you_mean
 
 #: frequency of the decoupled spring-mass that holds the unused slots of coordinate nodes,

@@ -27,19 +27,13 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import (
-    MODE_ACC,
-    MODE_DYN,
-    ElementSpec,
-    Family,
-    Group,
-    local_arrays,
-    register,
-)
-from drivedyn.elements.building import make_group, what_of
-from drivedyn.elements.checks import check_optional
+import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.flexible.family import flexible_body_named
+from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.checks import check_optional
+from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError, did_you_mean
 
 #: (column of Rm, axis of the node frame, theta component) of the three rotation rows

@@ -40,8 +40,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import local_arrays
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.contract import local_arrays
 
 # Levi-Civita pairs (a, b, c) with e_abc = +1
 _EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))

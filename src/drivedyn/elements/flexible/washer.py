@@ -12,7 +12,7 @@ normal ``n = z_B`` pointing from the plane towards the washer. Per node, with
     F_i = (A_i / S) F_law(delta_i, -s_i . n)        normal force [N]
     f_i = -mu F_i s_t / sqrt(|s_t|^2 + eps_v^2)     friction (s_t: s_i in the plane) [N]
 
-``F_law`` is the face's :class:`~drivedyn.elements.impact_laws.NormalLaw` for the whole face
+``F_law`` is the face's :class:`~drivedyn.elements.contact.impact_laws.NormalLaw` for the whole face
 (stiffness ``K`` [N/m^n]) with the approach speed fixed at ``min_impact_speed`` (no impact
 state per node), so a uniform penetration gives the force of the rigid
 :class:`~drivedyn.elements.contact.ThrustWasherContact` with the same law; the pressure at
@@ -40,13 +40,15 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements._contact_common import check_laws, coerce_laws
-from drivedyn.elements.base import Family, Group, TwoMarkerSpec, local_arrays, register
-from drivedyn.elements.building import make_group, what_of
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.contact.common import check_laws, coerce_laws
+from drivedyn.elements.contact.friction import FrictionLaw
+from drivedyn.elements.contact.impact_laws import NormalLaw, law_table
 from drivedyn.elements.flexible.family import flexible_body_named, invariants
-from drivedyn.elements.friction import FrictionLaw
-from drivedyn.elements.impact_laws import NormalLaw, law_table
+from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.errors import ModelError
 
 OUTPUTS = (

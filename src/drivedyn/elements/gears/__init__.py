@@ -8,7 +8,7 @@ configuration of the two wheels, measured from wheel rotations relative to the m
 (accumulated over any number of revolutions) and the relative displacement of the wheels.
 
 Mesh coordinates ``s`` (functions of the two node configurations, with exact gradients and
-right-trivialised Hessians from :mod:`drivedyn.elements.primitives`):
+right-trivialised Hessians from :mod:`drivedyn.elements.framework.primitives`):
 
 * ``phi_A, phi_B``: rotation of each wheel about its own axis relative to the mesh frame
   (accumulated in ``State.es``). Parallel axes: relative to the centre line, i.e. the

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from drivedyn.elements.base import Family, Group, register
-from drivedyn.elements.building import make_group, node_dofs, two_markers, what_of
+from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import Family, register
 from drivedyn.elements.gears.kernel import (
     COL_PHI_A,
     COL_PHI_B,

@@ -29,8 +29,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import local_arrays_at, local_size
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.primitives import cross
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.gears.kinematics import (
     KIND_PARALLEL,
     NP,
@@ -41,8 +43,6 @@ from drivedyn.elements.gears.kinematics import (
     skew_coords,
 )
 from drivedyn.elements.gears.stiffness import mesh_stiffness
-from drivedyn.elements.primitives import cross
-from drivedyn.elements.work_arrays import carve
 
 TANGENT_BAND = 1e-12  # [m] flank gap within which contact is anticipated in the matrix
 
@@ -352,7 +352,7 @@ WORK_SIZE = _L12 + _WO[-1] + sc.WORKSPACE_SIZE
 @njit(cache=True, inline="always")
 def _work(work):
     """The gear loop's work arrays, views of the group's work buffer (``work``, a parameter
-    of :data:`WORK_SIZE` entries: :func:`~drivedyn.elements.scaffold.work_buffer`)."""
+    of :data:`WORK_SIZE` entries: :func:`~drivedyn.elements.framework.scaffold.work_buffer`)."""
     buf = sc.work_buffer(work, WORK_SIZE)
     return (local_arrays_at(buf, 0, 12, 0), carve(buf, _L12 + _WO[0], NP),
             carve(buf, _L12 + _WO[1], (NP, 12)),
@@ -390,7 +390,7 @@ def gear_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     """All gear pairs of a model (``nel`` elements; trailing arguments: see
-    :mod:`drivedyn.elements.base`).
+    :mod:`drivedyn.elements.framework.contract`).
 
     Parameters (per element ``e``; lengths in m, angles in rad):
         kind (nel,): KIND_PARALLEL or KIND_SKEW (bevel, crossed axes).

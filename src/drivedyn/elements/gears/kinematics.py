@@ -5,7 +5,7 @@ mesh law's derivatives in ``s`` into the element matrices in the node coordinate
 Two levels (see :mod:`drivedyn.elements.gears`): kinematic primitives ``p(q)`` (projections
 of the centre offset ``d = x_mB - x_mA`` on the marker axes, and for bevel and crossed pairs
 the dot products of the axes), with gradients ``gp`` and right-trivialised Hessians ``Hp``
-from :mod:`drivedyn.elements.primitives`; and the mesh coordinates ``s(p)`` (wheel angles
+from :mod:`drivedyn.elements.framework.primitives`; and the mesh coordinates ``s(p)`` (wheel angles
 relative to the mesh frame, centre offset in the mesh frame), with the Jacobian ``Sj`` and
 the second derivatives ``Spp``.
 """
@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.primitives import _hess_axial, mtv, mv, prim_dot, unwrap
+from drivedyn.elements.framework.primitives import _hess_axial, mtv, mv, prim_dot, unwrap
 
 KIND_PARALLEL = 0
 KIND_SKEW = 1  # bevel and crossed axes: references from the other wheel's axis

@@ -7,9 +7,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from drivedyn.elements.base import TwoMarkerSpec
-from drivedyn.elements.building import what_of
-from drivedyn.elements.checks import check_number, check_optional
+from drivedyn.elements.framework.building import what_of
+from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.registry import TwoMarkerSpec
 from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.errors import ModelError
 
@@ -124,7 +124,7 @@ class GearPair(TwoMarkerSpec):
         beta) (bevel: z m_n / 2 at the mean cone, with its cone angle), the tooth count, face
         width and helix of each (the profile shift is not drawn), and for parallel axes the
         mesh force at the pitch point."""
-        from drivedyn.elements.visuals import gear, point_force
+        from drivedyn.elements.framework.visuals import gear, point_force
 
         beta_a = float(self.helix_angle)
         if self.helix_angle_b is not None:

@@ -1,7 +1,7 @@
 """Differentials on one framework: each type is a subpackage declaring a
 :class:`~drivedyn.library.differentials.base.Differential` (builder, schema, default model
 file, analytic TDR), and shares the bench protocol, the vehicle configuration
-(:mod:`.protocol`), the TDR evaluation and the calibration (:mod:`drivedyn.analysis`).
+(:mod:`.scenarios`), the TDR evaluation and the calibration (:mod:`drivedyn.analysis`).
 
 Adding a differential = one subpackage + one default model file + one line in
 :data:`TYPES`; the CLI (``drivedyn tdr NAME``, ``drivedyn calibrate NAME``,

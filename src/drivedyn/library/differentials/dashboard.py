@@ -7,7 +7,7 @@ Two pages:
 * torques and speeds: input and output torques, the torque distribution ratio (TDR) over
   time with the windows where it is measured (bench: ``bench.window_drive`` and
   ``window_coast``, labelled with their modes and the measured TDRs of ``[experiment]``;
-  vehicle: the last :data:`~drivedyn.library.differentials.protocol.WINDOW_FRACTION` of each
+  vehicle: the last :data:`~drivedyn.library.differentials.scenarios.WINDOW_FRACTION` of each
   held level, as ``drivedyn vehicle`` analyses them), the housing and output speeds [rpm] and
   the relative speeds;
 * axial motion, washers and losses: axial travel of the gears (``axial_bodies``, change since
@@ -26,7 +26,7 @@ from typing import Any
 
 from drivedyn.library.dashboards import Curve, Dashboard, Page, Panel, Term, Window
 from drivedyn.library.differentials.base import Differential
-from drivedyn.library.differentials.protocol import level_windows
+from drivedyn.library.differentials.scenarios import level_windows
 
 _Z = 2  # the outputs and the housing turn about global z
 

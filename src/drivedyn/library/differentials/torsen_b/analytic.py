@@ -229,7 +229,7 @@ def solve(p: TorsenBFile, speeds: tuple[float, float, float], known: str, torque
 
 def bench_speeds(mode: int, speed_diff: float) -> tuple[tuple[float, float, float], float]:
     """Speeds (housing, left, right) and sign of the applied torque in a bench mode (as
-    :func:`drivedyn.library.differentials.protocol.bench_spec`): the loaded output turns with
+    :func:`drivedyn.library.differentials.scenarios.bench_spec`): the loaded output turns with
     its torque, which is negative (resisting forward motion) in drive."""
     _, _, side, drive = MODES[mode - 1]
     s = 1.0 if drive else -1.0

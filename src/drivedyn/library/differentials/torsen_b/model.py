@@ -30,7 +30,7 @@ they are pushed together (onto the middle washer) in one direction of the torque
 why their TDRs differ (seed 003, Table 2: 1.6 and 1.7). Each element gear's thrust from its
 side mesh and from its end meshes goes to one of its end faces.
 
-Bench and vehicle scenarios: :mod:`drivedyn.library.differentials.protocol`.
+Bench and vehicle scenarios: :mod:`drivedyn.library.differentials.scenarios`.
 """
 
 from __future__ import annotations
@@ -43,9 +43,9 @@ import numpy as np
 
 from drivedyn.elements import Cylindrical, GearPair, Hinge, ParallelAxes
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.elements.contact.squeeze_film import SqueezeFilm
+from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import CylindricalPair, undercut_limits
-from drivedyn.elements.squeeze_film import SqueezeFilm
-from drivedyn.elements.visuals import cylinder
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 from drivedyn.model.spec import ModelError, Spec
 

@@ -213,7 +213,7 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
 def bench_speeds(p: TorsenCFile, side: str, drive: bool, speed_diff: float
                  ) -> tuple[tuple[float, float, float], float]:
     """Speeds (housing, sun, coupling) and sign of the applied torque in a bench mode
-    (as :func:`drivedyn.library.differentials.protocol.bench_spec`): the loaded output turns
+    (as :func:`drivedyn.library.differentials.scenarios.bench_spec`): the loaded output turns
     with its torque, which is negative (resisting forward motion) in drive."""
     rho = p.gears.teeth_ring / p.gears.teeth_sun
     s = 1.0 if drive else -1.0

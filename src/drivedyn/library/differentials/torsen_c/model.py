@@ -36,7 +36,7 @@ coast exchange their washers); spline and sun must have the same hand.
 
 The model is built from a validated :class:`~.schema.TorsenCFile` (the shipped ``torsen-c``
 file); the bench and vehicle scenarios are the shared ones of
-:mod:`drivedyn.library.differentials.protocol`.
+:mod:`drivedyn.library.differentials.scenarios`.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ from drivedyn.elements import (
     Screw,
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
-from drivedyn.elements.visuals import cylinder
+from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
 

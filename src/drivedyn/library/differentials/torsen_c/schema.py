@@ -5,7 +5,7 @@ checked (unknown keys are refused) and every problem is reported with its key pa
 geometry itself (tooth counts against the planet count, radii against the gears) is checked
 when the model is built (:func:`drivedyn.library.differentials.torsen_c.model.check_parameters`).
 The sections shared with the other differentials are in
-:mod:`drivedyn.library.differentials.common`.
+:mod:`drivedyn.library.differentials.schema_sections`.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
-from drivedyn.library.differentials.common import (
+from drivedyn.library.differentials.schema_sections import (
     Bench,
     Body,
     Calibration,

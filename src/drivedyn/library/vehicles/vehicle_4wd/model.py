@@ -8,7 +8,7 @@ stands for the dampers). The central differential's axis is +x at the height of 
 centres; the axle differentials' axes are +y on the axle lines. Every differential is the
 full dynamic model of its type (:mod:`drivedyn.library.differentials` or
 :mod:`..bevel_differential`), built in its own frame and placed by
-:func:`drivedyn.model.assembly.include` with its ground replaced by the car body (the
+:func:`drivedyn.model.subassembly.include` with its ground replaced by the car body (the
 differentials are hinged to the frame, seed 003).
 
 Power path: engine torque on the central housing (reacted on the car body) -> central outputs
@@ -42,13 +42,13 @@ from drivedyn.elements import (
     TorsionalSpringDamper,
     TyreContact,
 )
-from drivedyn.elements.visuals import box
+from drivedyn.elements.framework.visuals import box
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
 from drivedyn.library.vehicles.bevel_differential import build_bevel
 from drivedyn.library.vehicles.vehicle_4wd.schema import WHEELS, Vehicle4WDFile
-from drivedyn.model.assembly import include
 from drivedyn.model.spec import Spec
+from drivedyn.model.subassembly import include
 from drivedyn.rotations import frame_from_axis
 from drivedyn.timefunctions import SmoothStep
 from drivedyn.tyres import Tyre, resolve_tyre, simple_tyre

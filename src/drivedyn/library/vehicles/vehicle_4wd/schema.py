@@ -13,7 +13,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
-from drivedyn.library.differentials.common import (
+from drivedyn.library.differentials.schema_sections import (
     Body,
     PositiveTime,
     PositiveVelocity,

@@ -13,7 +13,8 @@ and the kernel views it::
 :func:`carve` is a C-contiguous view of ``shape`` into the 1-D float64 buffer ``buf`` from
 element ``off``: a slice and, for a tuple shape, a reshape (numba's own, no copy). Views of
 disjoint ranges never alias. Offsets are constants or sums of the sizes carved before
-(:func:`drivedyn.elements.base.local_arrays_at`, ``drivedyn.elements.gears.kernel._work``);
+(:func:`drivedyn.elements.framework.contract.local_arrays_at`,
+``drivedyn.elements.gears.kernel._work``);
 numba checks no bounds, so a short buffer is the caller's error: the ``work_buffer`` helpers
 size it from the same numbers.
 """

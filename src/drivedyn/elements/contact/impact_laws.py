@@ -1,7 +1,7 @@
 """Normal force laws of contacts: penalty and continuous impact (hysteresis damping).
 
 Every force-type contact element (:mod:`drivedyn.elements.contact`,
-:mod:`drivedyn.elements.squeeze_film`) computes its normal force from a penetration
+:mod:`drivedyn.elements.contact.squeeze_film`) computes its normal force from a penetration
 ``delta`` [m] (positive in contact) and its rate ``deltadot`` [m/s] (positive while the bodies
 approach) with one :class:`NormalLaw`::
 
@@ -63,7 +63,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.checks import check_number
+from drivedyn.elements.framework.checks import check_number
 from drivedyn.errors import ModelError
 
 LAW_NAMES = ("penalty", "hunt-crossley", "lankarani-nikravesh", "flores", "gonthier",

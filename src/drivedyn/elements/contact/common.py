@@ -8,11 +8,14 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements.base import Group, local_arrays_at, local_size
-from drivedyn.elements.building import make_group, node_dofs
-from drivedyn.elements.friction import FrictionLaw, friction_phi, friction_scalar, friction_table
-from drivedyn.elements.impact_laws import (
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.contact.friction import (
+    FrictionLaw,
+    friction_phi,
+    friction_scalar,
+    friction_table,
+)
+from drivedyn.elements.contact.impact_laws import (
     NSTATE,
     ST_COUNT,
     ST_FLAG,
@@ -23,8 +26,11 @@ from drivedyn.elements.impact_laws import (
     law_table,
     normal_force,
 )
-from drivedyn.elements.primitives import prim_axial
-from drivedyn.elements.work_arrays import carve
+from drivedyn.elements.framework.building import make_group, node_dofs
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.primitives import prim_axial
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 
 # --- kernels ------------------------------------------------------------------------------------
@@ -39,7 +45,7 @@ from drivedyn.errors import ModelError
 def contact_normal(law, e, delta, rate, es, o):
     """Normal force of element ``e`` at penetration ``delta`` and rate ``rate`` (state block
     at ``es[o]``): ``(F, dF/ddelta, dF/drate, V, P_dis, v_s)`` (see
-    :func:`~drivedyn.elements.impact_laws.normal_force`)."""
+    :func:`~drivedyn.elements.contact.impact_laws.normal_force`)."""
     K, n, chi, c, vmin = law[e, 0], law[e, 1], law[e, 2], law[e, 3], law[e, 4]
     vs = impact_speed(es, o, vmin)
     F, Fd, Fr, V, Pn = normal_force(delta, rate, K, n, chi, c, vs)

@@ -1,5 +1,5 @@
 """What every ``Family.build`` does besides its own parameters: marker lookup, node and dof
-index maps, and the :class:`~drivedyn.elements.base.Group` with its named outputs.
+index maps, and the :class:`~drivedyn.elements.framework.group.Group` with its named outputs.
 
 ``ctx`` is the :class:`drivedyn.model.compile.BuildContext` of the model being compiled
 (``ctx.marker(name, what)`` gives ``(node, offset, rotation)`` of a marker, ``ctx.nn`` is the
@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements.base import Group
+from drivedyn.elements.framework.group import Group
 from drivedyn.errors import ModelError
 
 CLASH = "{what}: both markers {a!r} and {b!r} are on {where}; {noun} must connect two " \

@@ -15,7 +15,7 @@ branch instead of Coulomb's set-valued law, so a body held by friction creeps sl
 sticking (on an incline at ``tan(theta) < mu_static`` the creep speed is
 ``eps_v (1 - sqrt(1 - tan(theta)/mu_static))`` for the coulomb law and
 ``eps_v atanh(tan(theta)/mu_static)`` for tanh, with ``eps_v << v_stribeck``). Use the
-augmented-Lagrangian :class:`~drivedyn.elements.unilateral.UnilateralContact` where true
+augmented-Lagrangian :class:`~drivedyn.elements.contact.unilateral.UnilateralContact` where true
 sticking matters.
 
 With ``mu_static > mu`` the coefficient peaks near ``eps_v`` at about ``mu_static`` and falls
@@ -34,7 +34,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.checks import check_number
+from drivedyn.elements.framework.checks import check_number
 from drivedyn.errors import ModelError
 
 FRICTION_LAWS = ("coulomb", "tanh")

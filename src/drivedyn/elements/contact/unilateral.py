@@ -56,22 +56,20 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements._contact_common import axial_motion, commit_range
-from drivedyn.elements.base import (
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.contact.common import axial_motion, commit_range
+from drivedyn.elements.framework.building import make_group, two_markers, what_of
+from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.contract import (
     MODE_ACC,
     MODE_DYN,
     MODE_VEL,
-    Family,
-    Group,
-    TwoMarkerSpec,
     local_arrays,
-    register,
     tangent_columns,
 )
-from drivedyn.elements.building import make_group, two_markers, what_of
-from drivedyn.elements.checks import check_number, check_optional
-from drivedyn.elements.primitives import prim_axial, quad_form
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.primitives import prim_axial, quad_form
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
 NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A

@@ -47,8 +47,8 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-import drivedyn.elements.scaffold as sc
-from drivedyn.elements._contact_common import (
+import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.contact.common import (
     add_normal,
     add_velocity_force,
     axial_motion,
@@ -65,11 +65,12 @@ from drivedyn.elements._contact_common import (
     washer_work,
     work_size,
 )
-from drivedyn.elements.base import Family, Group, TwoMarkerSpec, register
-from drivedyn.elements.building import two_markers, what_of
-from drivedyn.elements.checks import check_number
-from drivedyn.elements.friction import FrictionLaw
-from drivedyn.elements.impact_laws import NormalLaw, impact_state, initial_state
+from drivedyn.elements.contact.friction import FrictionLaw
+from drivedyn.elements.contact.impact_laws import NormalLaw, impact_state, initial_state
+from drivedyn.elements.framework.building import two_markers, what_of
+from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.errors import ModelError
 
 

@@ -1,7 +1,8 @@
 """The kernel scaffold: what every element family's kernel does besides its physics.
 
 A family writes the loop over its elements (the physics) and a thin kernel with the calling
-convention of :mod:`drivedyn.elements.base` (its parameters, then the common arguments)::
+convention of :mod:`drivedyn.elements.framework.contract` (its parameters, then the common
+arguments)::
 
     @njit(cache=True)
     def _springs(P, C, W, full):
@@ -28,7 +29,7 @@ convention of :mod:`drivedyn.elements.base` (its parameters, then the common arg
 contract (fields named by the constants below, read through the helpers), ``W`` the family's
 work arrays: never allocated inside the element loop (small allocations cost more than the
 maths), and best not at all: a kernel can carve every work array
-(:func:`drivedyn.elements.work_arrays.carve`) from a buffer allocated with its group, its
+(:func:`drivedyn.elements.framework.work_arrays.carve`) from a buffer allocated with its group, its
 last parameter ``work`` (:func:`work_buffer`; the ``*_at`` helpers below and
 ``local_arrays_at`` carve the usual sets). The rigid bodies, loads, joints, drivers, gear
 pairs and contacts do so: allocating per call (``malloc``, ``free``, numba's wrapper) took
@@ -56,8 +57,9 @@ after a branch is reference-counted on every call: a ``full_pass(C)`` with a sho
 element: one kernel call evaluates the whole group.
 
 Numba's cache checks only the source file of the cached function: after editing this module
-(or :mod:`~drivedyn.elements.base`, :mod:`~drivedyn.elements.primitives`), kernels cached
-from the family modules still hold the old code until their caches are removed
+(or :mod:`~drivedyn.elements.framework.contract`,
+:mod:`~drivedyn.elements.framework.primitives`), kernels cached from the family modules still
+hold the old code until their caches are removed
 (``__pycache__/*.nbi``, ``*.nbc``).
 """
 
@@ -66,9 +68,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_ACC, scatter_element
-from drivedyn.elements.primitives import gather_v
-from drivedyn.elements.work_arrays import carve
+from drivedyn.elements.framework.contract import MODE_ACC, scatter_element
+from drivedyn.elements.framework.primitives import gather_v
+from drivedyn.elements.framework.work_arrays import carve
 
 # fields of the common argument tuple C (the kernel contract's trailing arguments)
 LNODES, DOFS, KMAP, EOFF = 0, 1, 2, 3
@@ -171,7 +173,8 @@ def multiplier(C, e, nd, i):
 @njit(cache=True, inline="always")
 def scatter(C, L, e, nnode, full):
     """Add element ``e``'s local residual and (if ``full`` and wanted) matrices ``L = (rq,
-    rl, M, C, K, G)`` into the global arrays (:func:`~drivedyn.elements.base.scatter_local`)."""
+    rl, M, C, K, G)`` into the global arrays
+    (:func:`~drivedyn.elements.framework.contract.scatter_local`)."""
     rq, rl, M, Cd, K, G = L
     scatter_element(rq, rl, M, Cd, K, G, nnode, C[LNODES][e], C[DOFS][e], C[KMAP][e], C[TN],
                     C[CM], C[CC], C[CK], C[MODE], C[WANT], full, C[RES], C[RABS], C[DATA])
@@ -222,7 +225,8 @@ def grad_hess(n):
 
 @njit(cache=True, inline="always")
 def angle_work():
-    """Work arrays of :func:`~drivedyn.elements.primitives.prim_angle`: ``gs, Hs, gc, Hc``."""
+    """Work arrays of :func:`~drivedyn.elements.framework.primitives.prim_angle`:
+    ``gs, Hs, gc, Hc``."""
     return angle_work_at(np.zeros(ANGLE_WORK_SIZE), 0)  # one allocation
 
 

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.base import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.rotations import tangent_into
 from drivedyn.timefunctions import eval_time_functions
