@@ -128,6 +128,14 @@ def _walk(obj: griffe.Object, collection: Any) -> None:
 class RstDocstrings(griffe.Extension):
     """Rewrite every docstring of a package once it is loaded."""
 
+    def __init__(self) -> None:
+        super().__init__()
+        self._done: set[str] = set()
+
     def on_package(self, *, pkg: griffe.Module, loader: griffe.GriffeLoader,
                    **kwargs: Any) -> None:
-        _walk(pkg, loader.modules_collection)
+        if pkg.path not in self._done:  # once: griffe 1 and 2 name the event differently
+            self._done.add(pkg.path)
+            _walk(pkg, loader.modules_collection)
+
+    on_package_loaded = on_package  # griffe < 2
