@@ -21,6 +21,7 @@ from drivedyn.errors import ModelError
 from drivedyn.rotations import frame_from_axis
 
 GROUND = "ground"
+"""Name of the ground: markers on it are given in the global frame."""
 
 
 def _vec3(value: Any, what: str) -> np.ndarray:

@@ -80,6 +80,7 @@ class Material:
 
 
 STEEL = Material.from_nu(210e9, 0.3, 7850.0)
+"""Steel: E = 210 GPa, nu = 0.3, density 7850 kg/m^3."""
 
 
 @dataclass(frozen=True)
