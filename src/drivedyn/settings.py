@@ -12,8 +12,10 @@ imported), both listed in the README.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any
 
 __all__ = ["ProcessSettings", "cache_dir", "compile_workers", "configure", "current"]
 
@@ -28,10 +30,15 @@ class ProcessSettings:
             workers, so Linux only; elsewhere the kernels compile in the process.
         cache_dir: folder of drivedyn's own caches (Craig-Bampton reductions, the record
             of compiled kernels); None: ``$DRIVEDYN_CACHE`` or ``~/.cache/drivedyn``.
+        compile_progress: called as ``compile_progress(done, total, name)`` while a first
+            run compiles a model's kernels (``done`` = 0 when it starts, then after each
+            kernel); None: progress goes to the ``drivedyn`` logger only. The command line
+            prints it on stderr.
     """
 
     compile_workers: int | None = None
     cache_dir: Path | None = None
+    compile_progress: Callable[[int, int, str], Any] | None = None
 
 
 _current = ProcessSettings()
@@ -43,7 +50,9 @@ def current() -> ProcessSettings:
 
 
 def configure(*, compile_workers: int | None = None,
-              cache_dir: str | os.PathLike | None = None) -> ProcessSettings:
+              cache_dir: str | os.PathLike | None = None,
+              compile_progress: Callable[[int, int, str], Any] | None = None,
+              ) -> ProcessSettings:
     """Set process-wide settings (arguments left as None keep their value); returns the
     settings in force.
 
@@ -58,6 +67,8 @@ def configure(*, compile_workers: int | None = None,
         changes["compile_workers"] = int(compile_workers)
     if cache_dir is not None:
         changes["cache_dir"] = Path(cache_dir).expanduser()
+    if compile_progress is not None:
+        changes["compile_progress"] = compile_progress
     _current = replace(_current, **changes)
     return _current
 

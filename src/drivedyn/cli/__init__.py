@@ -102,7 +102,17 @@ def main(ctx: click.Context, debug: bool, compile_workers: int | None,
     from drivedyn import settings
 
     ctx.meta["drivedyn.debug"] = debug
-    settings.configure(compile_workers=compile_workers, cache_dir=cache_dir)
+    settings.configure(compile_workers=compile_workers, cache_dir=cache_dir,
+                       compile_progress=_compile_progress)
+
+
+def _compile_progress(done: int, total: int, name: str) -> None:
+    """A first run's compilation, on stderr (stdout stays for results and JSON)."""
+    if done == 0:
+        click.echo(f"first run: compiling {total} numba kernels for this model (cached "
+                   "afterwards) ...", err=True)
+    else:
+        click.echo(f"  compiled {name} ({done} of {total})", err=True)
 
 
 for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep, view,

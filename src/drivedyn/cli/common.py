@@ -19,9 +19,6 @@ import click
 EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 
-COMPILE_NOTE = ("note: the first run compiles the numba kernels (15-45 s for a TORSEN "
-                "model on 2 cores, depending on its load); they are cached afterwards.")
-
 
 class BadInput(click.ClickException):
     """A bad input found by a command: printed as ``error: <message>``, exit code 2."""

@@ -16,7 +16,6 @@ from pathlib import Path
 import click
 
 from drivedyn.cli.common import (
-    COMPILE_NOTE,
     FiniteFloat,
     bad_input,
     check_output_path,
@@ -45,13 +44,6 @@ def _params(model_file: str, sets: tuple[str, ...]):
     except (ModelFileError, ModelError) as exc:
         bad_input(str(exc))
     return p, source
-
-
-def _progress_note(quiet: bool):
-    from drivedyn.cli.progress import kernels_cached
-
-    if not quiet and not kernels_cached():
-        click.echo(COMPILE_NOTE, err=True)
 
 
 @click.command()
@@ -110,8 +102,6 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
         bad_input(f"--friction-scale: expected a factor >= 0, got {friction_scale}")
     modes = [1, 2, 3, 4] if mode == "all" else [int(mode)]
     t0 = time.perf_counter()
-    if not analytic_only:
-        _progress_note(as_json)
     first = []
 
     def on_run(*args) -> None:
@@ -229,8 +219,6 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     if not 0 <= lo < hi <= 1:
         bad_input(f"--bounds: expected 0 <= low < high <= 1, got {lo} {hi}")
     t0 = time.perf_counter()
-    if not as_json:
-        _progress_note(False)
 
     def note(msg: str) -> None:
         if not as_json:

@@ -81,7 +81,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     Example:
         drivedyn run pendulum --t-end 5 --set solver.rho_inf=0.8 --out pendulum.nc
     """
-    from drivedyn.cli.progress import kernels_cached, progress_bar
+    from drivedyn.cli.progress import progress_bar
     from drivedyn.config import ModelFileError, UnitError, load_model
     from drivedyn.model.spec import ModelError
     from drivedyn.results.results import write_netcdf_atomic
@@ -106,9 +106,6 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     name = model.meta.get("model_name", "model")
     target = out or Path(f"{name}.nc")
     check_output_path(target, "--out")
-    if not kernels_cached():
-        err("note: first run: compiling the numba kernels (15-45 s for a TORSEN model "
-            "on 2 cores, cached afterwards)")
     for g in model.groups:
         for part in g.extra.get("parts", ()):
             err(part.check_text())

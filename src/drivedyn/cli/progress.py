@@ -6,13 +6,6 @@ import sys
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from pathlib import Path
-
-
-def kernels_cached() -> bool:
-    """True if numba has compiled kernels cached for this installation."""
-    root = Path(__file__).resolve().parent / "elements" / "__pycache__"
-    return root.is_dir() and any(root.glob("*.nbi"))
 
 
 @contextmanager

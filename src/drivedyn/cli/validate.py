@@ -15,7 +15,7 @@ from typing import Any
 
 import click
 
-from drivedyn.cli.common import COMPILE_NOTE, check_output_path, console, fmt, jsonable
+from drivedyn.cli.common import check_output_path, console, fmt, jsonable
 
 
 def _load_cases() -> dict[str, Any]:
@@ -178,7 +178,6 @@ def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: 
         if report is not None:
             write_report(report, [], {}, quick)
         return
-    err.print(COMPILE_NOTE)
     figure_dir = None
     if report is not None:
         report.mkdir(parents=True, exist_ok=True)

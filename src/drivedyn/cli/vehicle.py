@@ -14,7 +14,6 @@ from pathlib import Path
 import click
 
 from drivedyn.cli.common import (
-    COMPILE_NOTE,
     EXIT_FAILED,
     FiniteFloat,
     bad_input,
@@ -51,7 +50,7 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         drivedyn vehicle --set body.speed=2 --set run.window=[0.5,0.8] --t-end 0.8
     """
     import drivedyn.analysis.vehicle_4wd as V  # noqa: N812 - short name for the analysis
-    from drivedyn.cli.progress import kernels_cached, progress_bar
+    from drivedyn.cli.progress import progress_bar
     from drivedyn.config import ModelFileError, UnitError, read_library_file
     from drivedyn.config.loader import read_vehicle_differentials, resolve_path
     from drivedyn.library import vehicles
@@ -83,8 +82,6 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
     if p.run.window[1] > t_final + 1e-12:
         bad_input(f"run.window = {list(p.run.window)} s ends after the final time "
                   f"{t_final:g} s; set --t-end or run.window")
-    if not as_json and not kernels_cached():
-        err(COMPILE_NOTE)
     summaries, runs, failed = [], [], False
     for q in variants:
         label = V.config_name(q)

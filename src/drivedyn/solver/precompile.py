@@ -168,13 +168,16 @@ def precompile_kernels(calls: list[tuple[Any, tuple]], workers: int | None = Non
         while_waiting: called once in this process while the workers compile (work the run
             needs later, such as its lazy imports, taken off the critical path); an
             exception it raises is logged and ignored.
-        progress: called after each kernel compiled on a first run, with the number done,
-            the number to compile and the kernel's name.
+        progress: called when a first run starts compiling (0 done) and after each kernel,
+            with the number done, the number to compile and the kernel's name (default:
+            the ``compile_progress`` setting, :mod:`drivedyn.settings`).
     Returns:
         ``{"missing": n, "compiled_in_workers": n, "wall_s": s}`` (for the log and tests).
     """
     t0 = time.perf_counter()
     workers = settings.compile_workers() if workers is None else workers
+    if progress is None:
+        progress = settings.current().compile_progress
     record = _read_record()
     todo: dict[str, tuple[Any, tuple, str]] = {}
     known: list[tuple[Any, tuple]] = []
@@ -189,6 +192,8 @@ def precompile_kernels(calls: list[tuple[Any, tuple]], workers: int | None = Non
         else:
             todo.setdefault(key, (disp, sig, stamp))
     _compile_here(known)  # compiled here before: numba loads them from its cache
+    if todo and progress is not None:
+        progress(0, len(todo), "")
     done = 0
     seconds: dict[str, float] = {}
     # fork only: a spawned worker would import the user's script again (one without a
