@@ -28,7 +28,10 @@ import time
 
 def _run(args: list[str], cache: str) -> dict:
     """Run ``python -m drivedyn.cli <args>`` with the numba cache in ``cache``."""
-    env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+    # drivedyn's own cache (its record of compiled kernels) beside numba's, so a cold run
+    # finds neither
+    env = {**os.environ, "NUMBA_CACHE_DIR": cache,
+           "DRIVEDYN_CACHE": os.path.join(cache, "drivedyn")}
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run([sys.executable, "-m", "drivedyn.cli", *args], env=env,
