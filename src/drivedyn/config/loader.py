@@ -12,6 +12,7 @@ import copy
 import json
 import tomllib
 import typing
+import warnings
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -22,7 +23,9 @@ from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
 from drivedyn.config.beams_section import add_beams
-from drivedyn.config.elements_section import generic_element
+from drivedyn.config.elements_section import element_parameters, generic_element
+from drivedyn.config.legacy_sections import SECTIONS as LEGACY_SECTIONS
+from drivedyn.config.legacy_sections import entry_class, translate
 from drivedyn.config.parts_section import add_parts, add_washer_contacts
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
@@ -187,9 +190,11 @@ def _models_in(annotation: Any) -> list[Any]:
 
 
 def format_validation_error(source: str, data: dict, exc: ValidationError,
-                            schema: type[BaseModel] | None = None) -> str:
+                            schema: type[BaseModel] | None = None,
+                            element_labels: list[str] | None = None) -> str:
     """One line per problem: ``key.path: what was expected (got value)``; unknown keys get
-    the closest known key of their section."""
+    the closest known key of their section. ``element_labels``: how to name each
+    ``elements`` entry (entries translated from a deprecated section by that section)."""
     lines = [f"{source}: {exc.error_count()} problem(s)"]
     for err in exc.errors():
         loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
@@ -210,6 +215,9 @@ def format_validation_error(source: str, data: dict, exc: ValidationError,
         elif err["type"] == "missing":
             msg = "required key is missing"
         path = _path(data, loc) or "(top level)"
+        if element_labels and len(loc) > 1 and loc[0] == "elements" \
+                and isinstance(loc[1], int) and loc[1] < len(element_labels):
+            path = element_labels[loc[1]] + path[len(_path(data, loc[:2])):]
         got = "" if err["type"] == "missing" else f" (got {err.get('input')!r})"
         lines.append(f"  {path}: {msg}{got}")
     return "\n".join(lines)
@@ -258,10 +266,9 @@ def _named_function(name: str, f: Any) -> Any:
 
 
 def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
-    """A :class:`Spec` from a validated file (elements in file order, by section);
-    ``base_dir``: folder of the model file (mesh files are relative to it)."""
-    import drivedyn.elements as E  # noqa: N812
-
+    """A :class:`Spec` from a validated file (bodies, nodes, beams, markers, parts, then the
+    ``[[elements]]`` in file order, then the washer contacts); ``base_dir``: folder of the
+    model file (mesh files are relative to it)."""
     spec = Spec(gravity=mf.model.gravity)
     for b in mf.bodies:
         spec.add_rigid_body(b.name, b.mass, b.inertia, com=b.com, position=b.position,
@@ -284,42 +291,30 @@ def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
     for m in later:
         spec.add_marker(m.name, m.body, position=m.position, rotation=_rotation(m.rotation),
                         axis=m.axis)
-    joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
-                   "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
-                   "universal": E.Universal, "planar": E.Planar,
-                   "parallel_axes": E.ParallelAxes,
-                   "screw": E.Screw}
-    for j in mf.joints:
-        kw = {"pitch": j.pitch} if j.type == "screw" else {}
-        spec.add(joint_types[j.type](j.name, j.marker_a, j.marker_b, k=j.k, p=j.p, **kw))
-    for s in mf.springs:
-        spec.add(E.SpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness, s.damping,
-                                s.free_length, s.preload))
-    for s in mf.torsional_springs:
-        spec.add(E.TorsionalSpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness,
-                                         s.damping, s.free_angle, s.preload))
     # every named function is converted (and checked) here, used or not
     funcs = {name: _named_function(name, f) for name, f in mf.functions.items()}
-    for f in mf.forces:
-        spec.add(E.Force(f.name, f.marker, f.vector,
-                         _function(f.function, funcs, f"forces.{f.name}"), f.frame))
-    for t in mf.torques:
-        spec.add(E.Torque(t.name, t.marker, t.vector,
-                          _function(t.function, funcs, f"torques.{t.name}"), t.frame))
-    for d in mf.drivers:
-        spec.add(E.JointDriver(d.name, d.joint, _function(d.function, funcs,
-                                                          f"drivers.{d.name}"),
-                               d.quantity, d.k, d.p))
-    for d in mf.speed_difference_drivers:
-        spec.add(E.SpeedDifferenceDriver(d.name, d.joint_1, d.joint_2,
-                                         _function(d.function, funcs,
-                                                   f"speed_difference_drivers.{d.name}"),
-                                         d.k, d.p))
+    for element in file_elements(mf, funcs):
+        spec.add(element)
     add_washer_contacts(spec, mf, parts)
-    for i, e in enumerate(mf.elements):
-        spec.add(generic_element(e, f"elements[{i}] ({e.name})",
-                                 lambda v, w: _function(v, funcs, w)))
     return spec
+
+
+def file_elements(mf: S.ModelFile, funcs: dict[str, Any],
+                  problems: list[str] | None = None) -> list[Any]:
+    """The element specs of the file's ``[[elements]]`` entries (those translated from the
+    deprecated sections first), each parameter checked against its element class; a
+    :class:`ModelError` naming the entry and key, or with ``problems`` given, every entry's
+    problem appended there (and the entry left out)."""
+    out = []
+    for i, e in enumerate(mf.elements):
+        try:
+            out.append(generic_element(e, mf.element_label(i),
+                                       lambda v, w: _function(v, funcs, w)))
+        except ModelError as exc:
+            if problems is None:
+                raise
+            problems.append(str(exc))
+    return out
 
 
 def scenario_of(mf: S.ModelFile) -> Scenario:
@@ -379,11 +374,41 @@ def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | No
     if library_of(data) is not None:
         raise ModelFileError(f"{source}: a parametric {library_of(data)!r} model file; read it "
                              "with read_library_file or load_model")
-    try:
-        mf = S.ModelFile.model_validate(data)
-    except ValidationError as exc:
-        raise ModelFileError(format_validation_error(source, data, exc, S.ModelFile)) from None
+    mf = _plain_file(data, source)
+    # the elements' parameters, checked against their element classes: every problem at once
+    problems: list[str] = []
+    funcs = {}
+    for name, f in mf.functions.items():
+        try:
+            funcs[name] = _named_function(name, f)
+        except ModelError as exc:
+            problems.append(str(exc))
+    file_elements(mf, funcs, problems)
+    if problems:
+        raise ModelFileError(_problems(source, problems))
+    for note in mf.notes:
+        warnings.warn(note, DeprecationWarning, stacklevel=3)  # at load_model's caller
     return mf, data, source
+
+
+def _problems(source: str, problems: list[str]) -> str:
+    return "\n".join([f"{source}: {len(problems)} problem(s)", *(f"  {p}" for p in problems)])
+
+
+def _plain_file(data: dict, source: str) -> S.ModelFile:
+    """The validated schema of a plain bodies-and-elements file, its deprecated element
+    sections translated into ``[[elements]]`` entries first (see
+    :mod:`drivedyn.config.legacy_sections`; their deprecation notes in ``notes``)."""
+    tr = translate(data)
+    if tr.problems:
+        raise ModelFileError(_problems(source, tr.problems))
+    try:
+        mf = S.ModelFile.model_validate(tr.data)
+    except ValidationError as exc:
+        raise ModelFileError(format_validation_error(source, tr.data, exc, S.ModelFile,
+                                                     tr.labels)) from None
+    mf.set_origin(tr.labels, tr.notes(source))
+    return mf
 
 
 def _library_schemas() -> dict[str, type]:
@@ -469,6 +494,12 @@ def check_override_keys(path: str | Path, overrides: dict[str, Any],
             apply_override(data, key, value)
         except ModelFileError as exc:
             raise ModelFileError(f"{option} {key}: {str(exc).split(': ', 1)[-1]}") from None
+        if schema is S.ModelFile:
+            _check_element_key(data, key, source, option)
+            tr = translate(data)
+            if tr.problems:
+                raise ModelFileError(f"{option} {key}: {tr.problems[0]}")
+            data = tr.data
         try:
             schema.model_validate(data)
         except ValidationError as exc:
@@ -478,6 +509,27 @@ def check_override_keys(path: str | Path, overrides: dict[str, Any],
                     hint = did_you_mean(str(loc[-1]), _allowed_keys(schema, e["loc"]))
                     raise ModelFileError(f"{option} {key}: {source} has no key "
                                          f"{'.'.join(map(str, loc))!r}{hint}") from None
+
+
+def _check_element_key(data: dict, key: str, source: str, option: str) -> None:
+    """Refuse a key of an element entry (``elements.NAME.KEY``, or of a deprecated section:
+    ``springs.NAME.KEY``) that its element class does not take."""
+    parts = key.split(".")
+    section = parts[0]
+    if len(parts) < 3 or (section != "elements" and section not in LEGACY_SECTIONS) \
+            or not isinstance(data.get(section), list):
+        return
+    try:
+        item = _list_item(data[section], parts[1], section)
+    except ModelFileError:
+        return
+    known = element_parameters(entry_class(section, item) or "")
+    if known is not None and section == "joints":
+        known = [k for k in known if k != "pitch" or item.get("type") == "screw"]
+    if known is not None and parts[2] not in known:
+        raise ModelFileError(f"{option} {key}: {source} has no key "
+                             f"{section + '.' + parts[2]!r}{did_you_mean(parts[2], known)} "
+                             f"({entry_class(section, item)} keys: {', '.join(known)})")
 
 
 def read_value(path: str | Path, key: str, overrides: dict[str, Any] | None = None) -> Any:
@@ -506,10 +558,14 @@ def read_value(path: str | Path, key: str, overrides: dict[str, Any] | None = No
         return node
     if node is None:  # not in the file: the schema's default, if the key exists
         schema = _schema_of(data)
-        try:
-            obj: Any = schema.model_validate(data)
-        except ValidationError as exc:
-            raise ModelFileError(format_validation_error(source, data, exc, schema)) from None
+        if schema is S.ModelFile:
+            obj: Any = _plain_file(data, source)
+        else:
+            try:
+                obj = schema.model_validate(data)
+            except ValidationError as exc:
+                raise ModelFileError(format_validation_error(source, data, exc,
+                                                             schema)) from None
         for part in parts:
             if not hasattr(obj, part):
                 obj = None
@@ -541,6 +597,8 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = mf.model.name
+    # one line each about the file (deprecated sections), printed by `drivedyn run`
+    model.meta["notes"] = mf.notes
     return model
 
 
