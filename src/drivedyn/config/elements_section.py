@@ -38,11 +38,12 @@ def generic_element(e: Any, where: str, function: Any) -> Any:
                          f"{did_you_mean(e.type, types)} (known: {', '.join(types)})")
     params = dict(e.model_extra or {})
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(params) - set(fields))
+    unknown = [k for k in params if k not in fields]
     if unknown:
-        hint = did_you_mean(unknown[0], fields)
-        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type}{hint} "
-                         f"(parameters: {', '.join(sorted(set(fields) - {'name'}))})")
+        also = f"; also unknown: {', '.join(unknown[1:])}" if unknown[1:] else ""
+        raise ModelError(f"{where}.{unknown[0]}: unknown key{did_you_mean(unknown[0], fields)} "
+                         f"({e.type} parameters: "
+                         f"{', '.join(k for k in fields if k != 'name')}{also})")
     missing = [k for k, f in fields.items() if k != "name" and k not in params
                and f.default is dataclasses.MISSING
                and f.default_factory is dataclasses.MISSING]

@@ -103,7 +103,7 @@ def parse_override(text: str) -> tuple[str, Any]:
 def apply_override(data: dict, key: str, value: Any) -> None:
     """Set ``data[key]`` for a dotted key; list items are addressed by their ``name``
     (``bodies.crank.mass``) or index (``bodies.0.mass``), vector components by index
-    (``forces.push.vector.0``)."""
+    (``elements.push.vector.0``)."""
     parts = key.split(".")
     node: Any = data
     for i, part in enumerate(parts[:-1]):
@@ -118,7 +118,7 @@ def apply_override(data: dict, key: str, value: Any) -> None:
             raise ModelFileError(f"--set {key}: {where} is a value, not a table")
     last = parts[-1]
     if isinstance(node, list):
-        # a component of a vector (``forces.push.vector.0``); whole table items stay refused
+        # a component of a vector (``elements.push.vector.0``); whole table items stay refused
         if last.isdigit() and int(last) < len(node) and not isinstance(node[int(last)], dict):
             node[int(last)] = value
             return
