@@ -369,13 +369,21 @@ def library_of(data: dict) -> str | None:
 
 def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
                     ) -> tuple[S.ModelFile, dict, str]:
-    """Read, override and validate a model file: (schema object, raw data, source name)."""
+    """Read, override and validate a model file: (schema object, raw data, source name).
+
+    Every ``[[elements]]`` entry is checked against its element class (parameters, units,
+    the element's ``validate()``); a :class:`ModelFileError` lists every problem. A file
+    with deprecated element sections (``[[joints]]``...) issues one ``DeprecationWarning``
+    per section (also in the schema object's ``notes``).
+    """
     data, source = _read_data(path, overrides)
     if library_of(data) is not None:
         raise ModelFileError(f"{source}: a parametric {library_of(data)!r} model file; read it "
                              "with read_library_file or load_model")
     mf = _plain_file(data, source)
     # the elements' parameters, checked against their element classes: every problem at once
+    from drivedyn.timefunctions import Constant
+
     problems: list[str] = []
     funcs = {}
     for name, f in mf.functions.items():
@@ -383,6 +391,7 @@ def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | No
             funcs[name] = _named_function(name, f)
         except ModelError as exc:
             problems.append(str(exc))
+            funcs[name] = Constant(0.0)  # reported once, not again where it is used
     file_elements(mf, funcs, problems)
     if problems:
         raise ModelFileError(_problems(source, problems))
@@ -524,8 +533,6 @@ def _check_element_key(data: dict, key: str, source: str, option: str) -> None:
     except ModelFileError:
         return
     known = element_parameters(entry_class(section, item) or "")
-    if known is not None and section == "joints":
-        known = [k for k in known if k != "pitch" or item.get("type") == "screw"]
     if known is not None and parts[2] not in known:
         raise ModelFileError(f"{option} {key}: {source} has no key "
                              f"{section + '.' + parts[2]!r}{did_you_mean(parts[2], known)} "
@@ -581,7 +588,9 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
     overrides (``["solver.t_end=2", "bodies.rod.mass=2 kg"]`` or a dict).
 
     Raises :class:`ModelFileError` for unreadable or invalid files and
-    :class:`~drivedyn.model.spec.ModelError` for physically impossible models.
+    :class:`~drivedyn.model.spec.ModelError` for physically impossible models. The model's
+    ``meta["notes"]`` holds one line per deprecated section of the file (also issued as a
+    ``DeprecationWarning``).
     """
     from drivedyn.model.compile import compile_model
 
@@ -643,5 +652,6 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = params.model.name
+    model.meta["notes"] = []
     model.meta["library"] = params
     return model
