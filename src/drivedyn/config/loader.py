@@ -11,7 +11,6 @@ from __future__ import annotations
 import copy
 import json
 import tomllib
-import typing
 import warnings
 from dataclasses import dataclass
 from importlib import resources
@@ -26,17 +25,14 @@ from drivedyn.config.beams_section import add_beams
 from drivedyn.config.elements_section import element_parameters, generic_element
 from drivedyn.config.legacy_sections import SECTIONS as LEGACY_SECTIONS
 from drivedyn.config.legacy_sections import entry_class, translate
+from drivedyn.config.messages import ModelFileError, _allowed_keys, format_validation_error
+from drivedyn.config.overrides import _list_item, apply_override, parse_override
 from drivedyn.config.parts_section import add_parts, add_washer_contacts
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
 from drivedyn.model.spec import ModelError, Spec
 from drivedyn.rotations import exp_so3
 from drivedyn.schema_base import AdaptiveStepFile, Rotation
-
-
-class ModelFileError(ValueError):
-    """A model file that cannot be read or validated; the message lists every problem with
-    its key path, the bad value and what was expected."""
 
 
 @dataclass(frozen=True)
@@ -84,146 +80,6 @@ def resolve_path(name: str | Path) -> Path:
 
 
 # -- overrides ---------------------------------------------------------------------------
-
-
-def parse_override(text: str) -> tuple[str, Any]:
-    """``"a.b.c=VALUE"`` -> (``"a.b.c"``, value); VALUE is read as a TOML value
-    (``2``, ``"3 mm"``, ``[0, 0, -9.81]``) or, failing that, as a plain string."""
-    key, sep, raw = text.partition("=")
-    key = key.strip()
-    if not sep or not key:
-        raise ModelFileError(f"--set {text!r}: expected KEY=VALUE, e.g. solver.t_end=2")
-    try:
-        value = tomllib.loads(f"v = {raw.strip()}")["v"]
-    except tomllib.TOMLDecodeError:
-        value = raw.strip()
-    return key, value
-
-
-def apply_override(data: dict, key: str, value: Any) -> None:
-    """Set ``data[key]`` for a dotted key; list items are addressed by their ``name``
-    (``bodies.crank.mass``) or index (``bodies.0.mass``), vector components by index
-    (``elements.push.vector.0``)."""
-    parts = key.split(".")
-    node: Any = data
-    for i, part in enumerate(parts[:-1]):
-        where = ".".join(parts[: i + 1])
-        if isinstance(node, list):
-            node = _list_item(node, part, where)
-        elif isinstance(node, dict):
-            if part not in node:
-                node[part] = {}
-            node = node[part]
-        else:
-            raise ModelFileError(f"--set {key}: {where} is a value, not a table")
-    last = parts[-1]
-    if isinstance(node, list):
-        # a component of a vector (``elements.push.vector.0``); whole table items stay refused
-        if last.isdigit() and int(last) < len(node) and not isinstance(node[int(last)], dict):
-            node[int(last)] = value
-            return
-        raise ModelFileError(f"--set {key}: cannot replace a whole list item")
-    if not isinstance(node, dict):
-        raise ModelFileError(f"--set {key}: {'.'.join(parts[:-1])} is a value, not a table")
-    node[last] = value
-
-
-def _list_item(items: list, part: str, where: str) -> Any:
-    for it in items:
-        if isinstance(it, dict) and it.get("name") == part:
-            return it
-    if part.isdigit() and int(part) < len(items):
-        return items[int(part)]
-    names = [it.get("name") for it in items if isinstance(it, dict)]
-    raise ModelFileError(f"--set: no item {part!r} in {where.rsplit('.', 1)[0]} "
-                         f"(names: {', '.join(map(str, names))})")
-
-
-# -- validation messages -----------------------------------------------------------------
-
-
-def _path(data: Any, loc: tuple) -> str:
-    out = ""
-    node = data
-    for part in loc:
-        if isinstance(part, int):
-            name = node[part].get("name") if isinstance(node, list) and part < len(node) \
-                and isinstance(node[part], dict) else None
-            out += f"[{part}]" + (f" ({name})" if name else "")
-        else:
-            out += ("." if out else "") + str(part)
-        try:
-            node = node[part]
-        except (KeyError, IndexError, TypeError):
-            node = None
-    return out
-
-
-def _allowed_keys(schema: type[BaseModel] | None, loc: tuple) -> list[str]:
-    """The keys the schema section at ``loc[:-1]`` accepts (for "did you mean")."""
-    models: list[Any] = [schema] if schema is not None else []
-    for part in loc[:-1]:
-        if isinstance(part, int):
-            continue
-        nxt: list[Any] = []
-        for m in models:
-            f = m.model_fields.get(part) if isinstance(m, type) and issubclass(m, BaseModel) \
-                else None
-            if f is not None:
-                nxt += _models_in(f.annotation)
-        models = nxt or models
-    keys: list[str] = []
-    for m in models:
-        if isinstance(m, type) and issubclass(m, BaseModel):
-            keys += list(m.model_fields)
-    return keys
-
-
-def _models_in(annotation: Any) -> list[Any]:
-    """Pydantic model classes inside an annotation (unions, lists, dicts, Annotated)."""
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return [annotation]
-    out: list[Any] = []
-    for arg in typing.get_args(annotation):
-        out += _models_in(arg)
-    return out
-
-
-def format_validation_error(source: str, data: dict, exc: ValidationError,
-                            schema: type[BaseModel] | None = None,
-                            element_labels: list[str] | None = None) -> str:
-    """One line per problem: ``key.path: what was expected (got value)``; unknown keys get
-    the closest known key of their section. ``element_labels``: how to name each
-    ``elements`` entry (entries translated from a deprecated section by that section)."""
-    lines = [f"{source}: {exc.error_count()} problem(s)"]
-    for err in exc.errors():
-        loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
-        # discriminated unions (solver.step) add their tag ("fixed", "adaptive") to the path
-        loc = tuple(p for i, p in enumerate(loc)
-                    if not (i and loc[i - 1] == "step" and p in ("fixed", "adaptive")))
-        # union members appear as extra location parts; keep the user's keys only
-        loc = tuple(p for p in loc if isinstance(p, int) or not str(p).startswith(
-            ("tuple[", "list[", "Rotation", "FixedStepFile", "AdaptiveStepFile", "dict[",
-             "float", "str", "none")))
-        msg = err["msg"]
-        for prefix in ("Value error, ", "Assertion failed, "):
-            if msg.startswith(prefix):
-                msg = msg[len(prefix):]
-        if err["type"] == "extra_forbidden":
-            msg = "unknown key" + (did_you_mean(str(loc[-1]), _allowed_keys(schema, loc))
-                                   or " (misspelt?)")
-        elif err["type"] == "missing":
-            msg = "required key is missing"
-        path = _path(data, loc) or "(top level)"
-        if element_labels and len(loc) > 1 and loc[0] == "elements" \
-                and isinstance(loc[1], int) and loc[1] < len(element_labels):
-            path = element_labels[loc[1]] + path[len(_path(data, loc[:2])):]
-        got = "" if err["type"] == "missing" else f" (got {err.get('input')!r})"
-        lines.append(f"  {path}: {msg}{got}")
-    return "\n".join(lines)
-
-
-# -- building ----------------------------------------------------------------------------
 
 
 def _rotation(r: Any) -> np.ndarray | None:
