@@ -180,12 +180,13 @@ body = "rod.n0"
 [[markers]]
 name = "tip"
 body = "rod.n10"
-[[joints]]
-type = "fixed"
+[[elements]]
+type = "Fixed"
 name = "clamp"
 marker_a = "wall"
 marker_b = "root"
-[[forces]]
+[[elements]]
+type = "Force"
 name = "P"
 marker = "tip"
 vector = [0, 0, "10 N"]

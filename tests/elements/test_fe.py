@@ -497,12 +497,13 @@ body = "hub"
 [[markers]]
 name = "tip_load"            # on the node of the part's second interface
 body = "bar.tip"
-[[joints]]
+[[elements]]
+type = "Fixed"
 name = "clamp"
-type = "fixed"
 marker_a = "g"
 marker_b = "mount"
-[[forces]]
+[[elements]]
+type = "Force"
 name = "f"
 marker = "tip_load"
 vector = [0, 0, "-500 N"]

@@ -1,8 +1,9 @@
 """Fuzzing the command line with random models (hypothesis).
 
 * Valid small models -- a chain of 1-3 rigid bodies on random joints, springs, a plane
-  contact, a spur gear pair on two hinged wheels with a torque -- either run (exit 0) or
-  fail cleanly (exit 1, a message, partial results): never a traceback or an internal error.
+  contact, a spur gear pair on two hinged wheels with a torque, all in ``[[elements]]`` --
+  either run (exit 0) or fail cleanly (exit 1, a message, partial results): never a
+  traceback or an internal error.
 * Malformed models -- one random mutation of a valid model (a wrong type, a non-physical
   value, a unit of the wrong dimension, a reference to nothing, a duplicate name, a misspelt
   key, bad time settings) -- exit with 2 and a message naming the file.
@@ -34,7 +35,7 @@ LONG = settings(max_examples=300, deadline=None,
                                        HealthCheck.function_scoped_fixture])
 
 AXES = {"x": [1, 0, 0], "y": [0, 1, 0], "z": [0, 0, 1]}
-JOINTS = ["hinge", "spherical", "cylindrical", "prismatic", "fixed"]
+JOINTS = ["Hinge", "Spherical", "Cylindrical", "Prismatic", "Fixed"]
 
 
 # -- a small TOML writer (values: str, bool, int, float, lists, inline tables) ------------------
@@ -92,15 +93,17 @@ def valid_models(draw: Any) -> dict:
                      "axis": axis}]
         joints.append({"type": draw(st.sampled_from(JOINTS)), "name": f"joint{i}",
                        "marker_a": f"j{i}a", "marker_b": f"j{i}b"})
+    # every element in [[elements]]: the joints first (the mutations find joint0 there)
+    elements: list[dict[str, Any]] = joints
     model: dict[str, Any] = {"model": {"name": "fuzz", "gravity": gravity},
-                             "bodies": bodies, "markers": markers, "joints": joints}
+                             "bodies": bodies, "markers": markers, "elements": elements}
     if draw(st.booleans()):
         markers.append({"name": "anchor", "body": "ground", "position": [0.3 * nb, 0.2, 0]})
         markers.append({"name": "tip", "body": f"b{nb - 1}", "position": [0.15, 0, 0]})
-        model["springs"] = [{"name": "spring", "marker_a": "anchor", "marker_b": "tip",
-                             "stiffness": f"{draw(st.floats(1.0, 1e4)):.6g} N/m",
-                             "damping": draw(st.floats(0.0, 10.0))}]
-    elements = []
+        elements.append({"type": "SpringDamper", "name": "spring", "marker_a": "anchor",
+                         "marker_b": "tip",
+                         "stiffness": f"{draw(st.floats(1.0, 1e4)):.6g} N/m",
+                         "damping": draw(st.floats(0.0, 10.0))})
     if draw(st.booleans()):
         markers.append({"name": "floor", "body": "ground", "position": [0, 0, -0.05]})
         markers.append({"name": "probe", "body": "b0"})
@@ -118,16 +121,15 @@ def valid_models(draw: Any) -> dict:
                            "position": [x, 1.0, 0]})
             markers += [{"name": f"{g}_pin", "body": "ground", "position": [x, 1.0, 0]},
                         {"name": f"{g}_hub", "body": g}]
-            joints.append({"type": "hinge", "name": f"{g}_hinge", "marker_a": f"{g}_pin",
-                           "marker_b": f"{g}_hub"})
+            elements.append({"type": "Hinge", "name": f"{g}_hinge", "marker_a": f"{g}_pin",
+                             "marker_b": f"{g}_hub"})
         elements.append({"type": "GearPair", "name": "mesh", "marker_a": "ga_hub",
                          "marker_b": "gb_hub", "teeth_a": za, "teeth_b": zb,
                          "module": f"{mod} mm", "face_width": "15 mm"})
-        model["torques"] = [{"name": "drive", "marker": "ga_hub", "vector": [0, 0, 1],
-                             "function": {"type": "ramp", "t0": 0, "t1": 0.01, "v0": 0,
-                                          "v1": draw(st.floats(0.1, 20.0))}}]
-    if elements:
-        model["elements"] = elements
+        elements.append({"type": "Torque", "name": "drive", "marker": "ga_hub",
+                         "vector": [0, 0, 1],
+                         "function": {"type": "ramp", "t0": 0, "t1": 0.01, "v0": 0,
+                                      "v1": draw(st.floats(0.1, 20.0))}})
     model["solver"] = {"t_end": "20 ms", "rho_inf": 0.8, "step": {"mode": "fixed", "h": "1 ms"}}
     model["output"] = {"dt": "5 ms"}
     return model
@@ -179,9 +181,10 @@ def _mutations(model: dict) -> list[tuple[str, Any]]:
         ("body without a name", lambda m: m["bodies"][0].pop("name")),
         ("duplicate body", lambda m: m["bodies"].append(copy.deepcopy(m["bodies"][0]))),
         ("marker on nothing", lambda m: m["markers"][1].__setitem__("body", "nowhere")),
-        ("joint on nothing", lambda m: m["joints"][0].__setitem__("marker_a", "nothing")),
-        ("misspelt joint type", lambda m: m["joints"][0].__setitem__("type", "hing")),
-        ("duplicate joint", lambda m: m["joints"].append(copy.deepcopy(m["joints"][0]))),
+        ("joint on nothing", lambda m: m["elements"][0].__setitem__("marker_a", "nothing")),
+        ("misspelt joint type", lambda m: m["elements"][0].__setitem__("type", "Hing")),
+        ("misspelt joint key", lambda m: m["elements"][0].__setitem__("markr_b", "j0b")),
+        ("duplicate joint", lambda m: m["elements"].append(copy.deepcopy(m["elements"][0]))),
         ("end time zero", lambda m: m["solver"].__setitem__("t_end", 0)),
         ("step zero", lambda m: m["solver"].__setitem__("step", {"mode": "fixed", "h": 0})),
         ("step in kilograms", lambda m: m["solver"].__setitem__("step",
@@ -193,12 +196,12 @@ def _mutations(model: dict) -> list[tuple[str, Any]]:
         ("gravity NaN", lambda m: m["model"].__setitem__("gravity", [0, 0, math.nan])),
         ("misspelt section", lambda m: m.__setitem__("solvr", m.pop("solver"))),
     ]
-    if "springs" in model:
-        muts.append(("negative stiffness",
-                     lambda m: m["springs"][0].__setitem__("stiffness", -5.0)))
-        muts.append(("stiffness in kg",
-                     lambda m: m["springs"][0].__setitem__("stiffness", "5 kg")))
-    for i, e in enumerate(model.get("elements", [])):
+    for i, e in enumerate(model["elements"]):
+        if e["type"] == "SpringDamper":
+            muts.append(("negative stiffness",
+                         lambda m, i=i: m["elements"][i].__setitem__("stiffness", -5.0)))
+            muts.append(("stiffness in kg",
+                         lambda m, i=i: m["elements"][i].__setitem__("stiffness", "5 kg")))
         if e["type"] == "PlaneContact":
             muts.append(("restitution above 1", lambda m, i=i: m["elements"][i]["law"]
                          .__setitem__("restitution", 1.5)))
@@ -249,11 +252,13 @@ def test_every_mutation_is_refused(tmp_path: Path) -> None:
 
 
 def _full_model() -> dict:
-    """A deterministic valid model with springs, a contact and a gear pair."""
+    """A deterministic valid model with a spring, a contact and a gear pair."""
     from hypothesis import find
 
-    return find(valid_models(), lambda m: "springs" in m and len(m.get("elements", [])) == 2,
-                settings=settings(database=None, max_examples=2000))
+    def full(m: dict) -> bool:
+        return {"SpringDamper", "PlaneContact", "GearPair"} <= {e["type"] for e in m["elements"]}
+
+    return find(valid_models(), full, settings=settings(database=None, max_examples=2000))
 
 
 @pytest.mark.fuzz_long

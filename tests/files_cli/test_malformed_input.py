@@ -2,7 +2,8 @@
 file or the key (dotted path) and what was expected, and no traceback; nothing is written.
 
 Every entry is a small edit of a valid model (the shipped pendulum, plus a gear pair and a
-contact in ``[[elements]]``), or a bad option of a command. The checks run the command line
+contact in ``[[elements]]``, after its hinge: ``elements[1]``), or a bad option of a
+command. The checks run the command line
 in-process (``CliRunner``) so that a Python exception escaping any layer shows up as a
 non-2 exit code or a traceback in the output.
 """
@@ -38,8 +39,8 @@ name = "rod_end"
 body = "rod"
 axis = [0, 1, 0]
 
-[[joints]]
-type = "hinge"
+[[elements]]
+type = "Hinge"
 name = "hinge"
 marker_a = "pivot"
 marker_b = "rod_end"
@@ -129,20 +130,41 @@ FILE_CASES: list[tuple[str, str | bytes | None, list[str], list[str]]] = [
     ("misspelt body key", edit('mass = "1 kg"', 'mass = "1 kg"\nmas = 2'), [],
      ["bodies[0]", "mas", "did you mean", "mass"]),
     ("misspelt joint key", edit('marker_b = "rod_end"', 'marker_b = "rod_end"\nmarkr_a = "x"'),
-     [], ["joints[0]", "markr_a", "did you mean", "marker_a"]),
-    ("unknown joint type", edit('type = "hinge"', 'type = "hingee"'), [],
-     ["joints[0]", "type", "hinge"]),
+     [], ["elements[0] (hinge).markr_a", "did you mean", "marker_a"]),
+    ("unknown joint type", edit('type = "Hinge"', 'type = "Hingee"'), [],
+     ["elements[0] (hinge).type", "Hingee", "did you mean 'Hinge'"]),
+    ("joint parameter with a unit", edit('marker_b = "rod_end"', 'marker_b = "rod_end"\nk = "1 N"'),
+     [], ["elements[0] (hinge).k", "plain number", "1 N"]),
     ("unknown element type", BASE + CONTACT.replace("PlaneContact", "PlainContact"), [],
-     ["elements[0]", "PlainContact", "did you mean", "PlaneContact"]),
+     ["elements[1] (impact).type", "PlainContact", "did you mean", "PlaneContact"]),
     ("unknown element parameter", BASE + CONTACT.replace('name = "impact"',
                                                          'name = "impact"\nstifness = 3'), [],
-     ["elements[0]", "stifness"]),
+     ["elements[1] (impact).stifness", "unknown key"]),
     ("unknown time-function type",
-     BASE + '[[torques]]\nname = "t"\nmarker = "rod_end"\nvector = [0, 0, 1]\n'
-            'function = { type = "sawtooth" }\n', [], ["torques", "function", "sawtooth"]),
+     BASE + '[[elements]]\ntype = "Torque"\nname = "t"\nmarker = "rod_end"\n'
+            'vector = [0, 0, 1]\nfunction = { type = "sawtooth" }\n', [],
+     ["elements[1] (t).function", "sawtooth"]),
     ("undefined time function",
-     BASE + '[[torques]]\nname = "t"\nmarker = "rod_end"\nvector = [0, 0, 1]\n'
-            'function = "ramp_up"\n', [], ["torques", "ramp_up"]),
+     BASE + '[[elements]]\ntype = "Torque"\nname = "t"\nmarker = "rod_end"\n'
+            'vector = [0, 0, 1]\nfunction = "ramp_up"\n', [],
+     ["elements[1] (t).function", "ramp_up"]),
+    ("torque vector of two values",
+     BASE + '[[elements]]\ntype = "Torque"\nname = "t"\nmarker = "rod_end"\n'
+            'vector = [0, 1]\n', [], ["elements[1] (t).vector", "3 finite numbers"]),
+    ("unknown load frame",
+     BASE + '[[elements]]\ntype = "Force"\nname = "f"\nmarker = "rod_end"\n'
+            'vector = [0, 0, "1 N"]\nframe = "body"\n', [],
+     ["elements[1] (f).frame", "'global' or 'marker'", "body"]),
+    ("driver quantity", BASE + '[[elements]]\ntype = "JointDriver"\nname = "d"\n'
+                               'joint = "hinge"\nquantity = "torque"\n', [],
+     ["elements[1] (d).quantity", "'angle' or 'speed'", "torque"]),
+    ("element without a required key", BASE + '[[elements]]\ntype = "JointDriver"\n'
+                                               'name = "d"\n', [],
+     ["elements[1] (d).joint", "missing"]),
+    ("deprecated section, misspelt key", BASE + '[[springs]]\nname = "s"\n'
+                                                'marker_a = "pivot"\nmarker_b = "rod_end"\n'
+                                                'stifness = 5\n', [],
+     ["springs[0] (s).stifness", "did you mean", "stiffness"]),
     # non-physical values
     ("negative mass", edit('mass = "1 kg"', 'mass = "-1 kg"'), [], ["bodies[0]", "mass", "> 0"]),
     ("zero mass", edit('mass = "1 kg"', "mass = 0"), [], ["bodies[0]", "mass", "> 0"]),
@@ -161,8 +183,13 @@ FILE_CASES: list[tuple[str, str | bytes | None, list[str], list[str]]] = [
      ["bodies[0]", "mass", "mass"]),
     ("unknown unit", edit('mass = "1 kg"', 'mass = "1 kgg"'), [], ["bodies[0]", "mass", "kgg"]),
     ("negative spring stiffness",
-     BASE + '[[springs]]\nname = "s"\nmarker_a = "pivot"\nmarker_b = "rod_end"\n'
-            'stiffness = -5\n', [], ["springs[0]", "stiffness"]),
+     BASE + '[[elements]]\ntype = "SpringDamper"\nname = "s"\nmarker_a = "pivot"\n'
+            'marker_b = "rod_end"\nstiffness = -5\n', [],
+     ["elements[1] (s).stiffness", ">= 0", "-5"]),
+    ("spring stiffness in kg",
+     BASE + '[[elements]]\ntype = "SpringDamper"\nname = "s"\nmarker_a = "pivot"\n'
+            'marker_b = "rod_end"\nstiffness = "5 kg"\n', [],
+     ["elements[1] (s).stiffness", "'5 kg' is in kg, expected N/m"]),
     ("restitution above 1", BASE + CONTACT.replace("restitution = 0.8", "restitution = 1.5"),
      [], ["impact", "restitution"]),
     ("negative friction", BASE + CONTACT.replace("restitution = 0.8 }",
@@ -170,9 +197,9 @@ FILE_CASES: list[tuple[str, str | bytes | None, list[str], list[str]]] = [
      [], ["impact", "mu"]),
     ("element stiffness in kg", BASE + GEARS.replace('face_width = "20 mm"',
                                                      'face_width = "20 mm"\nstiffness = "1e8 kg"'),
-     [], ["elements[0]", "stiffness", "kg"]),
+     [], ["elements[1] (mesh).stiffness", "kg"]),
     ("element length in seconds", BASE + GEARS.replace('module = "3 mm"', 'module = "3 s"'),
-     [], ["elements[0]", "module"]),
+     [], ["elements[1] (mesh).module"]),
     ("element NaN parameter", BASE + GEARS.replace("teeth_a = 20", "teeth_a = nan"), [],
      ["mesh", "teeth_a"]),
     ("element string for integer", BASE + GEARS.replace("teeth_a = 20", 'teeth_a = "many"'), [],
@@ -185,7 +212,7 @@ FILE_CASES: list[tuple[str, str | bytes | None, list[str], list[str]]] = [
     ("duplicate body", BASE.replace("[[markers]]", '[[bodies]]\nname = "rod"\nmass = 1\n'
                                     "inertia = [1, 1, 1]\n\n[[markers]]", 1), [],
      ["rod", "duplicate"]),
-    ("duplicate element", BASE + '[[joints]]\ntype = "hinge"\nname = "hinge"\n'
+    ("duplicate element", BASE + '[[elements]]\ntype = "Hinge"\nname = "hinge"\n'
                                  'marker_a = "pivot"\nmarker_b = "rod_end"\n', [],
      ["hinge", "duplicate"]),
     ("zero rotation axis", edit("axis = [0, 1, 0], angle", "axis = [0, 0, 0], angle"), [],

@@ -46,13 +46,14 @@ axis = [0, 0, 1]
 name = "anchor"
 body = "ground"
 
-[[joints]]
-type = "prismatic"
+[[elements]]
+type = "Prismatic"
 name = "p"
 marker_a = "rail"
 marker_b = "slider"
 
-[[springs]]
+[[elements]]
+type = "SpringDamper"
 name = "s"
 marker_a = "anchor"
 marker_b = "slider"
@@ -128,10 +129,13 @@ def test_file_model_matches_python_model(tmp_path):
     (('mass = "2 kg"', "mass = -1"), "bodies[0] (block).mass: must be > 0 kg (got -1)"),
     (('inertia = [0.1, 0.1, 0.1]\n', ""), "bodies[0] (block).inertia: required key is missing"),
     (('stiffness = "200 N/m"', 'stifness = "200 N/m"'),
-     "springs[0] (s).stifness: unknown key (did you mean 'stiffness'?)"),
+     "elements[1] (s).stifness: unknown key (did you mean 'stiffness'?)"),
     (('stiffness = "200 N/m"', 'stiffness = "200 N m"'),
-     "springs[0] (s).stiffness: '200 N m' is in N m, expected N/m"),
-    (('type = "prismatic"', 'type = "slider"'), "joints[0] (p).type: Input should be"),
+     "elements[1] (s).stiffness: '200 N m' is in N m, expected N/m"),
+    (('stiffness = "200 N/m"', "stiffness = -200"),
+     "elements[1] (s).stiffness: must be >= 0, got -200.0"),
+    (('type = "Prismatic"', 'type = "Slider"'),
+     "elements[0] (p).type: unknown element type 'Slider'"),
     (('h = "1 ms"', "h = 0"), "solver.step.h: must be > 0 s"),
 ])
 def test_bad_files_name_key_value_and_expectation(tmp_path, edit, message):
@@ -150,7 +154,7 @@ def test_impossible_inertia_is_refused_with_the_file_name(tmp_path):
 def test_overrides_by_dotted_key_and_item_name(tmp_path):
     path = _write(tmp_path, BLOCK)
     model = load_model(path, ["solver.t_end=0.2", 'bodies.block.mass="8 kg"',
-                              "springs.s.stiffness=800"])
+                              "elements.s.stiffness=800"])
     assert model.meta["scenario"].t_end == 0.2
     assert model.nodes[0].mass == 8.0
     with pytest.raises(ModelFileError, match="no item 'ghost' in bodies"):
@@ -195,7 +199,8 @@ def test_bad_file_exits_2_without_traceback(tmp_path):
 
 def test_failed_run_exits_1_and_keeps_partial_results(tmp_path):
     text = BLOCK + textwrap.dedent("""
-        [[drivers]]
+        [[elements]]
+        type = "JointDriver"
         name = "kick"
         joint = "p"
         quantity = "speed"
@@ -205,11 +210,12 @@ def test_failed_run_exits_1_and_keeps_partial_results(tmp_path):
     proc = _cli("run", str(_write(tmp_path, text)))
     assert proc.returncode == 2
     assert "JointDriver 'kick': joint 'p' is a Prismatic" in proc.stderr
-    text = BLOCK.replace('type = "prismatic"', 'type = "cylindrical"').replace(
+    text = BLOCK.replace('type = "Prismatic"', 'type = "Cylindrical"').replace(
         'step = { mode = "fixed", h = "1 ms" }',
         'step = { mode = "adaptive", h0 = "1 ms", h_min = "0.1 ms", h_max = "10 ms" }')
     text += textwrap.dedent("""
-        [[drivers]]
+        [[elements]]
+        type = "JointDriver"
         name = "kick"
         joint = "p"
         quantity = "speed"
@@ -271,12 +277,288 @@ def test_generic_elements_section(tmp_path):
     z = res["block.position"].values[:, 2] - 1.0
     np.testing.assert_allclose(z, 0.1 * np.cos(np.sqrt(200.0) * res.time), atol=2e-4)
     bad = text.replace('stiffness = "0.2 kN/m"', 'stiffnes = 200')
-    with pytest.raises(dd.ModelError, match=r"elements\[0\] \(extra\): unknown parameter\(s\) "
-                                            "stiffnes for SpringDamper"):
+    with pytest.raises(ModelFileError, match=r"elements\[2\] \(extra\).stiffnes: unknown key "
+                                             r"\(did you mean 'stiffness'\?\) \(SpringDamper "
+                                             "parameters: marker_a, marker_b, stiffness"):
         load_model(_write(tmp_path, bad, "bad.toml"))
-    bad = text.replace('type = "SpringDamper"', 'type = "Spring"')
-    with pytest.raises(dd.ModelError, match="unknown element type 'Spring'"):
+    bad = text.replace('type = "SpringDamper"\nname = "extra"', 'type = "Spring"\nname = "extra"')
+    with pytest.raises(ModelFileError, match="unknown element type 'Spring'"):
         load_model(_write(tmp_path, bad, "bad2.toml"))
+
+
+# the dedicated element sections of older files: every one, then the same model in
+# [[elements]] (in the order the loader gives the old sections: joints, springs, torsional
+# springs, forces, torques, drivers, speed-difference drivers, then the file's [[elements]])
+LEGACY_HEAD = """
+[model]
+name = "legacy"
+
+[[bodies]]
+name = "a"
+mass = 1
+inertia = [1, 1, 1]
+
+[[bodies]]
+name = "b"
+mass = 1
+inertia = [1, 1, 1]
+position = [0, 0, 1]
+
+[[markers]]
+name = "g"
+body = "ground"
+axis = [0, 0, 1]
+
+[[markers]]
+name = "ma"
+body = "a"
+axis = [0, 0, 1]
+
+[[markers]]
+name = "g2"
+body = "ground"
+position = [0, 0, 1]
+axis = [0, 0, 1]
+
+[[markers]]
+name = "mb"
+body = "b"
+axis = [0, 0, 1]
+
+[functions]
+ramp = { type = "ramp", t0 = 0, t1 = 1, v0 = 0, v1 = 1 }
+"""
+
+LEGACY_SECTIONS = """
+[[elements]]
+type = "TorsionalSpringDamper"
+name = "own"
+marker_a = "g2"
+marker_b = "mb"
+stiffness = 5
+
+[[speed_difference_drivers]]
+name = "sd"
+joint_1 = "ja"
+joint_2 = "jb"
+function = 0.5
+p = 3e5
+
+[[drivers]]
+name = "d"
+joint = "ja"
+quantity = "angle"
+function = { type = "ramp", t0 = 0, t1 = 1, v0 = 0, v1 = 1 }
+k = 1e5
+
+[[torques]]
+name = "t"
+marker = "ma"
+vector = [0, 0, "2 N m"]
+function = 3
+
+[[forces]]
+name = "f"
+marker = "mb"
+vector = [0, "1 kN", 0]
+function = "ramp"
+frame = "marker"
+
+[[torsional_springs]]
+name = "ts"
+marker_a = "g"
+marker_b = "ma"
+stiffness = "10 N m/rad"
+damping = 0.1
+free_angle = "5 deg"
+preload = "0.5 N m"
+
+[[springs]]
+name = "s"
+marker_a = "g"
+marker_b = "mb"
+stiffness = "2 kN/m"
+damping = 3
+free_length = "90 cm"
+preload = "1 N"
+
+[[joints]]
+type = "hinge"
+name = "ja"
+marker_a = "g"
+marker_b = "ma"
+k = 1e6
+p = 2e6
+
+[[joints]]
+type = "screw"
+name = "jb"
+marker_a = "g2"
+marker_b = "mb"
+pitch = "2 mm"
+"""
+
+ELEMENTS = """
+[[elements]]
+type = "Hinge"
+name = "ja"
+marker_a = "g"
+marker_b = "ma"
+k = 1e6
+p = 2e6
+
+[[elements]]
+type = "Screw"
+name = "jb"
+marker_a = "g2"
+marker_b = "mb"
+pitch = "2 mm"
+
+[[elements]]
+type = "SpringDamper"
+name = "s"
+marker_a = "g"
+marker_b = "mb"
+stiffness = "2 kN/m"
+damping = 3
+free_length = "90 cm"
+preload = "1 N"
+
+[[elements]]
+type = "TorsionalSpringDamper"
+name = "ts"
+marker_a = "g"
+marker_b = "ma"
+stiffness = "10 N m/rad"
+damping = 0.1
+free_angle = "5 deg"
+preload = "0.5 N m"
+
+[[elements]]
+type = "Force"
+name = "f"
+marker = "mb"
+vector = [0, "1 kN", 0]
+function = "ramp"
+frame = "marker"
+
+[[elements]]
+type = "Torque"
+name = "t"
+marker = "ma"
+vector = [0, 0, "2 N m"]
+function = 3
+
+[[elements]]
+type = "JointDriver"
+name = "d"
+joint = "ja"
+quantity = "angle"
+function = { type = "ramp", t0 = 0, t1 = 1, v0 = 0, v1 = 1 }
+k = 1e5
+
+[[elements]]
+type = "SpeedDifferenceDriver"
+name = "sd"
+joint_1 = "ja"
+joint_2 = "jb"
+function = 0.5
+p = 3e5
+
+[[elements]]
+type = "TorsionalSpringDamper"
+name = "own"
+marker_a = "g2"
+marker_b = "mb"
+stiffness = 5
+"""
+
+
+def _spec_of(path):
+    from drivedyn.config.loader import build_spec, read_model_file
+
+    mf, _, _ = read_model_file(path)
+    return build_spec(mf)
+
+
+def test_deprecated_sections_load_as_elements(tmp_path):
+    """The dedicated sections still load: the same Spec, element by element and in the same
+    order, as the file written with [[elements]], and one DeprecationWarning per section
+    naming the section, the file and the replacement."""
+    import warnings
+
+    new = _write(tmp_path, LEGACY_HEAD + ELEMENTS, "new.toml")
+    old = _write(tmp_path, LEGACY_HEAD + LEGACY_SECTIONS, "old.toml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the [[elements]] file warns of nothing
+        expected = _spec_of(new)
+    with pytest.warns(DeprecationWarning) as caught:
+        got = _spec_of(old)
+    assert [(type(e), e) for e in got.elements] == [(type(e), e) for e in expected.elements]
+    assert [e.name for e in got.elements] == ["ja", "jb", "s", "ts", "f", "t", "d", "sd", "own"]
+    assert got.element("f").vector == [0.0, 1000.0, 0.0]
+    assert got.element("ts").free_angle == pytest.approx(np.radians(5.0), rel=1e-15)
+    messages = [str(w.message) for w in caught if w.category is DeprecationWarning]
+    assert len(messages) == 7
+    assert messages[0] == (f"model file {old}: [[joints]] is deprecated; write [[elements]] "
+                           'with type = "Hinge" or "Screw" (the element\'s class name)')
+    for section, cls in [("springs", "SpringDamper"), ("torsional_springs",
+                                                       "TorsionalSpringDamper"),
+                         ("forces", "Force"), ("torques", "Torque"),
+                         ("drivers", "JointDriver"),
+                         ("speed_difference_drivers", "SpeedDifferenceDriver")]:
+        assert (f'[[{section}]] is deprecated; write [[elements]] with type = "{cls}"'
+                in "\n".join(messages))
+    # the compiled models are the same too (groups in the same order)
+    with pytest.warns(DeprecationWarning):
+        m_old = load_model(old)
+    m_new = load_model(new)
+    assert [g.family for g in m_old.groups] == [g.family for g in m_new.groups]
+    assert len(m_old.meta["notes"]) == 7 and m_new.meta["notes"] == []
+
+
+def test_deprecated_section_noted_by_the_cli(tmp_path):
+    """`drivedyn run` prints each deprecation as a one-line note and runs the model."""
+    legacy = BLOCK.replace('[[elements]]\ntype = "Prismatic"',
+                           '[[joints]]\ntype = "prismatic"').replace(
+        '[[elements]]\ntype = "SpringDamper"', "[[springs]]")
+    assert "[[elements]]" not in legacy
+    path = _write(tmp_path, legacy, "legacy.toml")
+    proc = _cli("run", str(path), "--t-end", "0.01", "--out", str(tmp_path / "r.nc"))
+    assert proc.returncode == 0, proc.stderr
+    notes = [ln for ln in proc.stderr.splitlines() if ln.startswith("note:")]
+    assert notes == [
+        f"note: model file {path}: [[joints]] is deprecated; write [[elements]] with type = "
+        "\"Prismatic\" (the element's class name)",
+        f"note: model file {path}: [[springs]] is deprecated; write [[elements]] with type = "
+        "\"SpringDamper\" (the element's class name)"]
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (('stiffness = "2 kN/m"', 'stifness = "2 kN/m"'),
+     "springs[0] (s).stifness: unknown key (did you mean 'stiffness'?)"),
+    (('stiffness = "2 kN/m"', 'stiffness = "2 kg"'),
+     "springs[0] (s).stiffness: '2 kg' is in kg, expected N/m"),
+    (('type = "hinge"', 'type = "hinje"'),
+     "joints[0] (ja).type: unknown joint type 'hinje' (did you mean 'hinge'?)"),
+    (('type = "hinge"', 'type = "Hinge"'), "joints[0] (ja).type: unknown joint type 'Hinge'"),
+    (('pitch = "2 mm"\n', ""), "joints[1] (jb).pitch: required key is missing"),
+    (("k = 1e6\n", 'k = 1e6\npitch = "1 mm"\n'),
+     "joints[0] (ja).pitch: only a screw joint takes a pitch"),
+    (('[[torques]]\nname = "t"', '[[torques]]\ntype = "Torque"\nname = "t"'),
+     "torques[0] (t).type: unknown key"),
+    (('function = "ramp"', 'function = "rampe"'),
+     "forces[0] (f).function: unknown function 'rampe' (did you mean 'ramp'?)"),
+    (('quantity = "angle"', 'quantity = "position"'),
+     "drivers[0] (d).quantity: expected 'angle' or 'speed', got 'position'"),
+    (('[[springs]]\nname = "s"\n', "[[springs]]\n"), "springs[0].name: required key is missing"),
+])
+def test_deprecated_sections_errors_name_their_entry(tmp_path, edit, message):
+    text = (LEGACY_HEAD + LEGACY_SECTIONS).replace(*edit)
+    assert text != LEGACY_HEAD + LEGACY_SECTIONS
+    with pytest.raises(ModelFileError) as exc:
+        load_model(_write(tmp_path, text))
+    assert message in str(exc.value)
 
 
 def test_shipped_bouncing_ball_file_bounces_with_the_laws_restitution():

@@ -53,20 +53,22 @@ axis = [1, 0, 0]
 name = "anchor"
 body = "ground"
 
-[[joints]]
-type = "prismatic"
+[[elements]]
+type = "Prismatic"
 name = "slide"
 marker_a = "guide"
 marker_b = "shoe"
 
-[[springs]]
+[[elements]]
+type = "SpringDamper"
 name = "spring"
 marker_a = "anchor"
 marker_b = "shoe"
 stiffness = "1000 N/m"
 damping = "63.2455532 N s/m"
 
-[[forces]]
+[[elements]]
+type = "Force"
 name = "push"
 marker = "shoe"
 vector = ["10 N", 0, 0]
@@ -183,7 +185,7 @@ def test_sensitivity_equals_the_exact_derivative(tmp_path):
     f = tmp_path / "spring.toml"
     f.write_text(SPRING)
     h = 0.01
-    ds = sweep(f, sensitivity_keys=["springs.spring.stiffness", "forces.push.vector.0"],
+    ds = sweep(f, sensitivity_keys=["elements.spring.stiffness", "elements.push.vector.0"],
                metrics=["block.position[0]:final"], rel_step=h, scheduler="serial")
     k, F = 1000.0, 10.0
     x = ds["block.position[0]:final"].values
@@ -254,7 +256,7 @@ def test_cache_resumes_and_notices_changes(tmp_path):
     f = tmp_path / "spring.toml"
     f.write_text(SPRING)
     cache = tmp_path / "cache"
-    args = dict(vary=["springs.spring.stiffness=800:1200:3"], metrics=["block.position[0]:final"],
+    args = dict(vary=["elements.spring.stiffness=800:1200:3"], metrics=["block.position[0]:final"],
                 scheduler="serial", cache=cache)
     first = sweep(f, **args)
     assert first.attrs["computed"] == 3 and len(list(cache.glob("*.json"))) == 3
@@ -263,7 +265,7 @@ def test_cache_resumes_and_notices_changes(tmp_path):
     name = "block.position[0]:final"
     assert np.array_equal(again[name].values, first[name].values)
     # a wider range reuses the common points
-    more = sweep(f, **{**args, "vary": ["springs.spring.stiffness=800:1200:5"]})
+    more = sweep(f, **{**args, "vary": ["elements.spring.stiffness=800:1200:5"]})
     assert more.attrs["computed"] == 2
     # editing the model file invalidates its points
     f.write_text(SPRING.replace('"10 N"', '"20 N"'))
@@ -438,6 +440,10 @@ def test_bad_input_of_scenario_sweeps_exits_2(tmp_path):
          "no variable 'rod.angle'"),
         (["pendulum", "--tdr", "--vary", "bodies.rod.mass=1:2:2"],
          "not a differential model file"),
+        (["pendulum", "--vary", "elements.hinge.kk=1:2:2"],
+         "--vary elements.hinge.kk: pendulum has no key 'elements.kk' (did you mean 'k'?)"),
+        (["pendulum", "--vary", "bodies.rod.mass=1:2:2", "--set", "elements.hinge.k=-1"],
+         "elements[0] (hinge).k: must be > 0"),
         (["pendulum", "--vary", "bodies.rod.mass=1:2:2", "--scheduler",
           "tcp://127.0.0.1:9", "--connect-timeout", "1"], "cannot connect"),
     ]:

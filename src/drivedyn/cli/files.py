@@ -12,6 +12,7 @@ import json
 import logging
 import math
 import sys
+import warnings
 from pathlib import Path
 
 import click
@@ -94,9 +95,13 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     check_output_path(out, "--out")
     check_output_path(csv_path, "--csv")
     try:
-        model = load_model(model_file, list(sets))
+        with warnings.catch_warnings():  # the deprecation notes are printed below
+            warnings.simplefilter("ignore", DeprecationWarning)
+            model = load_model(model_file, list(sets))
     except (ModelFileError, ModelError, UnitError) as exc:
         bad_input(str(exc))
+    for note in model.meta.get("notes", ()):
+        err(f"note: {note}")
     scenario = model.meta["scenario"]
     t_final = t_end if t_end is not None else scenario.t_end
     h_fixed = getattr(scenario.step, "h", None)
@@ -230,8 +235,6 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
 def _engineering_plots(ds, out_dir: Path, patterns: tuple[str, ...]) -> None:
     """The engineering figures (only the variables of ``patterns`` when given, else with the
     library model's dashboard): one PNG each, paths printed."""
-    import warnings
-
     from drivedyn.plots.engineering import dashboard_figures, engineering_figures, slug
 
     if patterns:

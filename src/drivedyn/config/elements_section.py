@@ -12,8 +12,6 @@ from drivedyn.errors import ModelError, did_you_mean
 
 def element_types() -> dict[str, type]:
     """Class name -> element spec class of every registered element family."""
-    import dataclasses
-
     import drivedyn.elements as E  # noqa: N812
 
     out: dict[str, type] = {}
@@ -31,9 +29,8 @@ def generic_element(e: Any, where: str, function: Any) -> Any:
     """An element spec from an ``[[elements]]`` entry: every parameter checked against the
     spec's dataclass field (type) and its declared unit (``units`` of the element class:
     parameter -> SI unit), so a stiffness in kg or a tooth count of 2.5 is refused here with
-    its key."""
-    import dataclasses
-
+    its key; then the element's own ``validate()`` (a negative stiffness), its message naming
+    the entry (``where``: ``"elements[2] (spring)"``) and the key."""
     types = element_types()
     cls = types.get(e.type)
     if cls is None:
@@ -41,11 +38,18 @@ def generic_element(e: Any, where: str, function: Any) -> Any:
                          f"{did_you_mean(e.type, types)} (known: {', '.join(types)})")
     params = dict(e.model_extra or {})
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
-    unknown = sorted(set(params) - set(fields))
+    unknown = [k for k in params if k not in fields]
     if unknown:
-        hint = did_you_mean(unknown[0], fields)
-        raise ModelError(f"{where}: unknown parameter(s) {', '.join(unknown)} for {e.type}{hint} "
-                         f"(parameters: {', '.join(sorted(set(fields) - {'name'}))})")
+        also = f"; also unknown: {', '.join(unknown[1:])}" if unknown[1:] else ""
+        raise ModelError(f"{where}.{unknown[0]}: unknown key{did_you_mean(unknown[0], fields)} "
+                         f"({e.type} parameters: "
+                         f"{', '.join(k for k in fields if k != 'name')}{also})")
+    missing = [k for k, f in fields.items() if k != "name" and k not in params
+               and f.default is dataclasses.MISSING
+               and f.default_factory is dataclasses.MISSING]
+    if missing:
+        raise ModelError(f"{where}.{missing[0]}: required key is missing ({e.type} needs "
+                         f"{', '.join(missing)})")
     kwargs = {}
     for k, v in params.items():
         if k == "function" or k.endswith("_function"):
@@ -53,9 +57,26 @@ def generic_element(e: Any, where: str, function: Any) -> Any:
         else:
             kwargs[k] = parameter_value(cls, fields[k].type, k, v, f"{where}.{k}")
     try:
-        return cls(name=e.name, **kwargs)
+        spec = cls(name=e.name, **kwargs)
     except TypeError as exc:
         raise ModelError(f"{where}: {exc}") from None
+    try:
+        spec.validate()
+    except (ValueError, TypeError) as exc:  # ModelError, or a value numpy cannot read
+        # "SpringDamper 's'.stiffness: must be >= 0" -> "elements[1] (s).stiffness: ..."
+        msg, what = str(exc), f"{type(spec).__name__} {spec.name!r}"
+        raise ModelError(where + msg[len(what):] if msg.startswith(what)
+                         else f"{where}: {msg}") from None
+    return spec
+
+
+def element_parameters(type_name: str) -> list[str] | None:
+    """The keys an ``[[elements]]`` entry of element type ``type_name`` (a class name) takes,
+    or None for an unknown type."""
+    cls = element_types().get(type_name)
+    if cls is None:
+        return None
+    return ["type", *(f.name for f in dataclasses.fields(cls) if f.init)]
 
 
 def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> Any:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import copy
 import json
 import tomllib
-import typing
+import warnings
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -22,18 +22,17 @@ from pydantic import BaseModel, ValidationError
 
 from drivedyn.config import schema as S  # noqa: N812 - short name for the schema
 from drivedyn.config.beams_section import add_beams
-from drivedyn.config.elements_section import generic_element
+from drivedyn.config.elements_section import element_parameters, generic_element
+from drivedyn.config.legacy_sections import SECTIONS as LEGACY_SECTIONS
+from drivedyn.config.legacy_sections import entry_class, translate
+from drivedyn.config.messages import ModelFileError, _allowed_keys, format_validation_error
+from drivedyn.config.overrides import _list_item, apply_override, parse_override
 from drivedyn.config.parts_section import add_parts, add_washer_contacts
 from drivedyn.errors import did_you_mean
 from drivedyn.model.model import Model
 from drivedyn.model.spec import ModelError, Spec
 from drivedyn.rotations import exp_so3
 from drivedyn.schema_base import AdaptiveStepFile, Rotation
-
-
-class ModelFileError(ValueError):
-    """A model file that cannot be read or validated; the message lists every problem with
-    its key path, the bad value and what was expected."""
 
 
 @dataclass(frozen=True)
@@ -83,141 +82,6 @@ def resolve_path(name: str | Path) -> Path:
 # -- overrides ---------------------------------------------------------------------------
 
 
-def parse_override(text: str) -> tuple[str, Any]:
-    """``"a.b.c=VALUE"`` -> (``"a.b.c"``, value); VALUE is read as a TOML value
-    (``2``, ``"3 mm"``, ``[0, 0, -9.81]``) or, failing that, as a plain string."""
-    key, sep, raw = text.partition("=")
-    key = key.strip()
-    if not sep or not key:
-        raise ModelFileError(f"--set {text!r}: expected KEY=VALUE, e.g. solver.t_end=2")
-    try:
-        value = tomllib.loads(f"v = {raw.strip()}")["v"]
-    except tomllib.TOMLDecodeError:
-        value = raw.strip()
-    return key, value
-
-
-def apply_override(data: dict, key: str, value: Any) -> None:
-    """Set ``data[key]`` for a dotted key; list items are addressed by their ``name``
-    (``bodies.crank.mass``) or index (``bodies.0.mass``), vector components by index
-    (``forces.push.vector.0``)."""
-    parts = key.split(".")
-    node: Any = data
-    for i, part in enumerate(parts[:-1]):
-        where = ".".join(parts[: i + 1])
-        if isinstance(node, list):
-            node = _list_item(node, part, where)
-        elif isinstance(node, dict):
-            if part not in node:
-                node[part] = {}
-            node = node[part]
-        else:
-            raise ModelFileError(f"--set {key}: {where} is a value, not a table")
-    last = parts[-1]
-    if isinstance(node, list):
-        # a component of a vector (``forces.push.vector.0``); whole table items stay refused
-        if last.isdigit() and int(last) < len(node) and not isinstance(node[int(last)], dict):
-            node[int(last)] = value
-            return
-        raise ModelFileError(f"--set {key}: cannot replace a whole list item")
-    if not isinstance(node, dict):
-        raise ModelFileError(f"--set {key}: {'.'.join(parts[:-1])} is a value, not a table")
-    node[last] = value
-
-
-def _list_item(items: list, part: str, where: str) -> Any:
-    for it in items:
-        if isinstance(it, dict) and it.get("name") == part:
-            return it
-    if part.isdigit() and int(part) < len(items):
-        return items[int(part)]
-    names = [it.get("name") for it in items if isinstance(it, dict)]
-    raise ModelFileError(f"--set: no item {part!r} in {where.rsplit('.', 1)[0]} "
-                         f"(names: {', '.join(map(str, names))})")
-
-
-# -- validation messages -----------------------------------------------------------------
-
-
-def _path(data: Any, loc: tuple) -> str:
-    out = ""
-    node = data
-    for part in loc:
-        if isinstance(part, int):
-            name = node[part].get("name") if isinstance(node, list) and part < len(node) \
-                and isinstance(node[part], dict) else None
-            out += f"[{part}]" + (f" ({name})" if name else "")
-        else:
-            out += ("." if out else "") + str(part)
-        try:
-            node = node[part]
-        except (KeyError, IndexError, TypeError):
-            node = None
-    return out
-
-
-def _allowed_keys(schema: type[BaseModel] | None, loc: tuple) -> list[str]:
-    """The keys the schema section at ``loc[:-1]`` accepts (for "did you mean")."""
-    models: list[Any] = [schema] if schema is not None else []
-    for part in loc[:-1]:
-        if isinstance(part, int):
-            continue
-        nxt: list[Any] = []
-        for m in models:
-            f = m.model_fields.get(part) if isinstance(m, type) and issubclass(m, BaseModel) \
-                else None
-            if f is not None:
-                nxt += _models_in(f.annotation)
-        models = nxt or models
-    keys: list[str] = []
-    for m in models:
-        if isinstance(m, type) and issubclass(m, BaseModel):
-            keys += list(m.model_fields)
-    return keys
-
-
-def _models_in(annotation: Any) -> list[Any]:
-    """Pydantic model classes inside an annotation (unions, lists, dicts, Annotated)."""
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return [annotation]
-    out: list[Any] = []
-    for arg in typing.get_args(annotation):
-        out += _models_in(arg)
-    return out
-
-
-def format_validation_error(source: str, data: dict, exc: ValidationError,
-                            schema: type[BaseModel] | None = None) -> str:
-    """One line per problem: ``key.path: what was expected (got value)``; unknown keys get
-    the closest known key of their section."""
-    lines = [f"{source}: {exc.error_count()} problem(s)"]
-    for err in exc.errors():
-        loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
-        # discriminated unions (solver.step) add their tag ("fixed", "adaptive") to the path
-        loc = tuple(p for i, p in enumerate(loc)
-                    if not (i and loc[i - 1] == "step" and p in ("fixed", "adaptive")))
-        # union members appear as extra location parts; keep the user's keys only
-        loc = tuple(p for p in loc if isinstance(p, int) or not str(p).startswith(
-            ("tuple[", "list[", "Rotation", "FixedStepFile", "AdaptiveStepFile", "dict[",
-             "float", "str", "none")))
-        msg = err["msg"]
-        for prefix in ("Value error, ", "Assertion failed, "):
-            if msg.startswith(prefix):
-                msg = msg[len(prefix):]
-        if err["type"] == "extra_forbidden":
-            msg = "unknown key" + (did_you_mean(str(loc[-1]), _allowed_keys(schema, loc))
-                                   or " (misspelt?)")
-        elif err["type"] == "missing":
-            msg = "required key is missing"
-        path = _path(data, loc) or "(top level)"
-        got = "" if err["type"] == "missing" else f" (got {err.get('input')!r})"
-        lines.append(f"  {path}: {msg}{got}")
-    return "\n".join(lines)
-
-
-# -- building ----------------------------------------------------------------------------
-
-
 def _rotation(r: Any) -> np.ndarray | None:
     if r is None:
         return None
@@ -258,10 +122,9 @@ def _named_function(name: str, f: Any) -> Any:
 
 
 def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
-    """A :class:`Spec` from a validated file (elements in file order, by section);
-    ``base_dir``: folder of the model file (mesh files are relative to it)."""
-    import drivedyn.elements as E  # noqa: N812
-
+    """A :class:`Spec` from a validated file (bodies, nodes, beams, markers, parts, then the
+    ``[[elements]]`` in file order, then the washer contacts); ``base_dir``: folder of the
+    model file (mesh files are relative to it)."""
     spec = Spec(gravity=mf.model.gravity)
     for b in mf.bodies:
         spec.add_rigid_body(b.name, b.mass, b.inertia, com=b.com, position=b.position,
@@ -284,42 +147,30 @@ def build_spec(mf: S.ModelFile, base_dir: str | Path = ".") -> Spec:
     for m in later:
         spec.add_marker(m.name, m.body, position=m.position, rotation=_rotation(m.rotation),
                         axis=m.axis)
-    joint_types = {"spherical": E.Spherical, "fixed": E.Fixed, "hinge": E.Hinge,
-                   "cylindrical": E.Cylindrical, "prismatic": E.Prismatic,
-                   "universal": E.Universal, "planar": E.Planar,
-                   "parallel_axes": E.ParallelAxes,
-                   "screw": E.Screw}
-    for j in mf.joints:
-        kw = {"pitch": j.pitch} if j.type == "screw" else {}
-        spec.add(joint_types[j.type](j.name, j.marker_a, j.marker_b, k=j.k, p=j.p, **kw))
-    for s in mf.springs:
-        spec.add(E.SpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness, s.damping,
-                                s.free_length, s.preload))
-    for s in mf.torsional_springs:
-        spec.add(E.TorsionalSpringDamper(s.name, s.marker_a, s.marker_b, s.stiffness,
-                                         s.damping, s.free_angle, s.preload))
     # every named function is converted (and checked) here, used or not
     funcs = {name: _named_function(name, f) for name, f in mf.functions.items()}
-    for f in mf.forces:
-        spec.add(E.Force(f.name, f.marker, f.vector,
-                         _function(f.function, funcs, f"forces.{f.name}"), f.frame))
-    for t in mf.torques:
-        spec.add(E.Torque(t.name, t.marker, t.vector,
-                          _function(t.function, funcs, f"torques.{t.name}"), t.frame))
-    for d in mf.drivers:
-        spec.add(E.JointDriver(d.name, d.joint, _function(d.function, funcs,
-                                                          f"drivers.{d.name}"),
-                               d.quantity, d.k, d.p))
-    for d in mf.speed_difference_drivers:
-        spec.add(E.SpeedDifferenceDriver(d.name, d.joint_1, d.joint_2,
-                                         _function(d.function, funcs,
-                                                   f"speed_difference_drivers.{d.name}"),
-                                         d.k, d.p))
+    for element in file_elements(mf, funcs):
+        spec.add(element)
     add_washer_contacts(spec, mf, parts)
-    for i, e in enumerate(mf.elements):
-        spec.add(generic_element(e, f"elements[{i}] ({e.name})",
-                                 lambda v, w: _function(v, funcs, w)))
     return spec
+
+
+def file_elements(mf: S.ModelFile, funcs: dict[str, Any],
+                  problems: list[str] | None = None) -> list[Any]:
+    """The element specs of the file's ``[[elements]]`` entries (those translated from the
+    deprecated sections first), each parameter checked against its element class; a
+    :class:`ModelError` naming the entry and key, or with ``problems`` given, every entry's
+    problem appended there (and the entry left out)."""
+    out = []
+    for i, e in enumerate(mf.elements):
+        try:
+            out.append(generic_element(e, mf.element_label(i),
+                                       lambda v, w: _function(v, funcs, w)))
+        except ModelError as exc:
+            if problems is None:
+                raise
+            problems.append(str(exc))
+    return out
 
 
 def scenario_of(mf: S.ModelFile) -> Scenario:
@@ -374,16 +225,55 @@ def library_of(data: dict) -> str | None:
 
 def read_model_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None,
                     ) -> tuple[S.ModelFile, dict, str]:
-    """Read, override and validate a model file: (schema object, raw data, source name)."""
+    """Read, override and validate a model file: (schema object, raw data, source name).
+
+    Every ``[[elements]]`` entry is checked against its element class (parameters, units,
+    the element's ``validate()``); a :class:`ModelFileError` lists every problem. A file
+    with deprecated element sections (``[[joints]]``...) issues one ``DeprecationWarning``
+    per section (also in the schema object's ``notes``).
+    """
     data, source = _read_data(path, overrides)
     if library_of(data) is not None:
         raise ModelFileError(f"{source}: a parametric {library_of(data)!r} model file; read it "
                              "with read_library_file or load_model")
-    try:
-        mf = S.ModelFile.model_validate(data)
-    except ValidationError as exc:
-        raise ModelFileError(format_validation_error(source, data, exc, S.ModelFile)) from None
+    mf = _plain_file(data, source)
+    # the elements' parameters, checked against their element classes: every problem at once
+    from drivedyn.timefunctions import Constant
+
+    problems: list[str] = []
+    funcs = {}
+    for name, f in mf.functions.items():
+        try:
+            funcs[name] = _named_function(name, f)
+        except ModelError as exc:
+            problems.append(str(exc))
+            funcs[name] = Constant(0.0)  # reported once, not again where it is used
+    file_elements(mf, funcs, problems)
+    if problems:
+        raise ModelFileError(_problems(source, problems))
+    for note in mf.notes:
+        warnings.warn(note, DeprecationWarning, stacklevel=3)  # at load_model's caller
     return mf, data, source
+
+
+def _problems(source: str, problems: list[str]) -> str:
+    return "\n".join([f"{source}: {len(problems)} problem(s)", *(f"  {p}" for p in problems)])
+
+
+def _plain_file(data: dict, source: str) -> S.ModelFile:
+    """The validated schema of a plain bodies-and-elements file, its deprecated element
+    sections translated into ``[[elements]]`` entries first (see
+    :mod:`drivedyn.config.legacy_sections`; their deprecation notes in ``notes``)."""
+    tr = translate(data)
+    if tr.problems:
+        raise ModelFileError(_problems(source, tr.problems))
+    try:
+        mf = S.ModelFile.model_validate(tr.data)
+    except ValidationError as exc:
+        raise ModelFileError(format_validation_error(source, tr.data, exc, S.ModelFile,
+                                                     tr.labels)) from None
+    mf.set_origin(tr.labels, tr.notes(source))
+    return mf
 
 
 def _library_schemas() -> dict[str, type]:
@@ -469,6 +359,12 @@ def check_override_keys(path: str | Path, overrides: dict[str, Any],
             apply_override(data, key, value)
         except ModelFileError as exc:
             raise ModelFileError(f"{option} {key}: {str(exc).split(': ', 1)[-1]}") from None
+        if schema is S.ModelFile:
+            _check_element_key(data, key, source, option)
+            tr = translate(data)
+            if tr.problems:
+                raise ModelFileError(f"{option} {key}: {tr.problems[0]}")
+            data = tr.data
         try:
             schema.model_validate(data)
         except ValidationError as exc:
@@ -478,6 +374,25 @@ def check_override_keys(path: str | Path, overrides: dict[str, Any],
                     hint = did_you_mean(str(loc[-1]), _allowed_keys(schema, e["loc"]))
                     raise ModelFileError(f"{option} {key}: {source} has no key "
                                          f"{'.'.join(map(str, loc))!r}{hint}") from None
+
+
+def _check_element_key(data: dict, key: str, source: str, option: str) -> None:
+    """Refuse a key of an element entry (``elements.NAME.KEY``, or of a deprecated section:
+    ``springs.NAME.KEY``) that its element class does not take."""
+    parts = key.split(".")
+    section = parts[0]
+    if len(parts) < 3 or (section != "elements" and section not in LEGACY_SECTIONS) \
+            or not isinstance(data.get(section), list):
+        return
+    try:
+        item = _list_item(data[section], parts[1], section)
+    except ModelFileError:
+        return
+    known = element_parameters(entry_class(section, item) or "")
+    if known is not None and parts[2] not in known:
+        raise ModelFileError(f"{option} {key}: {source} has no key "
+                             f"{section + '.' + parts[2]!r}{did_you_mean(parts[2], known)} "
+                             f"({entry_class(section, item)} keys: {', '.join(known)})")
 
 
 def read_value(path: str | Path, key: str, overrides: dict[str, Any] | None = None) -> Any:
@@ -506,10 +421,14 @@ def read_value(path: str | Path, key: str, overrides: dict[str, Any] | None = No
         return node
     if node is None:  # not in the file: the schema's default, if the key exists
         schema = _schema_of(data)
-        try:
-            obj: Any = schema.model_validate(data)
-        except ValidationError as exc:
-            raise ModelFileError(format_validation_error(source, data, exc, schema)) from None
+        if schema is S.ModelFile:
+            obj: Any = _plain_file(data, source)
+        else:
+            try:
+                obj = schema.model_validate(data)
+            except ValidationError as exc:
+                raise ModelFileError(format_validation_error(source, data, exc,
+                                                             schema)) from None
         for part in parts:
             if not hasattr(obj, part):
                 obj = None
@@ -525,7 +444,9 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
     overrides (``["solver.t_end=2", "bodies.rod.mass=2 kg"]`` or a dict).
 
     Raises :class:`ModelFileError` for unreadable or invalid files and
-    :class:`~drivedyn.model.spec.ModelError` for physically impossible models.
+    :class:`~drivedyn.model.spec.ModelError` for physically impossible models. The model's
+    ``meta["notes"]`` holds one line per deprecated section of the file (also issued as a
+    ``DeprecationWarning``).
     """
     from drivedyn.model.compile import compile_model
 
@@ -541,6 +462,8 @@ def load_model(path: str | Path, overrides: list[str] | dict[str, Any] | None = 
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = mf.model.name
+    # one line each about the file (deprecated sections), printed by `drivedyn run`
+    model.meta["notes"] = mf.notes
     return model
 
 
@@ -585,5 +508,6 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = params.model.name
+    model.meta["notes"] = []
     model.meta["library"] = params
     return model

@@ -10,13 +10,6 @@ File layout (every section optional except what the model needs)::
     [[bodies]]             # rigid bodies
     [[nodes]]              # massless 6-dof nodes
     [[markers]]            # frames on bodies, nodes or "ground"
-    [[joints]]             # type = spherical | fixed | hinge | cylindrical | prismatic |
-                           #        universal | planar | parallel_axes | screw
-    [[springs]]            # linear spring-dampers
-    [[torsional_springs]]  # torsional spring-dampers
-    [[forces]] / [[torques]]
-    [[drivers]]            # prescribed joint angle or speed
-    [[speed_difference_drivers]]
     [[materials]]          # beam materials: E, nu or G, density
     [[sections]]           # beam sections: solid_circular | hollow_circular | rectangular |
                            #                general (EA ... EIz, mass_per_length)
@@ -26,28 +19,32 @@ File layout (every section optional except what the model needs)::
                            # (annular_washer | tube | box | file), material, interfaces
                            # (the first is the mounting face, on marker 'mount'), modes
     [[washer_contacts]]    # a rigid face (marker) on the face nodes of a flexible part
-    [[elements]]           # any other element type by class name (gears, contacts...):
-                           # type = "GearPair", name = ..., its constructor's parameters
+    [[elements]]           # every element by its class name: joints (type = "Hinge",
+                           # "Fixed"...), "SpringDamper", "Force", "JointDriver", gears,
+                           # contacts...: type = "GearPair", name = ..., its constructor's
+                           # parameters (checked against the element class, see
+                           # drivedyn.config.elements_section)
     [functions]            # named time functions, referenced by name
     [solver]               # t_end, rho_inf, step, newton
     [output]               # dt or times, variables
+
+The dedicated sections of older files (``[[joints]]``, ``[[springs]]``,
+``[[torsional_springs]]``, ``[[forces]]``, ``[[torques]]``, ``[[drivers]]``,
+``[[speed_difference_drivers]]``) are deprecated aliases, translated into ``[[elements]]``
+entries before validation (:mod:`drivedyn.config.legacy_sections`).
 """
 
 from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name, as in schema_base
 from drivedyn.schema_base import (
     AccelVec,
-    Angle,
     AngVelVec,
-    Damping,
     DirVec,
-    Force,
-    ForceVec,
     Inertia,
     Length,
     LengthVec,
@@ -56,12 +53,7 @@ from drivedyn.schema_base import (
     OutputFile,
     RotationField,
     SolverFile,
-    Stiffness,
     Strict,
-    Torque,
-    TorqueVec,
-    TorsionalDamping,
-    TorsionalStiffness,
     VelocityVec,
     scalar,
 )
@@ -107,79 +99,8 @@ class MarkerFile(Strict):
         return self
 
 
-class JointFile(Strict):
-    type: Literal["spherical", "fixed", "hinge", "cylindrical", "prismatic", "universal", "planar",
-                  "parallel_axes", "screw"]
-    name: str
-    marker_a: str
-    marker_b: str
-    pitch: Length | None = None  # screw only: advance per revolution [m]
-    k: float | None = Field(default=None, gt=0)
-    p: float | None = Field(default=None, ge=0)
-
-    @model_validator(mode="after")
-    def _pitch(self) -> JointFile:
-        if (self.type == "screw") != (self.pitch is not None):
-            raise ValueError("'pitch' [m per revolution] is required for a screw joint and "
-                             "only for it")
-        return self
-
-
-class SpringFile(Strict):
-    name: str
-    marker_a: str
-    marker_b: str
-    stiffness: Stiffness = 0.0
-    damping: Damping = 0.0
-    free_length: NonNegLength | None = None
-    preload: Force = 0.0
-
-
-class TorsionalSpringFile(Strict):
-    name: str
-    marker_a: str
-    marker_b: str
-    stiffness: TorsionalStiffness = 0.0
-    damping: TorsionalDamping = 0.0
-    free_angle: Angle = 0.0
-    preload: Torque = 0.0
-
-
+#: a time function: a number, the name of a ``[functions]`` entry or a table
 FunctionField = float | str | dict[str, Any]
-
-
-class ForceFile(Strict):
-    name: str
-    marker: str
-    vector: ForceVec
-    function: FunctionField = 1.0
-    frame: Literal["global", "marker"] = "global"
-
-
-class TorqueFile(Strict):
-    name: str
-    marker: str
-    vector: TorqueVec
-    function: FunctionField = 1.0
-    frame: Literal["global", "marker"] = "global"
-
-
-class DriverFile(Strict):
-    name: str
-    joint: str
-    quantity: Literal["angle", "speed"] = "speed"
-    function: FunctionField = 0.0
-    k: float | None = Field(default=None, gt=0)
-    p: float | None = Field(default=None, ge=0)
-
-
-class SpeedDifferenceDriverFile(Strict):
-    name: str
-    joint_1: str
-    joint_2: str
-    function: FunctionField = 0.0
-    k: float | None = Field(default=None, gt=0)
-    p: float | None = Field(default=None, ge=0)
 
 
 Pressure = Annotated[float, scalar(U.PRESSURE, positive=True)]
@@ -372,9 +293,10 @@ class WasherContactFile(Strict):
 
 
 class GenericElementFile(BaseModel):
-    """Any registered element type by its class name; the other keys are its parameters
-    (numbers in SI or strings with units, converted to SI; dimensions are checked by the
-    element's own validation)."""
+    """Any registered element type by its class name; the other keys are its parameters,
+    checked against the element class's dataclass fields and ``units`` when the elements are
+    built (:func:`drivedyn.config.elements_section.generic_element`): numbers in SI or
+    strings with units, converted to SI."""
 
     model_config = ConfigDict(extra="allow")
     type: str
@@ -388,13 +310,6 @@ class ModelFile(Strict):
     bodies: list[BodyFile] = Field(default_factory=list)
     nodes: list[NodeFile] = Field(default_factory=list)
     markers: list[MarkerFile] = Field(default_factory=list)
-    joints: list[JointFile] = Field(default_factory=list)
-    springs: list[SpringFile] = Field(default_factory=list)
-    torsional_springs: list[TorsionalSpringFile] = Field(default_factory=list)
-    forces: list[ForceFile] = Field(default_factory=list)
-    torques: list[TorqueFile] = Field(default_factory=list)
-    drivers: list[DriverFile] = Field(default_factory=list)
-    speed_difference_drivers: list[SpeedDifferenceDriverFile] = Field(default_factory=list)
     materials: list[MaterialFile] = Field(default_factory=list)
     sections: list[SectionFile] = Field(default_factory=list)
     beams: list[BeamFile] = Field(default_factory=list)
@@ -404,3 +319,26 @@ class ModelFile(Strict):
     functions: dict[str, FunctionField] = Field(default_factory=dict)
     solver: SolverFile = Field(default_factory=SolverFile)
     output: OutputFile = Field(default_factory=OutputFile)
+
+    # where each [[elements]] entry comes from (set by the loader) and the deprecation notes
+    _element_labels: list[str] = PrivateAttr(default_factory=list)
+    _notes: list[str] = PrivateAttr(default_factory=list)
+
+    def set_origin(self, element_labels: list[str], notes: list[str]) -> None:
+        """Record how messages name each ``[[elements]]`` entry (an entry translated from a
+        deprecated section by that section: ``"joints[1] (hinge)"``) and the file's
+        deprecation notes."""
+        self._element_labels = list(element_labels)
+        self._notes = list(notes)
+
+    def element_label(self, i: int) -> str:
+        """How messages name ``elements[i]``: ``"elements[0] (mesh)"`` or, for an entry of a
+        deprecated section, ``"joints[1] (hinge)"``."""
+        if i < len(self._element_labels):
+            return self._element_labels[i]
+        return f"elements[{i}] ({self.elements[i].name})"
+
+    @property
+    def notes(self) -> list[str]:
+        """Deprecation notes about the file (one per deprecated section it uses)."""
+        return list(self._notes)
