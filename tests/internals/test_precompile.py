@@ -56,6 +56,7 @@ def caller(a, b):
     return kmod.g(a, b) + 1.0
 
 waited = []
+shown = []
 
 def wait():
     # called in this process while the workers compile; what it raises is only logged
@@ -65,7 +66,8 @@ def wait():
 def main():
     calls = [(kmod.f, (typeof(np.zeros(3)),)), (kmod.g, (typeof(1.0), typeof(2.0)))]
     with event.install_listener("numba:compile", Count()):
-        first = precompile_kernels(calls, WORKERS, while_waiting=wait)
+        first = precompile_kernels(calls, WORKERS, while_waiting=wait,
+                                   progress=lambda *a: shown.append(list(a)))
         by_precompile = list(compiled)
         values = [float(kmod.f(np.array([3.0, 4.0]))), float(kmod.g(2.0, 3.0))]
         # a compiled function calling a kernel loaded from the cache (the compiled Newton
@@ -75,7 +77,7 @@ def main():
         second = precompile_kernels(calls, WORKERS)
     print(json.dumps({"first": first, "second": second, "values": values,
                       "compiled_here": compiled, "gc": [gc.isenabled(), *gc.get_threshold()],
-                      "by_precompile": by_precompile,
+                      "by_precompile": by_precompile, "shown": shown,
                       "waited": [pid == os.getpid() for pid in waited]}))
 
 if __name__ == "__main__":
@@ -107,6 +109,10 @@ def test_missing_kernels_compile_in_workers_and_load_from_the_cache(tmp_path) ->
     assert out["gc"] == [True, 700, 10, 10]  # as Python starts
     # the work handed over for the wait ran once, here, and its exception was only logged
     assert out["waited"] == [True]
+    # what a first run shows: the start, then each kernel as a worker finishes it
+    assert out["shown"][0] == [0, 2, ""]
+    assert sorted(n for _, _, n in out["shown"][1:]) == ["f", "g"]
+    assert [d for d, _, _ in out["shown"]] == [0, 1, 2]
 
 
 def test_without_workers_the_kernels_compile_in_this_process(tmp_path) -> None:
@@ -119,6 +125,7 @@ def test_without_workers_the_kernels_compile_in_this_process(tmp_path) -> None:
     assert out["values"] == [5.0, 7.0, 8.0]
     assert out["second"]["missing"] == 0
     assert out["waited"] == []  # nothing compiles in parallel: nothing to wait for
+    assert [d for d, _, _ in out["shown"]] == [0, 1, 2]
 
 
 @pytest.mark.skipif(not _FORK, reason="workers are forked (Linux)")
