@@ -109,7 +109,8 @@ def main(ctx: click.Context, debug: bool, compile_workers: int | None,
 def _compile_progress(done: int, total: int, name: str) -> None:
     """A first run's compilation, on stderr (stdout stays for results and JSON)."""
     if done == 0:
-        click.echo(f"first run: compiling {total} numba kernels for this model (cached "
+        what = "kernel" if total == 1 else "kernels"
+        click.echo(f"first run: compiling {total} numba {what} for this model (cached "
                    "afterwards) ...", err=True)
     else:
         click.echo(f"  compiled {name} ({done} of {total})", err=True)
