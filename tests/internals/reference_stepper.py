@@ -50,6 +50,13 @@ sim = importlib.import_module("drivedyn.solver.simulate")
 class ReferenceStepper(Stepper):
     """:class:`~drivedyn.solver.stepper.Stepper` with the step in Python (:meth:`step`)."""
 
+    _prev_t: float | None = None  # time of the state before the accepted one (None: none)
+
+    def accepted(self, sn: State) -> None:
+        """Tell the stepper that the step from ``sn`` was accepted (for the predictor)."""
+        self._prev_t = sn.t
+        self._prev_vd[:] = sn.vd
+
     def _roundoff(self, st: State) -> np.ndarray:
         """Round-off levels of the residual for the factorised matrix (``sys.data`` holds
         it until the next factorisation), computed once per factorisation, when needed;

@@ -35,7 +35,6 @@ from __future__ import annotations
 import concurrent.futures as cf
 import gc
 import importlib
-import inspect
 import json
 import logging
 import multiprocessing as mp
@@ -75,12 +74,11 @@ def _source_stamp(disp: Any) -> str:
     function's source file: what invalidates numba's cached entry."""
     import numba
 
-    fn = disp.py_func
+    path = disp.py_func.__code__.co_filename
     try:
-        path = inspect.getsourcefile(fn) or ""
         st = os.stat(path)
         src = f"{path}:{st.st_size}:{st.st_mtime_ns}"
-    except (OSError, TypeError):
+    except OSError:
         src = "?"
     return f"{numba.__version__}|{numba.config.CACHE_DIR or ''}|{src}"
 

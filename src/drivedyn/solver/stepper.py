@@ -111,8 +111,7 @@ class Stepper:
         # round-off levels of the residual for the factorised matrix (zero: none yet)
         self.roff = np.zeros(model.neq)
         self._no_roff = np.zeros(model.neq)
-        self._prev_t: float | None = None  # time and accelerations of the state before sn
-        self._prev_vd = np.zeros(model.nd)
+        self._prev_vd = np.zeros(model.nd)  # accelerations of the state before the accepted one
         self._par = np.array([am, af, g, b, self.bp, self.gp, newton.tol, newton.phi_tol,
                               newton.contraction, newton.max_iter,
                               1.0 if newton.strategy == "full" else 0.0, FLOOR_REL,
@@ -145,15 +144,6 @@ class Stepper:
         """Largest sum of absolute contributions of the node equations of an accepted state
         (the floor of the residual scales)."""
         return float(self._fstate[F_FORCE])
-
-    def accepted(self, sn: State) -> None:
-        """Tell the stepper that the step from ``sn`` was accepted (for the predictor)."""
-        self._prev_t = sn.t
-        self._prev_vd[:] = sn.vd
-
-    def reset_history(self) -> None:
-        """Forget the previous step (after an event that breaks smoothness)."""
-        self._prev_t = None
 
     def invalidate(self) -> None:
         """Forget the factorisation (after an event that changes the matrix a lot)."""
