@@ -52,6 +52,21 @@ class ReferenceStepper(Stepper):
 
     _prev_t: float | None = None  # time of the state before the accepted one (None: none)
 
+    @property
+    def lu_h(self) -> float | None:
+        """Step size the current factorisation was built for (None: none)."""
+        return float(self._fstate[F_LU_H]) if self._istate[I_LU] else None
+
+    @property
+    def force_scale(self) -> float:
+        """Largest sum of absolute contributions of the node equations of an accepted state
+        (the floor of the residual scales)."""
+        return float(self._fstate[F_FORCE])
+
+    def invalidate(self) -> None:
+        """Forget the factorisation (after an event that changes the matrix a lot)."""
+        self._forget()
+
     def accepted(self, sn: State) -> None:
         """Tell the stepper that the step from ``sn`` was accepted (for the predictor)."""
         self._prev_t = sn.t

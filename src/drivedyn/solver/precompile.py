@@ -102,7 +102,10 @@ def _read_record() -> dict:
 
 
 def _write_record(entries: dict) -> None:
-    """Merge ``entries`` into the record (atomic replace; a failure only costs time)."""
+    """Merge ``entries`` into the record (atomic replace; a failure only costs time); a
+    warm run, with nothing new, writes nothing."""
+    if not entries:
+        return
     path = _record_path()
     try:
         data = _read_record()

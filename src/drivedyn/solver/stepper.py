@@ -43,8 +43,6 @@ from drivedyn.solver.linear import (
     default_linear_solver,
 )
 from drivedyn.solver.newton_kernel import (
-    F_FORCE,
-    F_LU_H,
     FLOOR_REL,
     I_DENSE,
     I_EXTERNAL,
@@ -86,7 +84,6 @@ class Stepper:
         TypeError: another linear solver.
 
     Attributes:
-        lu_h: step size the current factorisation was built for (None: none).
         factorizations: factorisations so far.
     """
 
@@ -130,24 +127,9 @@ class Stepper:
                             "factorises and solves with them")
 
     @property
-    def lu_h(self) -> float | None:
-        """Step size the current factorisation was built for (None: none)."""
-        return float(self._fstate[F_LU_H]) if self._istate[I_LU] else None
-
-    @property
     def factorizations(self) -> int:
         """Factorisations so far."""
         return int(self._istate[I_NFAC])
-
-    @property
-    def force_scale(self) -> float:
-        """Largest sum of absolute contributions of the node equations of an accepted state
-        (the floor of the residual scales)."""
-        return float(self._fstate[F_FORCE])
-
-    def invalidate(self) -> None:
-        """Forget the factorisation (after an event that changes the matrix a lot)."""
-        self._forget()
 
     def _forget(self) -> None:
         # the round-off levels describe the factorised matrix only
