@@ -275,10 +275,16 @@ def python_loop(loop: PythonLoop, model, st: State, rec, stats, progress,
             st.t = float(t)
             if landed:
                 rec.record(st, h_try)
+            if stepper.sys.redundancy_restore(st, st.t):
+                stepper.invalidate()  # rows given back
             if debug:
                 sim._log_attempt(model, st.t, h_try, out)
             if progress is not None:
                 progress(st.t, h_try, stats.steps)
+            continue
+        if out.status is StepStatus.SINGULAR and stepper.sys.redundancy_on_singular(
+                stepper.trial, st.t + h_try):
+            stepper.invalidate()  # constraint rows set aside: the same attempt again
             continue
         if debug:
             sim._log_attempt(model, st.t, h_try, out)

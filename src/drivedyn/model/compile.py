@@ -34,6 +34,7 @@ class BuildContext:
         self.nm = 0
         self.mult_labels: list[str] = []
         self.mult_k: list[float] = []
+        self.mult_bilateral: list[bool] = []
         self.es0: list[float] = []
         self.tf_pool = TimeFunctionPool()
 
@@ -54,12 +55,18 @@ class BuildContext:
         """First global dof of ``node`` or -1 for the ground."""
         return -1 if node == self.nn else 6 * node
 
-    def alloc_mult(self, n: int, owner: str, k: Sequence[float]) -> int:
-        """Allocate ``n`` multipliers with scaling factors ``k``; returns the first equation."""
+    def alloc_mult(self, n: int, owner: str, k: Sequence[float],
+                   bilateral: bool = True) -> int:
+        """Allocate ``n`` multipliers with scaling factors ``k``; returns the first equation.
+        ``bilateral``: rows of a constraint that always holds (a joint, a driver), which
+        the solver may set aside when they are redundant
+        (:mod:`~drivedyn.solver.redundancy`); False for rows that choose their own state
+        (a unilateral contact)."""
         start = self.nd + self.nm
         self.nm += n
         self.mult_labels += [f"{owner}: constraint {i}" for i in range(n)]
         self.mult_k += list(k)
+        self.mult_bilateral += [bool(bilateral)] * n
         return start
 
     def alloc_state(self, values: Sequence[float]) -> int:
@@ -232,7 +239,9 @@ def compile_model(spec: Spec) -> Model:
         nn=nn, nd=nd, nm=nm, neq=neq, nstate=len(ctx.es0), indptr=indptr, indices=indices,
         eq_labels=labels, tf=ctx.tf_pool.pack(), gravity=spec.settings.gravity.copy(),
         state0=state0, marker_frames=marker_frames, k_default=k_default,
-        meta={"kscale": kscale, "tf_pool": ctx.tf_pool}, eout_all=eout_all, aux_all=aux_all,
+        meta={"kscale": kscale, "tf_pool": ctx.tf_pool,
+              "bilateral": np.array(ctx.mult_bilateral, dtype=bool)},
+        eout_all=eout_all, aux_all=aux_all,
     )
 
 

@@ -32,6 +32,7 @@ from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.solver.kernel_calls import call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve
 from drivedyn.solver.linear import sparse_lu_solve
+from drivedyn.solver.redundancy import hold_multipliers, set_aside
 from drivedyn.solver.system import lie_update, tangents
 from drivedyn.timefunctions import eval_time_functions
 
@@ -212,13 +213,20 @@ NFSTATE = 5
 
 
 @njit(cache=True)
-def _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, want):
-    """All groups' contributions at the trial state (``call_groups`` in dynamics mode). One
+def _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, want, r, rabs, data, red, nd):
+    """All groups' contributions at the trial state (``call_groups`` in dynamics mode), with
+    the constraint rows set aside in ``red`` (:mod:`~drivedyn.solver.redundancy`:
+    ``(rows, diag, rptr, rpos, dscale, viol)``) held at zero multiplier. One
     function for the Newton loop's three call sites: the calls through the kernel table are
     generated once (Type C bench: the stepping loop's final module 18 688 -> 12 372 LLVM
     instructions) and LLVM keeps it a call (one per evaluation, nanoseconds against the
     13 us of the groups)."""
+    rows, diag, rptr, rpos, dscale, viol, _watch = red
+    if rows.shape[0]:
+        hold_multipliers(lam, rows, nd)
     call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, 1.0, MODE_DYN, want)
+    if rows.shape[0]:
+        set_aside(r, rabs, data, want, rows, diag, rptr, rpos, dscale, viol)
 
 
 @njit(cache=True, inline="always")
@@ -267,7 +275,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         accepted = (x0, R0, v0, vd0, a0, prev_vd)
         trial = (x, R, v, vd, a, lam, es, hdq)
         arrays = (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab,
-                  indices, indptr)           # System's arrays, the time functions, CSC pattern
+                  indices, indptr, red)      # System's arrays, the time functions, CSC
+                                             # pattern, the rows set aside (redundancy)
         linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
         sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z)   # SparseLU's factors
 
@@ -286,7 +295,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     nn, nd, w, t, h = sizes
     x0, R0, v0, vd0, a0, prev_vd = accepted
     x, R, v, vd, a, lam, es, hdq = trial
-    Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr = arrays
+    (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr,
+     red) = arrays
     lu, piv, ib, tr, delta, roff, no_roff = linear
     Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z = sparse
     am, af, gamma, beta, bp, gp = par[0], par[1], par[2], par[3], par[4], par[5]
@@ -320,7 +330,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
             _forget(istate, roff)
         eval_time_functions(t, tf_kind, tf_par, tf_fstart, tf_tab, tfv)
         assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
-        _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, assembled)
+        _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, assembled, r, rabs, data,
+                  red, nd)
         it = 0
         nfac0 = istate[I_NFAC]
         prev = np.inf
@@ -365,7 +376,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     _clear(r, rabs, data, True, hdq, nn, Tn, istate)
                     # bool(True) types as a boolean, True as a literal: a second overload
                     _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC,
-                              bool(True))  # noqa: UP018
+                              bool(True), r, rabs, data, red, nd)  # noqa: UP018
                 if istate[I_EXTERNAL] != 0:
                     istate[I_PHASE] = 1
                     istate[I_IT] = it
@@ -403,6 +414,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         fresh = False
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
         assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
-        _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, assembled)
+        _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, assembled, r, rabs, data,
+                  red, nd)
         it += 1
     return MAX_ITER, max_iter, istate[I_NFAC] - nfac0

@@ -59,10 +59,15 @@ def consistent_initial_state(model: Model, st: State, sys: System | None = None,
                              project_velocities: bool = True) -> State:
     """Make velocities satisfy the velocity constraints (M-orthogonal projection) and compute
     accelerations and multipliers from the equations of motion and the acceleration-level
-    constraints ``Phi_q vd + v^T H v + Phi_tt = 0``. Modifies and returns ``st``."""
+    constraints ``Phi_q vd + v^T H v + Phi_tt = 0``. Modifies and returns ``st``.
+
+    Constraint rows that are combinations of the others at ``st`` are found first and set
+    aside (:meth:`~drivedyn.solver.system.System.detect_redundancy`): their multipliers are
+    zero, the motion is that of the full set."""
     sys = sys or System(model)
     lin = linear_solver or default_linear_solver(model.neq)
     nd = model.nd
+    sys.detect_redundancy(st)
     sys.reset_tangent()
     try:
         if project_velocities and model.nm:
@@ -80,8 +85,9 @@ def consistent_initial_state(model: Model, st: State, sys: System | None = None,
     except np.linalg.LinAlgError as exc:
         raise InitializationError(
             "cannot compute consistent initial accelerations: the mass matrix with the "
-            f"constraint Jacobian is singular ({exc}); check for massless nodes without "
-            "stiffness or redundant constraints") from None
+            f"constraint Jacobian is singular ({exc}); check for massless nodes or bodies "
+            "without stiffness and for free rotations (redundant constraint rows are set "
+            "aside)") from None
     st.vd[:] = sol[:nd]
     st.lam[:] = sol[nd:]
     if any(g.extra.get("active_set", False) for g in model.groups):
@@ -231,6 +237,8 @@ def simulate(
     sys = stepper.sys
     if initialize:
         consistent_initial_state(model, st, sys, lin)
+    else:
+        sys.detect_redundancy(st)
     sys.reset_tangent()
     sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, False)
     viol = sys.constraint_violation()
@@ -272,6 +280,7 @@ def simulate(
         "newton": repr(newton),
         "step": repr(step),
         "drivedyn_version": _version(),
+        **sys.redundancy.attrs(),
     }
     return Results(rec.dataset(attrs, None if variables is None else list(variables)),
                    success, message, stats)
@@ -327,7 +336,7 @@ _HINTS = {
     StepStatus.NONFINITE: "the state became non-finite: check the element named for loads, "
     "stiffnesses or time functions that blow up, and bodies without mass on loaded nodes",
     StepStatus.SINGULAR: "the iteration matrix is singular: look for a massless node or body "
-    "without stiffness, a free rotation, or redundant constraints around the equation named",
+    "without stiffness or a free rotation around the equation named",
     StepStatus.ERROR_TOO_LARGE: "the local error stays above tolerance at the smallest step: "
     "loosen solver.step.rtol/atol or lower solver.step.h_min",
 }

@@ -50,6 +50,7 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
     st.vd[:] = 0.0
     st.a[:] = 0.0
     sys = System(model)
+    sys.detect_redundancy(st)
     sys.reset_tangent()
     lin = linear_solver or default_linear_solver(model.neq)
     nd, nn = model.nd, model.nn

@@ -30,7 +30,8 @@ Arrays of the loop (the ``control`` argument)::
     touts (float64): output times [s]
     ctl, cs (float64): the step-size control's settings and memory (step_control)
     ls (float64, NLS): time of the accepted state [s], time of the one before (NaN: none),
-        resume (1: after the caller's factorisation, 2: the caller's factorisation failed),
+        resume (1: after the caller's factorisation, 2: the caller's factorisation failed
+        or the singular matrix has no new dependent constraint rows: reject the attempt),
         size of the last attempted step [s], its error estimate
     lo (int64, NLO): the last attempt's Newton code (or ERROR_TOO_LARGE), iterations,
         factorisations, dof of the largest error, accepted (0/1)
@@ -51,6 +52,7 @@ from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, advance_energy
 from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.newton_kernel import I_NEVAL, I_PHASE, _forget, newton_iterations
+from drivedyn.solver.redundancy import watched
 from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
 
 # wall time [s] between two returns of the loop that StepLoop sizes its output batches for:
@@ -58,8 +60,12 @@ from drivedyn.solver.step_control import accept_step, next_step, reject_step, st
 BATCH_WALL = 0.05
 BATCH_MAX = 64  # outputs per batch at most (and 4 in the first)
 
-# return codes of run_steps
-RUN_END, RUN_OUTPUT, RUN_NEED_FACTOR, RUN_FAILED, RUN_ATTEMPT = range(5)
+# return codes of run_steps (RUN_SINGULAR: a factorisation was singular; the caller looks
+# for constraint rows that became dependent, :mod:`~drivedyn.solver.redundancy`)
+# RUN_WATCH: a constraint row set aside is violated beyond its watch limit after an accepted
+# step; the caller finds the dependent rows again
+(RUN_END, RUN_OUTPUT, RUN_NEED_FACTOR, RUN_FAILED, RUN_ATTEMPT, RUN_SINGULAR,
+ RUN_WATCH) = range(7)
 # lo[LO_CODE] of a step rejected by its error estimate (beyond newton_kernel's codes)
 ERROR_TOO_LARGE = 7
 
@@ -150,6 +156,7 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
     sk = snaps[8]
     nsnap = snaps[7].shape[0]
     roff = linear[5]
+    red = arrays[12]
     while True:
         t = ls[LS_T]
         resume = ls[LS_RESUME]
@@ -181,6 +188,10 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
         if code == nk.NEED_FACTOR:
             ls[LS_RESUME] = 1.0
             return RUN_NEED_FACTOR
+        if code == nk.SINGULAR and resume != 2.0:
+            # the caller checks for constraint rows that became dependent: it sets them
+            # aside and the attempt is made again, or resumes with 2 (a rejection)
+            return RUN_SINGULAR
         stats[ST_NEWTON] += it
         err = 0.0
         ierr = -1
@@ -214,6 +225,8 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
                 sk[0] = k + 1
                 if k + 1 == nsnap:
                     return RUN_OUTPUT
+            if watched(red):
+                return RUN_WATCH
         else:
             stats[ST_REJECTED] += 1.0
             _forget(istate, roff)
@@ -366,6 +379,14 @@ class StepLoop:
         try:
             while True:
                 code = self._call()
+                if code == RUN_SINGULAR:
+                    self._singular()
+                    continue
+                if code in (RUN_OUTPUT, RUN_END, RUN_WATCH) and s.sys.redundancy_restore(
+                        self.st, float(self.ls[LS_T])):
+                    self._redundancy_changed()
+                if code == RUN_WATCH:
+                    continue
                 if code != RUN_NEED_FACTOR:
                     return code
                 try:
@@ -373,10 +394,28 @@ class StepLoop:
                 except (np.linalg.LinAlgError, ValueError):
                     s._istate[I_PHASE] = 0
                     s._forget()
-                    self.ls[LS_RESUME] = 2.0
+                    self._singular()
         finally:
             self.st.t = float(self.ls[LS_T])
             s.sys.nevals += int(s._istate[I_NEVAL]) - n0
+
+    def _singular(self) -> None:
+        """A singular factorisation in the attempt from ``ls[LS_T]``: set aside the
+        constraint rows that became dependent and make the attempt again, or reject it."""
+        s = self.stepper
+        t = float(self.ls[LS_T] + self.ls[LS_HTRY])
+        if s.sys.redundancy_on_singular(s.trial, t):
+            self._redundancy_changed()
+            self.ls[LS_RESUME] = 0.0
+        else:
+            self.ls[LS_RESUME] = 2.0
+
+    def _redundancy_changed(self) -> None:
+        """The rows set aside changed: new arrays for the loop, no factorisation."""
+        s = self.stepper
+        s._istate[I_PHASE] = 0
+        s._forget()
+        self.head = _head(s, self.st, self.prev_vd, self.head[0][2])
 
     def flush(self, rec: Any) -> int:
         """Hand the outputs the loop stored since the last call to ``rec`` (a

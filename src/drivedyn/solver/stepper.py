@@ -52,6 +52,7 @@ from drivedyn.solver.newton_kernel import (
     ROUNDOFF_ULPS,
     STALL_ULPS,
 )
+from drivedyn.solver.redundancy import RESTORE_FACTOR
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
 from drivedyn.solver.system import System
 
@@ -91,6 +92,7 @@ class Stepper:
                  linear_solver: LinearSolver | None = None) -> None:
         self.model = model
         self.sys = System(model)
+        self.sys.redundancy.watch_limit = RESTORE_FACTOR * newton.phi_tol
         self.integrator = integrator
         self.newton = newton
         self.lin = linear_solver or default_linear_solver(model.neq)
@@ -155,7 +157,7 @@ class Stepper:
         return ((sn.x, sn.R, sn.v, sn.vd, sn.a, self._prev_vd),
                 (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, self.hdq),
                 (sys.Tn, sys.r, sys.rabs, sys.data, sys.tfv, sys.kscale, tf.kind, tf.par,
-                 tf.fstart, tf.tab, m.indices, m.indptr))
+                 tf.fstart, tf.tab, m.indices, m.indptr, sys.redundancy.arrays))
 
     def kernel_table(self, sn: State) -> Any:
         """The model's :class:`~drivedyn.solver.kernel_calls.KernelTable` for states of

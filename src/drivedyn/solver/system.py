@@ -2,15 +2,26 @@
 
 from __future__ import annotations
 
+import logging
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.framework.contract import MODE_DYN
+from drivedyn.elements.framework.contract import MODE_DYN, MODE_VEL
 from drivedyn.model.model import Model, State
 from drivedyn.rotations import tangent_into
+from drivedyn.solver.redundancy import (
+    Redundancy,
+    hold_multipliers,
+    jacobian,
+    report_start,
+    set_aside,
+    watched,
+)
 from drivedyn.timefunctions import eval_time_functions
+
+log = logging.getLogger("drivedyn")
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -81,6 +92,9 @@ class System:
         data: (nnz,) CSC values of the last assembled matrix.
         tfv: (nfun, 4) time-function values at the last evaluation time.
         Tn: (nn+1, 3, 3) tangent operators used in ``MODE_DYN`` assembly.
+        redundancy: the constraint rows set aside as redundant
+            (:class:`~drivedyn.solver.redundancy.Redundancy`; none until
+            :meth:`detect_redundancy`).
     """
 
     def __init__(self, model: Model) -> None:
@@ -92,6 +106,10 @@ class System:
         self.tfv = np.zeros((max(1, len(tf.fstart) - 1), 4))
         self.Tn = np.tile(np.eye(3), (model.nn + 1, 1, 1))
         self.kscale = model.meta["kscale"]
+        bilateral = model.meta.get("bilateral")
+        self.redundancy = Redundancy(
+            model.indices, model.indptr, model.nd, self.kscale, model.eq_labels,
+            np.ones(model.nm, bool) if bilateral is None else np.asarray(bilateral, bool))
         self.nevals = 0
         # per (mode, want): each group's compiled entry point and its fixed arguments, or
         # False where a group's overload could not be identified (see _bind)
@@ -117,6 +135,10 @@ class System:
         self.ensure_compiled(st, cM, cC, cK, mode, want)
         self.time_functions(st.t)
         mode, want = int(mode), bool(want)
+        rows, diag, rptr, rpos, dscale, viol, _watch = self.redundancy.arrays
+        masked = rows.size > 0
+        if masked:
+            hold_multipliers(st.lam, rows, self.model.nd)
         calls = self._calls.get((mode, want))
         if calls and (st is self._last_state or self._same_types(st)):
             # one compiled call per group, straight into the overload chosen at binding:
@@ -132,7 +154,86 @@ class System:
                            self.r, self.rabs, self.data)
             if calls is None:
                 self._calls[(mode, want)] = self._bind(st, cM, cC, cK, mode, want)
+        if masked:
+            set_aside(self.r, self.rabs, self.data, want, rows, diag, rptr, rpos, dscale,
+                      viol)
         self.nevals += 1
+
+    def dependent_constraints(self, st: State) -> np.ndarray:
+        """Equation indices of the constraint rows that are combinations of the others at
+        the configuration of ``st`` (:mod:`~drivedyn.solver.redundancy`), every row
+        considered: one evaluation of the velocity-level matrix, after which everything it
+        wrote is put back (``r``, ``rabs``, ``data``, ``Tn``, the elements' outputs, the
+        rows set aside and their violations): a run goes on as if it had not happened."""
+        red = self.redundancy
+        m = self.model
+        if m.nm == 0:
+            return red.rows[:0]
+        live = [a for a in (self.r, self.rabs, self.data, self.Tn, m.aux_all, m.eout_all)
+                if a is not None]
+        kept = [a.copy() for a in live]
+        keep = red.rows, red.arrays  # the compiled loop holds these arrays
+        red.set_rows(keep[0][:0])
+        try:
+            self.Tn[:] = np.eye(3)
+            self.evaluate(st, 1.0, 0.0, 0.0, MODE_VEL, True)
+            G = jacobian(self.data, m.indices, m.indptr, m.nd)
+            return red.found(G, st.x[: m.nn])
+        finally:
+            red.rows, red.arrays = keep
+            for a, b in zip(live, kept, strict=True):
+                a[...] = b
+
+    def detect_redundancy(self, st: State) -> np.ndarray:
+        """Set aside the dependent constraint rows at ``st`` (:meth:`dependent_constraints`)
+        as the rows of a run or analysis starting there (logged, and reported by
+        :meth:`~drivedyn.solver.redundancy.Redundancy.attrs`); returns them."""
+        red = self.redundancy
+        rows = self.dependent_constraints(st)
+        red.set_rows(rows)
+        red.at_start = rows.copy()
+        red.events.clear()
+        report_start(red)
+        return rows
+
+    def redundancy_on_singular(self, st: State, t: float) -> bool:
+        """After a singular factorisation at the configuration of ``st`` (time ``t`` [s]):
+        if more rows are dependent there than are set aside, set them aside (logged, and
+        kept in the results' attributes) and return True: the step is tried again. False:
+        the matrix is singular for another reason."""
+        red = self.redundancy
+        if self.model.nm == 0:
+            return False
+        rows = self.dependent_constraints(st)
+        if rows.size <= red.rows.size:
+            return False
+        added = red.describe(np.setdiff1d(rows, red.rows))
+        red.set_rows(rows)
+        red.events.append((t, "set aside", added))
+        log.warning("t = %.9g s: the constraint rows %s became dependent on the others and "
+                    "are set aside while they stay so (their joints' reactions are not "
+                    "unique)", t, ", ".join(added))
+        return True
+
+    def redundancy_restore(self, st: State, t: float) -> bool:
+        """Give back the rows set aside that are independent again at ``st`` (time ``t``
+        [s]); returns True if the rows set aside changed. Runs only when a row set aside is
+        violated beyond its watch limit at the last evaluation
+        (:func:`~drivedyn.solver.redundancy.watched`); when none is independent, the
+        limit doubles above the violation (they stay aside, watched less closely).
+        """
+        red = self.redundancy
+        if red.rows.size == 0 or not watched(red.arrays):
+            return False
+        rows = self.dependent_constraints(st)
+        if rows.size >= red.rows.size:
+            red.arrays[6][0] = 2.0 * red.violation
+            return False
+        back = red.describe(np.setdiff1d(red.rows, rows))
+        red.set_rows(rows)
+        red.events.append((t, "restored", back))
+        log.info("t = %.9g s: constraint rows %s are independent again", t, ", ".join(back))
+        return True
 
     def _state_signature(self, st: State) -> tuple:
         from numba import typeof

@@ -377,7 +377,8 @@ class UnilateralContactFamily(Family):
             active = gap <= tol and gap_rate <= 0.0
             sliding = active and math.hypot(r1, r2) > 1e-12
             eoff[e] = ctx.alloc_state([float(active), float(sliding), a1, a2])
-            m0 = ctx.alloc_mult(3, f"unilateral_contact {s.name}", [kk[e]] * 3)
+            m0 = ctx.alloc_mult(3, f"unilateral_contact {s.name}", [kk[e]] * 3,
+                                bilateral=False)
             dofs[e] = ctx.local_dofs([nA, nB], m0, 3)
         g = make_group(
             self.name, specs, unilateral_kernel,
