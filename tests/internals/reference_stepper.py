@@ -29,10 +29,12 @@ from drivedyn.solver.newton_kernel import (
     I_LU,
     I_NFAC,
     I_ROFF,
+    NOISE_FACTOR,
     REFACTOR_AFTER,
     ROUNDOFF_ULPS,
     STALL_ULPS,
     absmax,
+    correction_size,
     newton_update,
     predict,
     residual_norms,
@@ -72,17 +74,21 @@ class ReferenceStepper(Stepper):
         self._prev_t = sn.t
         self._prev_vd[:] = sn.vd
 
-    def _roundoff(self, st: State) -> np.ndarray:
-        """Round-off levels of the residual for the factorised matrix (``sys.data`` holds
-        it until the next factorisation), computed once per factorisation, when needed;
-        zeros without a factorisation."""
+    def _roundoff(self, st: State, xmax: float) -> tuple[np.ndarray, bool]:
+        """Round-off levels of the residual at ``st`` for the factorisation, computed once
+        per factorisation, when needed, from the matrix without inertia and damping (cM =
+        cC = 0: those terms act through the increments, which carry no position round-off;
+        ``sys.data`` holds it afterwards); zeros without a factorisation. Returns (levels,
+        whether ``sys.data`` was reassembled)."""
         if self._istate[I_LU] and not self._istate[I_ROFF]:
             m = self.model
-            roundoff_levels(self.sys.data, m.indices, m.indptr, m.nd,
-                            absmax(st.x) if st.x.size else 1.0, st.lam,
+            tangents(self.hdq, m.nn, self.sys.Tn)
+            self.sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, True)
+            roundoff_levels(self.sys.data, m.indices, m.indptr, m.nd, xmax, st.lam,
                             ROUNDOFF_ULPS, self.roff)
             self._istate[I_ROFF] = 1
-        return self.roff
+            return self.roff, True
+        return self.roff, False
 
     def _evaluate(self, st: State, cM: float, cC: float, want: bool) -> bool:
         """Residual at ``st``, with the iteration matrix if ``want`` (the next iteration
@@ -148,7 +154,8 @@ class ReferenceStepper(Stepper):
         since_factor = 0
         worst, wval = -1, 0.0
         kscale = sys.kscale
-        stall = STALL_ULPS * EPS * max(1.0, absmax(st.x))
+        xmax = absmax(st.x)
+        stall = STALL_ULPS * EPS
         last = np.inf
         stale = False
         for it in range(nw.max_iter + 1):
@@ -163,8 +170,10 @@ class ReferenceStepper(Stepper):
                 # constraint or contact turning the last bit of a position into a force)
                 # cannot be reduced; the rest must still meet the criteria. A step is never
                 # accepted on the size of the correction alone.
+                roff, evaluated = self._roundoff(st, xmax)
+                assembled = assembled and not evaluated
                 rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                   self._roundoff(st), self.force_scale)
+                                                   roff, self.force_scale)
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
                 if stale and self.factorizations != nfac0:
                     # no contraction on this step's own factorisation: an event (contact,
@@ -199,8 +208,13 @@ class ReferenceStepper(Stepper):
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite Newton correction")
             ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
+            last = correction_size(delta, nd, xmax)
+            stall = STALL_ULPS * EPS
             if it > 0 and ratio > nw.contraction:
-                if ratio > 2.0 and fresh:
+                if last <= NOISE_FACTOR * stall:
+                    # within the round-off noise and not contracting: stagnation too
+                    stall *= NOISE_FACTOR
+                elif ratio > 2.0 and fresh:
                     sq, sphi = scaled_residual(sys)
                     worst, wval = _worst(sys, sq, sphi)
                     return StepOutcome(StepStatus.NEWTON_DIVERGED, it + 1,
@@ -208,7 +222,6 @@ class ReferenceStepper(Stepper):
                                        residual=wval, message="corrections grow")
                 stale = True  # refactor at the next iteration unless it has converged
             prev = nrm if nrm > 0 else prev
-            last = nrm
             fresh = False
             lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
             # the matrix with the residual when the next iteration factorises for certain

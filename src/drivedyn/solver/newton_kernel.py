@@ -51,8 +51,15 @@ FLOOR_REL = 1e-2
 # Round-off of the unknowns, in units of the machine epsilon: the Lie update and the solve
 # leave each coordinate (and multiplier) uncertain by a few ulps of its magnitude.
 ROUNDOFF_ULPS = 16.0
-# Newton stagnates when its correction is below this many ulps of the largest coordinate
+# Newton stagnates when its correction is below this many ulps of its unknowns' scales
+# (correction_size): the largest coordinate for translations [m], 1 rad for rotations. One
+# scale of max(1 m, largest coordinate) for all unknowns stopped a 7 cm mechanism moving
+# 1e-6 m per step before it converged (an error floor at h < 1e-6 s)
 STALL_ULPS = 64.0
+# A correction that did not contract while within NOISE_FACTOR x the stall level is round-off
+# noise (the residual of stiff constraint penalties and contacts at the last bits of the
+# positions), not divergence: Newton has stagnated there too
+NOISE_FACTOR = 1024.0
 
 
 @njit(cache=True)
@@ -89,17 +96,43 @@ def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0):
 def roundoff_levels(data, indices, indptr, nd, xmax, lam, ulps, out):
     """Residual each equation shows when every unknown is off by its round-off, the row sums
     ``sum_j |A_ij| eps_j`` of the iteration matrix ``A`` (CSC arrays) with
-    ``eps_j = ulps eps max(1, xmax)`` for the position increments and ``ulps eps |lam_j|``
-    for the multipliers. A residual below it cannot be reduced in floating point (a stiff
-    constraint or contact turns the last bit of a position into a large force), so it is not
-    counted against the tolerance. ``out`` (neq,) receives the levels."""
+    ``eps_j = ulps eps xmax`` for the translation increments (``xmax`` [m]: the largest
+    coordinate, which sets the round-off of all of them), ``ulps eps`` [rad] for the
+    rotation increments (rotations are stored as matrices of entries up to 1) and
+    ``ulps eps |lam_j|`` for the multipliers. A residual below it cannot be reduced in
+    floating point (a stiff constraint or contact turns the last bit of a position into a
+    large force), so it is not counted against the tolerance. ``out`` (neq,) receives the
+    levels. Nothing here is in metres of the model's own choosing: a 1 cm mechanism and the
+    same mechanism 100 times larger get levels in proportion."""
     eps = 2.220446049250313e-16
-    ex = ulps * eps * max(1.0, xmax)
+    ex = ulps * eps * xmax
+    er = ulps * eps
     out[:] = 0.0
     for j in range(indptr.shape[0] - 1):
-        ej = ex if j < nd else ulps * eps * abs(lam[j - nd])
+        if j < nd:
+            ej = ex if j % 6 < 3 else er
+        else:
+            ej = ulps * eps * abs(lam[j - nd])
         for k in range(indptr[j], indptr[j + 1]):
             out[indices[k]] += abs(data[k]) * ej
+
+
+@njit(cache=True)
+def correction_size(delta, nd, xmax):
+    """Size of a Newton correction in units of its unknowns' own scales: the largest of
+    ``|delta_j| / xmax`` over the translation increments (``xmax`` [m], the largest
+    coordinate) and ``|delta_j|`` [rad] over the rotation increments (dofs ``6 i + 3..5``).
+    Below ``STALL_ULPS eps`` the correction is at the round-off of the unknowns (Newton
+    stagnates)."""
+    xs = xmax if xmax > 0.0 else 1e-300
+    m = 0.0
+    for j in range(nd):
+        d = abs(delta[j])
+        if j % 6 < 3:
+            d = d / xs
+        if d > m:
+            m = d
+    return m
 
 
 EPS = float(np.finfo(float).eps)
@@ -207,9 +240,9 @@ NEED_FACTOR = 6
 I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0 = range(9)
 NISTATE = 9
 # fstate fields: step size of the factorisation, force scale, and the saved correction
-# sizes and stagnation level of an iteration left for an outside factorisation
-F_LU_H, F_FORCE, F_PREV, F_LAST, F_STALL = range(5)
-NFSTATE = 5
+# sizes and largest coordinate of an iteration left for an outside factorisation
+F_LU_H, F_FORCE, F_PREV, F_LAST, F_XMAX, F_NOISY = range(6)
+NFSTATE = 6
 
 
 @njit(cache=True)
@@ -315,7 +348,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         nfac0 = istate[I_NFAC0]
         prev = fstate[F_PREV]
         last = fstate[F_LAST]
-        stall = fstate[F_STALL]
+        xmax = fstate[F_XMAX]
+        stall = stall_ulps * EPS * (NOISE_FACTOR if fstate[F_NOISY] != 0.0 else 1.0)
         assembled = True
         _factorised(istate, fstate, h)
         fresh = True
@@ -337,7 +371,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         prev = np.inf
         fresh = False
         since_factor = 0
-        stall = stall_ulps * EPS * max(1.0, absmax(x))
+        xmax = absmax(x)
+        stall = stall_ulps * EPS
         last = np.inf
         stale = False
     while True:
@@ -351,8 +386,15 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                 # round-off change of the unknowns produces (the tests' reference stepper
                 # explains)
                 if istate[I_LU] != 0 and istate[I_ROFF] == 0:
-                    roundoff_levels(data, indices, indptr, nd, absmax(x) if x.size else 1.0,
-                                    lam, roundoff_ulps, roff)
+                    # from the matrix without inertia and damping (cM = cC = 0): those
+                    # terms act through the increments, which carry no position round-off
+                    # (the residual and outputs are those of the same state again)
+                    _clear(r, rabs, data, True, hdq, nn, Tn, istate)
+                    _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, 0.0, 0.0,
+                              bool(True), r, rabs, data, red, nd)  # noqa: UP018
+                    assembled = False
+                    roundoff_levels(data, indices, indptr, nd, xmax, lam, roundoff_ulps,
+                                    roff)
                     istate[I_ROFF] = 1
                 rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, roff,
                                                         fstate[F_FORCE])
@@ -383,7 +425,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     istate[I_NFAC0] = nfac0
                     fstate[F_PREV] = prev
                     fstate[F_LAST] = last
-                    fstate[F_STALL] = stall
+                    fstate[F_XMAX] = xmax
+                    fstate[F_NOISY] = 1.0 if stall > stall_ulps * EPS else 0.0
                     return NEED_FACTOR, it, istate[I_NFAC] - nfac0
                 if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
                     _forget(istate, roff)
@@ -403,14 +446,18 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         if not finite:
             return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0
         ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
+        last = correction_size(delta, nd, xmax)
+        stall = stall_ulps * EPS
         if it > 0 and ratio > contraction:
-            if ratio > 2.0 and fresh:
+            if last <= NOISE_FACTOR * stall:
+                # a correction within the round-off noise that did not contract: stagnation
+                stall *= NOISE_FACTOR
+            elif ratio > 2.0 and fresh:
                 return DIVERGED, it + 1, istate[I_NFAC] - nfac0
             # refactor at the next iteration unless it has converged (note at REFACTOR_AFTER)
             stale = True
         if nrm > 0:
             prev = nrm
-        last = nrm
         fresh = False
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
         assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)

@@ -15,6 +15,7 @@ from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.linear import LinearSolver, default_linear_solver
+from drivedyn.solver.newton_kernel import STALL_ULPS, correction_size
 from drivedyn.solver.settings import Newton
 from drivedyn.solver.stepper import scaled_residual
 from drivedyn.solver.system import System
@@ -55,7 +56,9 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
     lin = linear_solver or default_linear_solver(model.neq)
     nd, nn = model.nd, model.nn
     trial = st.copy()
-    stall = 64.0 * np.finfo(float).eps * max(1.0, float(np.abs(st.x).max()))
+    # corrections at round-off of the unknowns' own scales (newton_kernel.correction_size)
+    stall = STALL_ULPS * np.finfo(float).eps
+    xmax = float(np.abs(st.x).max())
     last = np.inf
     for _ in range(max_iter):
         sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, True)
@@ -78,10 +81,11 @@ def solve_static(model: Model, state: State | None = None, t: float = 0.0,
             raise StaticsError(f"singular stiffness matrix ({exc}): the mechanism has a free "
                                "motion with no stiffness; constrain or drive it") from None
         delta = lin.solve(-sys.r)
-        last = float(np.abs(delta[:nd]).max()) if nd else 0.0
+        last = correction_size(delta, nd, xmax) if nd else 0.0
         # round-off floors of the two blocks: a block whose correction is already at
         # round-off (positions held by drivers, multipliers of a linear problem) does not vote
-        floors = (stall, 64.0 * np.finfo(float).eps * max(1.0, float(np.abs(st.lam).max(
+        # (the position block mixes metres and radians: the larger round-off of the two)
+        floors = (stall * max(1.0, xmax), stall * max(1.0, float(np.abs(st.lam).max(
             initial=0.0)), float(np.abs(delta[nd:]).max(initial=0.0))))
         norm0 = _block_norms(delta, nd)
         alpha = 1.0

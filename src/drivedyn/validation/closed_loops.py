@@ -36,9 +36,13 @@ def rod_inertia(mass: float, p: np.ndarray, q: np.ndarray) -> np.ndarray:
     return It * (np.eye(3) - np.outer(u, u)) + 1e-3 * It * np.outer(u, u)
 
 
-def _rod(spec: Spec, name: str, mass: float, p: Any, q: Any) -> None:
+def _rod(spec: Spec, name: str, mass: float, p: Any, q: Any,
+         omega: Any = (0.0, 0.0, 0.0)) -> None:
+    """A rod from ``p`` to ``q`` turning at ``omega`` [rad/s] about ``p``."""
     p, q = np.asarray(p, float), np.asarray(q, float)
-    spec.add_rigid_body(name, mass, rod_inertia(mass, p, q), com=0.5 * (p + q))
+    w = np.asarray(omega, float)
+    spec.add_rigid_body(name, mass, rod_inertia(mass, p, q), com=0.5 * (p + q),
+                        velocity=np.cross(w, 0.5 * (q - p)), angular_velocity=w)
 
 
 def _frame(x: np.ndarray, z: np.ndarray) -> np.ndarray:
@@ -97,7 +101,8 @@ FB_LINKS = (0.1, 0.35, 0.3, 0.3)
 def four_bar_model(joints: str = "hinges", theta0: float = 0.3,
                    speed: float | None = 2.0 * np.pi, plane: str = "xy",
                    spring: tuple[float, float] | None = None,
-                   links: tuple[float, float, float, float] = FB_LINKS) -> Model:
+                   links: tuple[float, float, float, float] = FB_LINKS,
+                   omega0: float = 0.0) -> Model:
     """Planar four-bar: crank, coupler and rocker (rods of 1 kg/m) on ground pivots, under
     gravity in the plane (-y of the plane), crank at ``theta0`` [rad].
 
@@ -113,6 +118,8 @@ def four_bar_model(joints: str = "hinges", theta0: float = 0.3,
         spring: (stiffness [N/m], damping [N s/m]) of a spring-damper from the ground to
             the coupler's midpoint, free length its initial length (the suspension spring).
         links: crank, coupler, rocker, ground lengths [m].
+        omega0: initial crank speed [rad/s] (without a driver; the other bodies start at
+            rest, the consistent initial state projects the velocities onto the loop).
     """
     if joints not in ("hinges", "mixed"):
         raise ValueError(f"joints: expected 'hinges' or 'mixed', got {joints!r}")
@@ -128,7 +135,7 @@ def four_bar_model(joints: str = "hinges", theta0: float = 0.3,
         raise ValueError(f"plane: expected 'xy' or 'yz', got {plane!r}")
     O2, A, B, O4 = (emb(p) for p in P)
     spec = Spec(gravity=g)
-    _rod(spec, "crank", a, O2, A)
+    _rod(spec, "crank", a, O2, A, omega0 * ax)
     _rod(spec, "coupler", b, A, B)
     _rod(spec, "rocker", c, O4, B)
     _hinge(spec, "main", "ground", "crank", O2, ax)
