@@ -213,7 +213,7 @@ _UY_ALONG_X = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 _UY_ALONG_Y = np.array([[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]])
 
 
-def squeezer_model(joints: str = "mixed") -> Model:
+def squeezer_model(joints: str = "mixed", scale: float = 1.0) -> Model:
     """Andrews' squeezer from seven rigid bodies in the x-y plane, at rest in the consistent
     initial position :data:`Q0`.
 
@@ -223,6 +223,11 @@ def squeezer_model(joints: str = "mixed") -> Model:
     constant torque :data:`MOM` on body 1; a spring of stiffness :data:`C0` and free length
     :data:`L0` from D on body 3 to the fixed point C.
 
+    ``scale``: every length times ``scale``, the moments of inertia and the motor torque
+    times ``scale``^2 (masses and the spring's stiffness unchanged): a dynamically similar
+    mechanism whose angles follow the same reference (the seven-angle equations scale by
+    ``scale``^2 throughout). The engine must converge it alike at any scale.
+
     ``joints``:
         ``"mixed"`` (default): non-redundant, 41 constraint rows for 42 dofs (one dof). The
         spanning tree O (ground-1), F (1-2), A (ground-5), A (ground-7) is hinges; each loop
@@ -231,19 +236,21 @@ def squeezer_model(joints: str = "mixed") -> Model:
         (7-6). The universals' second axes and the sphericals' z rows together hold each
         loop in the plane.
         ``"hinges"``: a planar hinge at each of the ten joints (50 rows, 9 of them
-        redundant: three per loop). It describes the mechanism as drawn, but the solver
-        refuses redundant constraint rows (singular iteration matrix) until it handles
-        them; it is built for that work.
+        redundant: three per loop), the mechanism as drawn; the solver sets the 9 dependent
+        rows aside (:mod:`drivedyn.solver.redundancy`).
     """
     if joints not in ("mixed", "hinges"):
         raise ValueError(f"squeezer_model: joints must be 'mixed' or 'hinges', got {joints!r}")
+    k = float(scale)
+    if not (np.isfinite(k) and k > 0.0):
+        raise ValueError(f"squeezer_model: scale must be > 0, got {scale!r}")
     beta, theta, gamma, phi, delta, omega, eps = Q0
     O = np.zeros(3)
-    A = np.array([XA, YA, 0.0])
-    B = np.array([XB, YB, 0.0])
-    F = _global(O, beta, (RR, 0.0))
-    G = _global(A, delta, (ZT, 0.0))
-    H = _global(A, eps, (0.0, -U))
+    A = k * np.array([XA, YA, 0.0])
+    B = k * np.array([XB, YB, 0.0])
+    F = _global(O, beta, (k * RR, 0.0))
+    G = _global(A, delta, (k * ZT, 0.0))
+    H = _global(A, eps, (0.0, -k * U))
     # (name, mass, inertia, origin, angle, local centre of mass)
     bodies = (
         ("b1", 0, O, beta, (RA, 0.0)),
@@ -255,20 +262,21 @@ def squeezer_model(joints: str = "mixed") -> Model:
         ("b7", 6, A, eps, (UB, -UA)),
     )
     spec = Spec(gravity=(0.0, 0.0, 0.0))
-    for name, k, origin, angle, com in bodies:
-        i = INERTIA[k]
-        spec.add_rigid_body(name, MASS[k], [0.6 * i, 0.6 * i, i], com=(com[0], com[1], 0.0),
-                            position=origin, rotation=rot_z(angle))
+    for name, ib, origin, angle, com in bodies:
+        i = INERTIA[ib] * k * k
+        spec.add_rigid_body(name, MASS[ib], [0.6 * i, 0.6 * i, i],
+                            com=(k * com[0], k * com[1], 0.0), position=origin,
+                            rotation=rot_z(angle))
     z = (0.0, 0.0, 1.0)
 
     def marker(name: str, body: str, local: tuple[float, float], rotation: Any = None) -> str:
-        pos = (local[0], local[1], 0.0)
+        pos = (k * local[0], k * local[1], 0.0)
         if rotation is None:
             return spec.add_marker(name, body, position=pos, axis=z)
         return spec.add_marker(name, body, position=pos, rotation=rotation)
 
     def ground(name: str, p: np.ndarray, rotation: Any = None) -> str:
-        return marker(name, "ground", (float(p[0]), float(p[1])), rotation)
+        return marker(name, "ground", (float(p[0]) / k, float(p[1]) / k), rotation)
 
     hinges = joints == "hinges"
     ux = None if hinges else _UY_ALONG_X
@@ -290,10 +298,10 @@ def squeezer_model(joints: str = "mixed") -> Model:
     spec.add(closing("E3", marker("E_b2_3", "b2", (-D, 0.0)), marker("E_b3", "b3", (0.0, -SS))))
     spec.add(closing("E4", marker("E_b2_4", "b2", (-D, 0.0)), marker("E_b4", "b4", (0.0, -E))))
     spec.add(closing("E6", marker("E_b2_6", "b2", (-D, 0.0)), marker("E_b6", "b6", (ZF, 0.0))))
-    spec.add(Torque("motor", marker("motor", "b1", (0.0, 0.0)), vector=(0.0, 0.0, MOM)))
+    spec.add(Torque("motor", marker("motor", "b1", (0.0, 0.0)), vector=(0.0, 0.0, MOM * k * k)))
     spec.add(SpringDamper("spring", marker("D_b3", "b3", (SD, -SC)),
-                          ground("C_ground", np.array([XC, YC])), stiffness=C0,
-                          free_length=L0))
+                          ground("C_ground", k * np.array([XC, YC])), stiffness=C0,
+                          free_length=k * L0))
     return compile_model(spec)
 
 
