@@ -54,6 +54,9 @@ def _summary(res, out: Path | None) -> dict:
         "peak_pressure": _finite(metrics["peak_pressure"]),
         "peak_pressure_at": metrics["peak_pressure_at"] or None,
         "results_file": str(out) if out else None,
+        "redundant_constraints": [r for r in ds.attrs.get("redundant_constraints",
+                                                           "").split("; ") if r],
+        "redundant_constraints_changes": ds.attrs.get("redundant_constraints_changes", ""),
         "final": final,
     }
 
@@ -141,6 +144,10 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
                    f"{st.newton_iterations}, factorizations {st.factorizations}, wall "
                    f"{st.wall_s:.3g} s\n  energy balance error "
                    f"{summary['energy_balance_error']:.3g} J\n  results: {target}")
+        red = summary["redundant_constraints"]
+        if red:
+            click.echo(f"  {len(red)} redundant constraint row(s) set aside (their joints' "
+                       f"reactions are not unique): {', '.join(red)}")
     if not res.success:
         sys.exit(EXIT_FAILED)
 

@@ -1,0 +1,160 @@
+"""Work-precision tables: error at the end of a run against the wall time of ``simulate``,
+fixed steps and adaptive steps, for three models:
+
+* ``squeezer``: Andrews' squeezing mechanism (``drivedyn.validation.squeezer``, three closed
+  loops, t = 0.03 s); error of the crank angle against the seven-angle scipy reference.
+* ``typec``: the TORSEN Type C on its test bench (rear side of the seed 003 protocol, the
+  file's solver settings otherwise), ``--t-bench`` seconds; error of the final node positions
+  and rotations against a run at fixed steps of ``h_ref`` (1 us by default).
+* ``vehicle``: the 4WD vehicle with TORSEN differentials, ``--t-vehicle`` seconds; error as
+  for the bench against a fixed-step reference.
+
+For the bench and the vehicle the error is the largest difference of the final state from
+the reference: node positions [m] and rotation-matrix entries (about rad) in one max norm.
+
+Usage::
+
+    python benchmarks/work_precision.py                 # all three
+    python benchmarks/work_precision.py --only squeezer
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+import drivedyn as dd
+from drivedyn.validation import squeezer as S  # noqa: N812
+
+
+def _row(kind: str, setting: str, res, wall: float, err: float) -> str:
+    st = res.stats
+    tot = st.steps + st.rejected
+    return (f"{kind:9s} {setting:>10s} {wall:9.3f} {st.steps:7d} {st.rejected:6d} "
+            f"{st.rejected / max(tot, 1):6.1%} {err:10.2e}")
+
+
+def _table(title: str, run: Callable, error: Callable, fixed: list[float],
+           rtols: list[float]) -> None:
+    print(f"\n{title}")
+    print(f"{'steps':9s} {'h / rtol':>10s} {'wall [s]':>9s} {'steps':>7s} {'rej.':>6s} "
+          f"{'rej. %':>6s} {'error':>10s}")
+    run(dd.FixedStep(fixed[0] if fixed else 1e-5))  # warm-up: compiled kernels loaded
+    for h in fixed:
+        t0 = time.perf_counter()
+        res = run(dd.FixedStep(h))
+        print(_row("fixed", f"{h:.1e}", res, time.perf_counter() - t0, error(res)), flush=True)
+    for rtol in rtols:
+        t0 = time.perf_counter()
+        res = run(rtol)
+        print(_row("adaptive", f"{rtol:.0e}", res, time.perf_counter() - t0, error(res)),
+              flush=True)
+
+
+def squeezer() -> None:
+    model = S.squeezer_model()
+    qref, _ = S.reference_solution()
+
+    def error(res) -> float:
+        return float(abs(S.squeezer_angles(res)[0][-1] - qref[0]))
+
+    def paired(step):  # adaptive: rtol with atol = 1e-2 m x rtol
+        if not isinstance(step, dd.FixedStep):
+            step = dd.AdaptiveStep(h0=1e-6, h_max=1e-3, rtol=step, atol=1e-2 * step)
+        return dd.simulate(model, S.T_END, step=step, output_dt=5e-4)
+
+    def atol_fixed(step):  # adaptive: rtol with atol = 1e-9
+        if not isinstance(step, dd.FixedStep):
+            step = dd.AdaptiveStep(h0=1e-6, h_max=1e-3, rtol=step, atol=1e-9)
+        return dd.simulate(model, S.T_END, step=step, output_dt=5e-4)
+
+    fixed = [4e-5, 2e-5, 1e-5, 5e-6, 2.5e-6]
+    _table("Andrews' squeezer, t = 0.03 s, error of beta [rad]; adaptive: atol = 1e-2 m x "
+           "rtol, h_max 1 ms", paired, error, fixed,
+           [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8])
+    _table("the same, adaptive with atol fixed at 1e-9 (the relative part dominates down to "
+           "rtol 1e-6)", atol_fixed, error, [], [1e-3, 1e-4, 1e-5, 1e-6, 1e-7])
+
+
+def _state_error(ref) -> Callable:
+    names = [n for n in ref.dataset.data_vars if str(n).endswith((".position", ".rotation"))]
+    final = {n: ref.final(n) for n in names}
+
+    def error(res) -> float:
+        if not res.success:
+            return float("nan")
+        return float(max(np.abs(res.final(n) - final[n]).max() for n in names))
+    return error
+
+
+def _solver_run(model, t_end: float, kw: dict, output_dt: float) -> Callable:
+    def run(step):
+        opts = dict(kw)
+        if isinstance(step, dd.FixedStep):
+            opts["step"] = step
+        else:
+            st = kw["step"]
+            opts["step"] = dd.AdaptiveStep(st.h0, st.h_min, st.h_max, step, st.atol,
+                                           atol_rot=st.atol_rot)
+        return dd.simulate(model, t_end, output_dt=output_dt, **opts)
+    return run
+
+
+def typec(t_end: float, h_ref: float) -> None:
+    from drivedyn.config import read_library_file
+    from drivedyn.library.differentials import of
+    from drivedyn.library.differentials.scenarios import bench_spec
+    from drivedyn.model.compile import compile_model
+
+    p, _, _ = read_library_file("torsen-c")
+    diff = of(p)
+    model = compile_model(bench_spec(diff, p, diff.sides[0])[0])
+    kw = p.solver.settings()
+    run = _solver_run(model, t_end, kw, 1e-2)
+    error = _state_error(run(dd.FixedStep(h_ref)))
+    st = kw["step"]
+    _table(f"TORSEN Type C bench (rear), t = {t_end:g} s, final-state error against fixed "
+           f"{h_ref:.0e} s (file: rtol {st.rtol:g}, atol {st.atol:g}, atol_rot {st.atol_rot}, "
+           f"h_max {st.h_max:g})", run, error, [4e-4, 2e-4, 1e-4, 5e-5],
+           [1e-2, 1e-3, 1e-4, 1e-5])
+
+
+def vehicle(t_end: float, h_ref: float) -> None:
+    import drivedyn.analysis.vehicle_4wd as V  # noqa: N812
+    from drivedyn.config import read_library_file
+    from drivedyn.library.vehicles.vehicle_4wd import build_spec
+    from drivedyn.model.compile import compile_model
+
+    p, _, _ = read_library_file("vehicle-4wd")
+    p = V.configure(p, "torsen")
+    tc, _, _ = read_library_file("torsen-c")
+    tb, _, _ = read_library_file("torsen-b")
+    spec, _ = build_spec(p, {"torsen-c": tc, "torsen-b": tb})
+    model = compile_model(spec)
+    kw = p.solver.settings(h_max=p.run.h_max)
+    run = _solver_run(model, t_end, kw, 1e-2)
+    error = _state_error(run(dd.FixedStep(h_ref)))
+    _table(f"4WD vehicle (TORSEN), t = {t_end:g} s, final-state error against fixed "
+           f"{h_ref:.0e} s", run, error, [4e-4, 2e-4, 1e-4], [1e-2, 1e-3, 1e-4])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--only", choices=("squeezer", "typec", "vehicle"))
+    ap.add_argument("--t-bench", type=float, default=0.2)
+    ap.add_argument("--t-vehicle", type=float, default=0.1)
+    ap.add_argument("--h-ref", type=float, default=2e-6)
+    a = ap.parse_args()
+    if a.only in (None, "squeezer"):
+        squeezer()
+    if a.only in (None, "typec"):
+        typec(a.t_bench, a.h_ref)
+    if a.only in (None, "vehicle"):
+        vehicle(a.t_vehicle, a.h_ref)
+
+
+if __name__ == "__main__":
+    main()
