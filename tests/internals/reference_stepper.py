@@ -155,7 +155,6 @@ class ReferenceStepper(Stepper):
         worst, wval = -1, 0.0
         kscale = sys.kscale
         xmax = absmax(st.x)
-        stall = STALL_ULPS * EPS
         last = np.inf
         stale = False
         for it in range(nw.max_iter + 1):
@@ -164,7 +163,7 @@ class ReferenceStepper(Stepper):
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
-            if (rq_max > nw.tol or ph_max > nw.phi_tol) and last <= stall:
+            if (rq_max > nw.tol or ph_max > nw.phi_tol) and last <= STALL_ULPS * EPS:
                 # Newton stagnates at the round-off of the positions: the part of the
                 # residual that a round-off change of the unknowns produces (a stiff
                 # constraint or contact turning the last bit of a position into a force)
@@ -209,12 +208,9 @@ class ReferenceStepper(Stepper):
                                    message="non-finite Newton correction")
             ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
             last = correction_size(delta, nd, xmax)
-            stall = STALL_ULPS * EPS
             if it > 0 and ratio > nw.contraction:
-                if last <= NOISE_FACTOR * stall:
-                    # within the round-off noise and not contracting: stagnation too
-                    stall *= NOISE_FACTOR
-                elif ratio > 2.0 and fresh:
+                # within the round-off noise a growing correction is not divergence
+                if ratio > 2.0 and fresh and last > NOISE_FACTOR * STALL_ULPS * EPS:
                     sq, sphi = scaled_residual(sys)
                     worst, wval = _worst(sys, sq, sphi)
                     return StepOutcome(StepStatus.NEWTON_DIVERGED, it + 1,
