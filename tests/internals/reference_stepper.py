@@ -73,6 +73,7 @@ class ReferenceStepper(Stepper):
         """Tell the stepper that the step from ``sn`` was accepted (for the predictor)."""
         self._prev_t = sn.t
         self._prev_vd[:] = sn.vd
+        self._prev_a[:] = sn.a
 
     def _roundoff(self, st: State, xmax: float) -> tuple[np.ndarray, bool]:
         """Round-off levels of the residual at ``st`` for the factorisation, computed once
@@ -264,7 +265,9 @@ def python_loop(loop: PythonLoop, model, st: State, rec, stats, progress,
         stats.newton_iterations += out.iterations
         err = 0.0
         if out.ok:
-            err, ierr = step_error(ctl, stepper.trial.a, st.a, stepper.hdq, h_try)
+            pt = stepper._prev_t
+            err, ierr = step_error(ctl, stepper.trial.a, st.a, stepper._prev_a, stepper.hdq,
+                                   h_try, st.t - pt if pt is not None and st.t > pt else 0.0)
             if err > 1.0:
                 out.status = StepStatus.ERROR_TOO_LARGE
                 out.worst_eq = int(ierr)

@@ -103,8 +103,8 @@ def test_rotation_coordinates_take_their_own_absolute_tolerance():
     for i in range(n):
         a1 = np.zeros(n)
         a1[i] = 1.0
-        err, where = step_error(ctl, a1, a0, hdq, h)
-        ref, _ = step_error(same, a1, a0, hdq, h)
+        err, where = step_error(ctl, a1, a0, a0, hdq, h, 0.0)
+        ref, _ = step_error(same, a1, a0, a0, hdq, h, 0.0)
         assert where == i
         rot = i < 12 and i % 6 >= 3
         assert err == pytest.approx(ref / 10.0 if rot else ref, rel=1e-12), i
@@ -113,3 +113,26 @@ def test_rotation_coordinates_take_their_own_absolute_tolerance():
 def test_atol_rot_must_be_positive():
     with pytest.raises(ValueError, match="atol_rot"):
         dd.AdaptiveStep(atol_rot=0.0)
+
+
+def test_error_estimate_takes_the_change_over_two_steps():
+    """With a step before (``h_prev`` > 0) the estimate is the change of the
+    pseudo-accelerations over the last two steps scaled to one step,
+    ``c h^2 |a1 - a_prev| h / (h + h_prev)``: an alternating component (+d, -d, +d) of the
+    pseudo-accelerations cancels, a steady ramp gives the one-step value. Fails if the
+    estimate takes ``a0`` (the one-step difference: 2 d on the alternating sequence) or
+    leaves out the ``h / (h + h_prev)`` scaling (twice the ramp's value)."""
+    from drivedyn.solver.step_control import step_error
+
+    n = 6
+    hdq = np.zeros(n)
+    ctl, _ = control_arrays(dd.AdaptiveStep(h0=1e-3, h_max=1e-3, rtol=0.0, atol=1e-6),
+                            0.25, 1.0, nnode=1)
+    h = 1e-3
+    ramp_prev, ramp0, ramp1 = np.full(n, 1.0), np.full(n, 2.0), np.full(n, 3.0)
+    one, _ = step_error(ctl, ramp1, ramp0, ramp0, hdq, h, 0.0)
+    two, _ = step_error(ctl, ramp1, ramp0, ramp_prev, hdq, h, h)
+    assert two == pytest.approx(one, rel=1e-12)
+    alt_prev, alt0, alt1 = np.full(n, 5.0), np.full(n, 7.0), np.full(n, 5.0)
+    err, _ = step_error(ctl, alt1, alt0, alt_prev, hdq, h, h)
+    assert err == 0.0

@@ -130,7 +130,8 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
     returns a RUN_* code. Arguments::
 
         sizes = (nn, nd, every)
-        accepted = (x0, R0, v0, vd0, a0, lam0, es0, prev_vd)   # the accepted state
+        accepted = (x0, R0, v0, vd0, a0, lam0, es0, prev_vd, prev_a)   # the accepted
+                                                   # state, vd and a of the one before
         trial = (x, R, v, vd, a, lam, es, hdq)                 # as newton_iterations
         arrays, linear, sparse, par, istate, fstate            # as newton_iterations
         control = (touts, ctl, cs, ls, lo, stats)              # module docstring
@@ -144,11 +145,12 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
     ``sk[0]`` counts the rows filled (the caller empties them). The loop returns RUN_OUTPUT
     when they are full; with K = 0 at every output time (the caller then records).
 
-    ``prev_vd`` holds the accelerations of the state before the accepted one (the
-    predictor's history, time ``ls[LS_PREV_T]``).
+    ``prev_vd`` and ``prev_a`` hold the accelerations and pseudo-accelerations of the state
+    before the accepted one (the predictor's and the error estimate's history, time
+    ``ls[LS_PREV_T]``).
     """
     nn, nd, every = sizes
-    x0, R0, v0, vd0, a0, lam0, es0, prev_vd = accepted
+    x0, R0, v0, vd0, a0, lam0, es0, prev_vd, prev_a = accepted
     x, R, v, vd, a, lam, es, hdq = trial
     touts, ctl, cs, ls, lo, stats = control
     eout, gstart, gdriver, pin, pd, diss, eacc = energy
@@ -197,7 +199,9 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
         ierr = -1
         ok = code == nk.SUCCESS
         if ok:
-            err, ierr = step_error(ctl, a, a0, hdq, h_try)
+            pt = ls[LS_PREV_T]
+            err, ierr = step_error(ctl, a, a0, prev_a, hdq, h_try,
+                                   t - pt if pt == pt and t > pt else 0.0)
             if err > 1.0:
                 ok = False
                 code = ERROR_TOO_LARGE
@@ -210,6 +214,7 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
             advance_energy(eout, gstart, gdriver, pin, pd, diss, eacc, h_try)
             ls[LS_PREV_T] = t
             _copy(vd0, prev_vd)
+            _copy(a0, prev_a)
             _copy_state(x, R, v, vd, a, lam, es, x0, R0, v0, vd0, a0, lam0, es0)
             stats[ST_STEPS] += 1.0
             stats[ST_HMIN] = min(stats[ST_HMIN], h_try)
@@ -276,7 +281,7 @@ def _head(stepper: Any, st: State, prev_vd: np.ndarray, every: bool) -> tuple:
     """The ``sizes``, ``accepted``, ``trial`` and ``arrays`` arguments of run_steps."""
     m, tr = stepper.model, stepper.trial
     return ((int(m.nn), int(m.nd), bool(every)),
-            (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, prev_vd),
+            (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, prev_vd, stepper._prev_a),
             (tr.x, tr.R, tr.v, tr.vd, tr.a, tr.lam, tr.es, stepper.hdq),
             stepper._state_args(st)[2])
 
