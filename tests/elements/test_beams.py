@@ -301,14 +301,22 @@ def test_l_frame_of_two_beams_sharing_a_node():
 
 
 def test_shipped_flexible_driveshaft_carries_the_final_drive_torque():
-    """The shipped driveshaft model over its last 0.2 s (steady running, mean over ~6 input
-    revolutions): the shaft's torque at both ends equals the pinion's mesh torque (torque
-    balance of the pinion; measured 5e-4), and the wheel's mesh torque holds the 200 N m
-    load (measured 1.4e-3; the mean of the twice-per-revolution Cardan fluctuation)."""
-    res = dd.simulate(dd.load_model("flexible-driveshaft"))
+    """The shipped driveshaft model in steady running, mean over the last 12 periods of its
+    Cardan speed fluctuation (twice per revolution; about 0.19 s), sampled at 0.1 ms: the
+    shaft's torque at both ends equals the pinion's mesh torque (torque balance of the
+    pinion; measured 1e-5 to 3.3e-4 with two step controls), and the wheel's mesh torque
+    holds the 200 N m load (measured 5e-5 to 1.9e-4). Over a window that is not a whole
+    number of periods, or sampled at 1 ms (the 480 Hz tooth-mesh ripple of 11 % aliases),
+    the same balance varied from 1e-5 to 2e-3 with the step sequence: a mean of the shaft's
+    and pinion's inertial torques, not a solver error. Fails if a beam's torque output takes
+    the wrong end or sign, or the mesh torque its arm on the wrong gear."""
+    res = dd.simulate(dd.load_model("flexible-driveshaft"), output_dt=1e-4)
     assert res.success, res.message
     ds = res.dataset
-    sel = ds["time"].values >= 0.4
+    t = ds["time"].values
+    w = np.linalg.norm(ds["pinion.angular_velocity"].values, axis=1)
+    period = np.pi / w[t >= 0.4].mean()  # Cardan fluctuation: twice per revolution
+    sel = t >= t[-1] - 12 * period - 1e-12
 
     def mean(k):
         return float(ds[k].values[sel].mean())
@@ -316,7 +324,7 @@ def test_shipped_flexible_driveshaft_carries_the_final_drive_torque():
     pinion = mean("final_drive.torque_a")
     for e in ("driveshaft.e0", "driveshaft.e11"):
         assert mean(f"{e}.torque") == pytest.approx(pinion, rel=1e-3)
-    assert abs(mean("final_drive.torque_b")) == pytest.approx(200.0, rel=3e-3)
+    assert abs(mean("final_drive.torque_b")) == pytest.approx(200.0, rel=1e-3)
     # the helical mesh with friction 0.05 passes 99 % of the power: 3 |T_a| > |T_b|
     assert 0.98 < abs(mean("final_drive.torque_b")) / (3 * abs(pinion)) < 1.0
 

@@ -82,10 +82,10 @@ class FixedStep:
 class AdaptiveStep:
     """Step size from a local error estimate and Newton convergence.
 
-    The local error of the positions is estimated as ``|beta - 1/6| h^2 |da|``, with ``da``
-    the change of the pseudo-accelerations over the step taken over the last two steps
-    (``(a_n+1 - a_n-1) h / (h + h_prev)``: their numerical mode that alternates in sign from
-    step to step cancels; :func:`~drivedyn.solver.step_control.step_error`), and weighted by
+    The local error of the positions is estimated as ``|beta - 1/6| h^2 |a_n+1 - a_n-1|``,
+    the change of the pseudo-accelerations over the last two steps (their numerical mode
+    that alternates in sign from step to step cancels;
+    :func:`~drivedyn.solver.step_control.step_error`), and weighted by
     ``atol + rtol |h dq|`` (the step's own increment), so rtol is the relative accuracy of
     the motion within a step and atol an absolute accuracy per step. After a Newton
     failure at ``h`` the step is retried at ``h / 4`` and then stays below ``h / 2``, a cap
