@@ -54,6 +54,12 @@ class ReferenceStepper(Stepper):
 
     _prev_t: float | None = None  # time of the state before the accepted one (None: none)
 
+    def __init__(self, *args, **kw) -> None:
+        super().__init__(*args, **kw)
+        # pseudo-accelerations of the state before the accepted one (the error estimate's
+        # history; the compiled loop keeps its own, StepLoop.prev_a)
+        self._prev_a = np.zeros(self.model.nd)
+
     @property
     def lu_h(self) -> float | None:
         """Step size the current factorisation was built for (None: none)."""

@@ -277,11 +277,12 @@ def commit_table(model: Model) -> tuple[np.ndarray, np.ndarray] | None:
     return np.array(dst, np.int64), np.array(src, np.int64)
 
 
-def _head(stepper: Any, st: State, prev_vd: np.ndarray, every: bool) -> tuple:
+def _head(stepper: Any, st: State, prev_vd: np.ndarray, prev_a: np.ndarray,
+          every: bool) -> tuple:
     """The ``sizes``, ``accepted``, ``trial`` and ``arrays`` arguments of run_steps."""
     m, tr = stepper.model, stepper.trial
     return ((int(m.nn), int(m.nd), bool(every)),
-            (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, prev_vd, stepper._prev_a),
+            (st.x, st.R, st.v, st.vd, st.a, st.lam, st.es, prev_vd, prev_a),
             (tr.x, tr.R, tr.v, tr.vd, tr.a, tr.lam, tr.es, stepper.hdq),
             stepper._state_args(st)[2])
 
@@ -315,7 +316,7 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
         f = np.zeros(1)
         control = (f, f, f, f, np.zeros(1, np.int64), f)
         lu, piv, ib, tr = stepper._no_dense
-        args = (G, *_head(stepper, st, np.zeros(m.nd), False),
+        args = (G, *_head(stepper, st, np.zeros(m.nd), np.zeros(m.nd), False),
                 (lu, piv, ib, tr, stepper._delta, stepper.roff, stepper._no_roff),
                 stepper._no_sparse, stepper._par, stepper._istate, stepper._fstate, control,
                 _energy_args(energy), (*commits, m.aux_all),
@@ -351,10 +352,11 @@ class StepLoop:
         self.lo = np.zeros(NLO, np.int64)
         self.stats = np.array([0.0, 0.0, 0.0, np.inf, 0.0])
         self.prev_vd = np.zeros(m.nd)
+        self.prev_a = np.zeros(m.nd)
         self.control = (touts, ctl, cs, self.ls, self.lo, self.stats)
         self.energy = _energy_args(energy)
         self.commits = (commits[0], commits[1], m.aux_all)
-        self.head = _head(stepper, st, self.prev_vd, every)
+        self.head = _head(stepper, st, self.prev_vd, self.prev_a, every)
         self._nn, self._nd = int(m.nn), int(m.nd)
         self._sizes = (int(m.aux_all.size), int(energy.diss.size), int(energy.acc.size))
         self.buffered = buffered
@@ -420,7 +422,7 @@ class StepLoop:
         s = self.stepper
         s._istate[I_PHASE] = 0
         s._forget()
-        self.head = _head(s, self.st, self.prev_vd, self.head[0][2])
+        self.head = _head(s, self.st, self.prev_vd, self.prev_a, self.head[0][2])
 
     def flush(self, rec: Any) -> int:
         """Hand the outputs the loop stored since the last call to ``rec`` (a

@@ -110,9 +110,7 @@ class Stepper:
         # round-off levels of the residual for the factorised matrix (zero: none yet)
         self.roff = np.zeros(model.neq)
         self._no_roff = np.zeros(model.neq)
-        # accelerations and pseudo-accelerations of the state before the accepted one
-        self._prev_vd = np.zeros(model.nd)
-        self._prev_a = np.zeros(model.nd)
+        self._prev_vd = np.zeros(model.nd)  # accelerations of the state before the accepted one
         self._par = np.array([am, af, g, b, self.bp, self.gp, newton.tol, newton.phi_tol,
                               newton.contraction, newton.max_iter,
                               1.0 if newton.strategy == "full" else 0.0, FLOOR_REL,
