@@ -85,8 +85,8 @@ def test_double_wishbone_of_hinges():
     on two hinges: 3 redundant rows) settling on its spring under gravity from 0.15 rad of
     lower-arm angle: the upright's position and rotation as the non-redundant build's
     (within 1e-12), the spring force (a unique reaction) within 1e-9 N, and its static
-    equilibrium the same. Fails if the rows set aside are not held at zero multiplier (the
-    spring force and the statics differ) or not set aside (singular at start)."""
+    equilibrium the same. Fails if the dependent rows are not set aside (singular at start,
+    in the run and in the statics) or an independent one is (the loop comes apart)."""
     kw = dict(theta0=0.15, speed=None, plane="yz", spring=DW_SPRING, links=DW_LINKS)
     mh, mm = four_bar_model("hinges", **kw), four_bar_model("mixed", **kw)
     rh, rm = _run(mh), _run(mm)
@@ -105,8 +105,7 @@ def test_bricard_linkage_moves_with_one_degree_of_freedom():
     row is set aside, the linkage moves (a link travels more than 1 m), every hinge row
     holds within 1e-12, and the energy error is second order: it falls 12-20 times from
     h = 1 ms to 0.25 ms (16 for order 2). Fails if the row set aside were independent
-    (the hinges come apart), if its multiplier were not held at zero (energy error of
-    first order from the spurious reaction) or with no row set aside (singular at start)."""
+    (the hinges come apart) or with no row set aside (singular at start)."""
     m = bricard_model()
     errs = []
     for h in (1e-3, 2.5e-4):
