@@ -36,6 +36,8 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "plane_contact": [contact.plane_case, contact.sphere_case, contact.plane_ground_case],
     "thrust_washer_contact": [contact.washer_case, contact.washer_ground_case],
     "journal_contact": [contact.journal_case, contact.journal_ground_case],
+    "journal_film": [contact.journal_film_case, contact.journal_film_blend_case,
+                     contact.journal_film_contact_case, contact.journal_film_centred_case],
     "squeeze_film": [contact.squeeze_case, contact.squeeze_metal_case],
     "unilateral_contact": [contact.unilateral_case, contact.unilateral_ground_case],
     "gear_pair": list(gears.CASES),

@@ -126,6 +126,53 @@ def journal_ground_case() -> Spec:
     return spec
 
 
+def journal_film_case() -> Spec:
+    """Plain journal film at eccentricity 0.21, clear of the blend (h >= 2 h_min)."""
+    from drivedyn.elements.contact import JournalFilm
+
+    spec = Spec()
+    a, b = two_bodies(spec, np.array([0.08, 0.06, 0.01]))
+    spec.add(JournalFilm("f", a, b, viscosity=3.0, length=0.2, bore_radius=0.6,
+                         pin_radius=0.12, min_film=0.05))
+    return spec
+
+
+def journal_film_blend_case() -> Spec:
+    """Land film in the blend near the wall (0 < h = 0.07 m < 2 h_min)."""
+    from drivedyn.elements.contact import JournalFilm
+
+    spec = Spec()
+    a, b = two_bodies(spec, np.array([0.06, 0.08, -0.02]))
+    spec.add(JournalFilm("f", a, b, viscosity=3.0, length=0.2, bore_radius=0.27,
+                         pin_radius=0.1, lands=8, land_width=0.03, min_film=0.06))
+    return spec
+
+
+def journal_film_contact_case() -> Spec:
+    """Land film past the wall (h = -0.022 m < 0: the floor h_min) and a plain film at
+    eccentricity 0.57 on the same markers, bore on the ground."""
+    from drivedyn.elements.contact import JournalFilm
+
+    spec = Spec()
+    a, b = two_bodies(spec, np.array([-0.14, 0.1, 0.02]), ground_a=True)
+    spec.add(JournalFilm("f", a, b, viscosity=2.0, length=0.15, bore_radius=0.25,
+                         pin_radius=0.1, lands=6, land_width=0.02, min_film=0.03))
+    spec.add(JournalFilm("g", a, b, viscosity=2.0, length=0.15, bore_radius=0.4,
+                         pin_radius=0.1, min_film=0.03))
+    return spec
+
+
+def journal_film_centred_case() -> Spec:
+    """Plain film 5 mm off the centre of a 0.3 m clearance, where it is isotropic."""
+    from drivedyn.elements.contact import JournalFilm
+
+    spec = Spec()
+    a, b = two_bodies(spec, np.array([0.004, -0.003, 0.05]))
+    spec.add(JournalFilm("f", a, b, viscosity=2.0, length=0.15, bore_radius=0.4,
+                         pin_radius=0.1, min_film=0.03))
+    return spec
+
+
 def squeeze_case() -> Spec:
     """Film only, thickness 0.1 m >= 2 h_min: the exact film law and the drag torque."""
     from drivedyn.elements.contact.squeeze_film import SqueezeFilm

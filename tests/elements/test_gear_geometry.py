@@ -17,6 +17,7 @@ from drivedyn.elements.gears import (
     iso6336_single_stiffness,
     mesh_cycle_levels,
 )
+from drivedyn.elements.gears.geometry import top_land
 
 DEG = math.pi / 180.0
 
@@ -168,3 +169,20 @@ def test_gear_pair_refuses_undercut() -> None:
     with pytest.raises(ModelError, match=r"teeth_a.*undercuts"):
         GearPair("g", "a", "b", 10, 27, kind="bevel", cone_angle_a=np.radians(20.3),
                  cone_angle_b=np.radians(69.7), **kw).validate()
+
+
+def test_top_land_by_hand() -> None:
+    """Top land of a z 20, m 1 mm, 20 deg spur gear worked by hand (ISO 21771): d_a = 22,
+    d_b = 18.794, alpha_a = 31.321 deg, s_a = 22 (pi/40 + inv 20 deg - inv alpha_a) =
+    0.6949 mm; a helical gear's normal land is the transverse one times cos(beta_a); a
+    positive profile shift widens the tooth but its tip (d_a grows) narrows the land."""
+    s, beta_a = top_land(20, 1e-3, 20 * DEG)
+    db = 20e-3 * math.cos(20 * DEG)
+    aa = math.acos(db / 22e-3)
+    ref = 22e-3 * (math.pi / 40 + involute(20 * DEG) - involute(aa))
+    assert s == pytest.approx(ref, rel=1e-12) and s == pytest.approx(0.6949e-3, rel=1e-3)
+    assert beta_a == 0.0
+    sn, beta_a = top_land(12, 2e-3, 20 * DEG, 30 * DEG)
+    assert beta_a == pytest.approx(math.atan(math.tan(30 * DEG) * 31.7128 / 27.7128), rel=1e-5)
+    assert sn == pytest.approx(1.6505e-3 * math.cos(beta_a), rel=1e-3)
+    assert top_land(20, 1e-3, 20 * DEG, x=0.5)[0] < s

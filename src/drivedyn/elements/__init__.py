@@ -5,6 +5,7 @@ from drivedyn.elements.beams import GeometricallyExactBeam
 from drivedyn.elements.contact import (
     FrictionLaw,
     JournalContact,
+    JournalFilm,
     NormalLaw,
     PlaneContact,
     SqueezeFilm,
@@ -46,6 +47,7 @@ __all__ = [
     "Hinge",
     "JointDriver",
     "JournalContact",
+    "JournalFilm",
     "NormalLaw",
     "ParallelAxes",
     "Planar",

@@ -93,7 +93,8 @@ def torsen_b_vehicle(quick: bool = False, figure_dir: str | None = None) -> list
     torques in backwards motion (each favours the other side). Output torques sum to the
     housing torque (0.5 %) in every window, each backward TDR equals the forward TDR of the
     same torque level (1 %), and every TDR the quasi-static model at the window's speeds
-    (0.5 %).
+    (0.1 %: fails if the element gears whirl in their pockets, as they do without the
+    pockets' oil film, 0.2-0.5 %).
     Quick: two levels (125 and -125 N m) held 0.3 s instead of the file's four."""
     from drivedyn.analysis.vehicle import run_vehicle
     from drivedyn.config import read_library_file
@@ -119,10 +120,10 @@ def torsen_b_vehicle(quick: bool = False, figure_dir: str | None = None) -> list
         out.append(compare(case, f"{label}: |T_h - (T_l + T_r)| / |T_h|", 0.0,
                            lv["balance_error"], "1", 5e-3, "torque balance of the housing"))
         if lv["tdr_analytic"] is not None:
-            # measured 0.1 % forwards (0.3 % sampled at 0.2 ms: a small element-gear whirl
-            # remains in the 12 um pocket play), 0.03 % backwards
+            # measured within 0.04 % with the pocket oil film (pockets.oil_film); without it
+            # the element gears whirl in the forward levels and come out 0.2-0.5 % low
             out.append(compare(case, f"{label}: TDR vs quasi-static", lv["tdr_analytic"],
-                               lv["tdr"], "1", 0.005, "analytic model at the window's "
+                               lv["tdr"], "1", 0.001, "analytic model at the window's "
                                "speeds"))
         if lv["direction"] == "forward":
             fwd[lv["level"]] = lv

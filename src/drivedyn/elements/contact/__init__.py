@@ -6,6 +6,8 @@
   face on a thrust washer (``thrust_washer_contact``).
 * :mod:`~drivedyn.elements.contact.journal`: :class:`JournalContact`, a pin in a bore
   (``journal_contact``).
+* :mod:`~drivedyn.elements.contact.journal_film`: :class:`JournalFilm`, the oil film of a pin
+  in a bore (squeeze-film damping, ``journal_film``).
 * :mod:`~drivedyn.elements.contact.squeeze_film`: :class:`SqueezeFilm`, lubricated annular
   faces (``squeeze_film``).
 * :mod:`~drivedyn.elements.contact.unilateral`: :class:`UnilateralContact`, stick/slip
@@ -47,10 +49,11 @@ Laws may be given as mappings (model files: TOML tables), e.g.
 from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw
 from drivedyn.elements.contact.journal import JournalContact
+from drivedyn.elements.contact.journal_film import JournalFilm
 from drivedyn.elements.contact.plane import PlaneContact
 from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.contact.thrust_washer import ThrustWasherContact
 from drivedyn.elements.contact.unilateral import UnilateralContact
 
-__all__ = ["FrictionLaw", "JournalContact", "NormalLaw", "PlaneContact", "SqueezeFilm",
-           "ThrustWasherContact", "UnilateralContact"]
+__all__ = ["FrictionLaw", "JournalContact", "JournalFilm", "NormalLaw", "PlaneContact",
+           "SqueezeFilm", "ThrustWasherContact", "UnilateralContact"]

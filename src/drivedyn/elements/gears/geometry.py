@@ -77,6 +77,30 @@ def undercut_limits(teeth: float, alpha_n: float, beta: float = 0.0,
         float(addendum * (5.0 / 6.0 - teeth / z_g))
 
 
+def top_land(teeth: int, mn: float, alpha_n: float, beta: float = 0.0, x: float = 0.0,
+             addendum: float = 1.0) -> tuple[float, float]:
+    """Top land of an external cylindrical gear (ISO 21771): ``(s_na, beta_a)``, its width
+    normal to the tooth trace on the tip cylinder [m] and the helix angle there [rad].
+
+    ``s_at = d_a (s_t / d + inv alpha_t - inv alpha_at)`` with ``s_t = m_t (pi/2 + 2 x tan
+    alpha_n)``, ``cos alpha_at = d_b / d_a``, ``tan beta_a = tan beta d_a / d`` and
+    ``s_na = s_at cos beta_a``; ``teeth`` z, normal module ``mn`` [m], normal pressure
+    angle ``alpha_n`` and reference helix angle ``beta`` [rad], profile shift coefficient
+    ``x``, addendum coefficient ``addendum`` (tip radius ``d/2 + (addendum + x) mn``).
+    """
+    beta = abs(beta)
+    alpha_t = transverse_pressure_angle(alpha_n, beta)
+    mt = mn / np.cos(beta)
+    d = teeth * mt
+    da = d + 2.0 * (addendum + x) * mn
+    db = d * np.cos(alpha_t)
+    alpha_at = float(np.arccos(db / da))
+    st = mt * (0.5 * np.pi + 2.0 * x * np.tan(alpha_n))
+    sat = da * (st / d + involute(alpha_t) - involute(alpha_at))
+    beta_a = float(np.arctan(np.tan(beta) * da / d))
+    return float(sat * np.cos(beta_a)), beta_a
+
+
 def base_helix_angle(alpha_n: float, beta: float) -> float:
     """``beta_b = asin(sin beta cos alpha_n)`` [rad] (signed like ``beta``)."""
     return float(np.arcsin(np.sin(beta) * np.cos(alpha_n)))

@@ -42,10 +42,16 @@ from typing import Any
 import numpy as np
 
 from drivedyn.elements import Cylindrical, GearPair, Hinge, ParallelAxes
-from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.elements.contact import (
+    FrictionLaw,
+    JournalContact,
+    JournalFilm,
+    NormalLaw,
+    ThrustWasherContact,
+)
 from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
-from drivedyn.elements.gears.geometry import CylindricalPair, undercut_limits
+from drivedyn.elements.gears.geometry import CylindricalPair, top_land, undercut_limits
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 from drivedyn.model.spec import ModelError, Spec
 
@@ -219,6 +225,27 @@ def _washer(sp: Spec, p: TorsenBFile, name: str, marker_a: str, marker_b: str, r
                                    r_ext=r_ext, friction=friction))
 
 
+def pocket_film(p: TorsenBFile, geo: Geometry, name: str, bore: str, pin: str) -> JournalFilm:
+    """The oil film in the pocket of one element gear (``pockets.oil_film``).
+
+    The element gear's tips are the film's lands: ``teeth_element`` lands of the top land's
+    width normal to the tooth trace, each of length (the toothed length: the end meshes and
+    the side mesh, not the relieved middle nor the side gap) / cos(tip helix angle); the
+    oil is the washers' (``washers.viscosity``). The film floor is the clearance of the lands
+    next to a land that touches the bore, ``c (1 - cos(2 pi / z))``: a touching land's film
+    does not squeeze (its asperities carry the load) and the film damps metal contact
+    through its neighbours only.
+    """
+    g, pk = p.gears, p.pockets
+    land, beta_a = top_land(g.teeth_element, g.module, g.pressure_angle, g.helix_angle)
+    toothed = 2 * g.end_width + g.face_width
+    return JournalFilm(name, bore, pin, viscosity=p.washers.viscosity,
+                       length=toothed / math.cos(beta_a),
+                       bore_radius=geo.r_tip_element + pk.clearance,
+                       pin_radius=geo.r_tip_element, lands=g.teeth_element, land_width=land,
+                       min_film=pk.clearance * (1 - math.cos(2 * math.pi / g.teeth_element)))
+
+
 def build_spec(p: TorsenBFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.0),
                friction_scale: float = 1.0) -> tuple[Spec, Geometry]:
     """The differential without loads or drivers.
@@ -270,6 +297,8 @@ def build_spec(p: TorsenBFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
             sp.add(JournalContact(f"{name}_pocket", f"pocket_{name}", f"m_{name}",
                                   law=_law(p), bore_radius=geo.r_tip_element + pk.clearance,
                                   pin_radius=geo.r_tip_element, friction=tip))
+            if pk.oil_film:
+                sp.add(pocket_film(p, geo, f"{name}_film", f"pocket_{name}", f"m_{name}"))
             # end faces on the pocket floors (marker A on the floor, normal towards the gear)
             for tag, zf, axis in (("l", -half, Z), ("r", half, MZ)):
                 floor = zf + math.copysign(pk.end_gap, zf)

@@ -92,13 +92,16 @@ class Washers(Strict):
 class Pockets(Strict):
     """Element gears in the housing pockets: radial clearance of the tips in the bore, and
     the end faces on the pocket floors (annulus ``end_r_int..end_r_ext``, axial play
-    ``end_gap``); ``mu`` is the coefficient of both (tips and end faces)."""
+    ``end_gap``); ``mu`` is the coefficient of both (tips and end faces). ``oil_film``: the
+    gear oil (``washers.viscosity``) in each pocket's clearance as a squeeze film on the tip
+    lands (:class:`~drivedyn.elements.contact.JournalFilm`)."""
 
     clearance: PositiveLength
     mu: Coefficient
     end_r_int: NonNegLength = 0.004
     end_r_ext: PositiveLength = 0.010
     end_gap: NonNegLength = 5e-5
+    oil_film: bool = False
 
 
 class Bodies(Strict):
