@@ -266,17 +266,20 @@ def test_vehicle_profile_runs_backwards() -> None:
 
 def test_vehicle_run_takes_its_rotation_tolerance() -> None:
     """``vehicle.atol_rot`` replaces ``solver.step.atol_rot`` in the vehicle run only (the
-    shipped file: 1e-6 rad there, 1e-5 rad on the bench), both from the model file and in
+    shipped file leaves it out: 1e-5 rad in both), both from the model file and in
     ``run_vehicle``'s settings; a non-positive value is refused, naming the key."""
     from drivedyn.config.loader import load_model
 
-    assert SHIPPED.solver.step.atol_rot == 1e-5 and SHIPPED.vehicle.atol_rot == 1e-6
-    bench = load_model("torsen-b", ["scenario.kind=bench"]).meta["scenario"]
-    vehicle = load_model("torsen-b", ["scenario.kind=vehicle"]).meta["scenario"]
+    assert SHIPPED.solver.step.atol_rot == 1e-5 and SHIPPED.vehicle.atol_rot is None
+    assert vehicle_settings(SHIPPED)["step"].atol_rot == 1e-5
+    sets = ["vehicle.atol_rot=1e-6"]
+    p = params(*sets)
+    bench = load_model("torsen-b", [*sets, "scenario.kind=bench"]).meta["scenario"]
+    vehicle = load_model("torsen-b", [*sets, "scenario.kind=vehicle"]).meta["scenario"]
     assert bench.step.atol_rot == 1e-5
     assert vehicle.step.atol_rot == 1e-6
-    assert vehicle.step.h_max == SHIPPED.vehicle.h_max
-    assert vehicle_settings(SHIPPED)["step"].atol_rot == 1e-6
-    assert SHIPPED.solver.settings(h_max=SHIPPED.vehicle.h_max)["step"].atol_rot == 1e-5
+    assert vehicle.step.h_max == p.vehicle.h_max
+    assert vehicle_settings(p)["step"].atol_rot == 1e-6
+    assert p.solver.settings(h_max=p.vehicle.h_max)["step"].atol_rot == 1e-5
     with pytest.raises(ModelFileError, match=r"vehicle\.atol_rot"):
         params("vehicle.atol_rot=0")

@@ -151,7 +151,7 @@ class Vehicle(Strict):
     ``h_max`` caps the step of this run: the turning gears excite the meshes, and long steps
     cost Newton failures and leave numerical oscillations in the held torques. ``atol_rot``
     [rad], if given, replaces ``solver.step.atol_rot`` in this run: a tolerance measured on
-    the bench need not hold where the element gears whirl in their pocket play. ``rho_inf``,
+    the bench need not hold in the vehicle (parts whose pockets turn with the housing). ``rho_inf``,
     if given, replaces ``solver.rho_inf`` in this run: more numerical damping of what rings
     above the step's resolution (gear meshes, washer and pocket contacts at each tip-in)."""
 
