@@ -21,8 +21,9 @@ Usage::
     python benchmarks/compiled_step_costs.py                 # Type C bench, rear side
     python benchmarks/compiled_step_costs.py torsen-c --side front
     python benchmarks/compiled_step_costs.py torsen-b --side right
+    python benchmarks/compiled_step_costs.py vehicle-4wd --t-end 3   # launch, state at 2 s
 
-Prints a table and one JSON line. Dense-LU models only (up to 150 unknowns).
+Prints a table and one JSON line. Dense-LU models only.
 """
 
 from __future__ import annotations
@@ -84,14 +85,28 @@ def main() -> None:
     ap.add_argument("model", nargs="?", default="torsen-c")
     ap.add_argument("--side", default="rear")
     ap.add_argument("--n", type=int, default=20000, help="repetitions per unit cost")
+    ap.add_argument("--t-end", type=float, default=3.0, help="vehicle-4wd: simulated [s]")
     args = ap.parse_args()
     p = read_library_file(args.model)[0]
-    model = compile_model(bench_spec(of(p), p, args.side)[0])
-    simulate(model, 1e-3, **p.solver.settings())  # compile or load every kernel
-    # the unit costs are measured at a state of the run (middle of the first mode's window:
-    # contacts closed, gears loaded, planets sliding): the accepted state of a run up to
-    # there, which the stepping loop updates in place (kept from StepLoop.create)
-    t_probe = 0.5 * sum(p.bench.window_drive)
+    if args.model == "vehicle-4wd":
+        from drivedyn.library.vehicles.vehicle_4wd import build_spec
+
+        sp = build_spec(p, {n: read_library_file(n)[0] for n in ("torsen-c", "torsen-b")})[0]
+        model = compile_model(sp)
+        settings = p.solver.settings(h_max=p.run.h_max)
+        t_probe, t_end, output_dt, what = 2.0 * args.t_end / 3.0, args.t_end, 0.01, "launch"
+        args.n = min(args.n, 2000)
+    else:
+        model = compile_model(bench_spec(of(p), p, args.side)[0])
+        settings = p.solver.settings()
+        # the middle of the first mode's window: contacts closed, gears loaded, planets
+        # sliding
+        t_probe, t_end, output_dt = 0.5 * sum(p.bench.window_drive), p.bench.t_end, \
+            p.solver.output_dt
+        what = f"bench, {args.side} side"
+    simulate(model, 1e-3, **settings)  # compile or load every kernel
+    # the unit costs are measured at a state of the run: the accepted state of a run up to
+    # t_probe, which the stepping loop updates in place (kept from StepLoop.create)
     kept = []
     create = StepLoop.create.__func__
 
@@ -101,11 +116,11 @@ def main() -> None:
 
     StepLoop.create = classmethod(keep)
     try:
-        simulate(model, t_probe, **p.solver.settings())
+        simulate(model, t_probe, **settings)
     finally:
         StepLoop.create = classmethod(create)
     # the run whose wall time and counts the unit costs are set against (compiled loop)
-    res = simulate(model, p.bench.t_end, **p.solver.settings(), output_dt=p.solver.output_dt)
+    res = simulate(model, t_end, **settings, output_dt=output_dt)
     st_ = res.stats
     sys = System(model)
     st = kept[-1]
@@ -134,7 +149,7 @@ def main() -> None:
             ("dense LU", st_.factorizations, c_fac),
             ("solves", st_.newton_iterations, c_sol)]
     wall = st_.wall_s
-    print(f"{args.model} bench, {args.side} side: {model.neq} unknowns, wall {wall:.3f} s, "
+    print(f"{args.model} {what}: {model.neq} unknowns, wall {wall:.3f} s, "
           f"{st_.steps} steps, {st_.rejected} rejected, {st_.newton_iterations} Newton it., "
           f"{st_.factorizations} factorisations, {st_.residual_evaluations} evaluations")
     print(f"{'phase':34s} {'calls':>8s} {'us/call':>8s} {'s':>7s} {'share':>6s}")

@@ -243,7 +243,8 @@ class PythonLoop:
 
     buffered = False
 
-    def __init__(self, stepper, st, touts, ctl, cs, energy, every, buffered=True) -> None:
+    def __init__(self, stepper, st, touts, ctl, cs, energy, every, buffered=True,
+                 selection=None) -> None:
         self.stepper, self.st, self.touts = stepper, st, touts
         self.ctl, self.cs, self.energy = ctl, cs, energy
 

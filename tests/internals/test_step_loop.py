@@ -177,14 +177,15 @@ def test_batches_follow_the_wall_time_between_returns() -> None:
     """The loop's batches hold about BATCH_WALL of wall time: one output when an output
     takes longer, BATCH_MAX when it is much faster."""
     loop = object.__new__(step_loop.StepLoop)  # the batch logic only
-    loop.buffered, loop._nn, loop._nd, loop._sizes = True, 2, 12, (3, 2, 5)
+    sel = (np.arange(2), np.arange(3), np.arange(2))
+    loop.buffered, loop._sel, loop._nacc = True, sel, 5
 
     class Rec:
         def extend(self, *a):
             self.n = a[0].shape[0]
 
     for per, k in ((0.2, 1), (0.0123, 4), (1e-6, step_loop.BATCH_MAX)):  # s per output
-        loop.snaps = step_loop._snapshot_arrays(4, 2, 12, 3, 2, 5)
+        loop.snaps = step_loop._snapshot_arrays(4, sel, 5)
         loop._wall = step_loop.time.perf_counter() - 3 * per
         loop.snaps[8][0] = 3  # three outputs stored
         rec = Rec()

@@ -53,6 +53,16 @@ def advance_energy(eout, gstart, gdriver, pin, pd, diss, acc, h):
     acc[E_POTENTIAL] = ep
 
 
+@njit(cache=True)
+def total(diss):
+    """Sum of the energies dissipated by all elements [J], in index order (the compiled loop
+    and :meth:`Recorder.record` add them alike)."""
+    d = 0.0
+    for i in range(diss.shape[0]):
+        d += diss[i]
+    return d
+
+
 def import_dataset_stack() -> None:
     """Import what :meth:`Recorder.dataset` imports on first use: xarray, pandas, and the
     duck-array modules xarray looks for when it wraps the first array (``dask.array``, when
@@ -164,12 +174,77 @@ def _aux_slices(model: Model) -> list[tuple[int, tuple[int, ...]]] | None:
     return None if any(off < 0 for off, _ in out) else out
 
 
-class Recorder:
-    """Stores snapshots at output times and turns them into an ``xarray.Dataset``."""
+_NODE_VARIABLES = ("position", "rotation", "velocity", "angular_velocity")
 
-    def __init__(self, model: Model, energy: EnergyAccount) -> None:
+
+class Selection:
+    """What a recorder stores of each snapshot: the variables that the glob patterns
+    ``variables`` name (None: all), and no more.
+
+    Attributes:
+        nodes: indices of the nodes whose position, rotation and velocities are stored.
+        aux: entries of ``model.aux_all`` stored (increasing; an element whose field
+            variables are kept keeps its whole row, in one block).
+        diss: elements (group after group) whose energy dissipated is stored.
+        arrays: ``(nodes, aux, diss)``, the compiled loop's selection (int64 arrays).
+        everything: no pattern (every variable is kept).
+
+    The energy terms and the step size are always recorded (scalars per output).
+    """
+
+    def __init__(self, model: Model, variables: list[str] | None,
+                 slices: list[tuple[int, tuple[int, ...]]] | None) -> None:
+        import fnmatch
+
+        self.everything = variables is None
+        pats = [] if variables is None else list(variables)
+
+        def kept(name: str) -> bool:
+            return self.everything or any(fnmatch.fnmatchcase(name, p) for p in pats)
+
+        nodes = [i for i, info in enumerate(model.nodes)
+                 if any(kept(f"{info.name}.{q}") for q in _NODE_VARIABLES)]
+        aux: set[int] = set()
+        diss: list[int] = []
+        start = 0
+        for gi, g in enumerate(model.groups):
+            naux = int(g.aux.shape[1]) if g.aux.ndim == 2 else 0
+            off = slices[gi][0] if slices is not None else 0
+            cols = list(g.outputs())
+            for ei, en in enumerate(g.names):
+                row = off + ei * naux
+                if g.family == "rigid_body":
+                    if kept(f"{en}.angular_momentum"):
+                        aux.update(row + c for c in range(3))
+                else:
+                    aux.update(row + col for col, name, _u, _d in cols
+                               if kept(f"{en}.{name}"))
+                if ("parts" in g.extra or "fields" in g.extra) and any(
+                        kept(n) for n in _fields(model, g, ei, en, np.zeros((1, naux)))):
+                    aux.update(range(row, row + naux))
+                if g.dissipative and kept(f"{en}.dissipated_energy"):
+                    diss.append(start + ei)
+            start += g.nel
+        self.nodes = np.array(nodes, np.int64)
+        self.aux = np.array(sorted(aux), np.int64)
+        self.diss = np.array(diss, np.int64)
+        self.arrays = (self.nodes, self.aux, self.diss)
+        size = int(model.aux_all.size) if model.aux_all is not None else 0
+        self.aux_pos = np.full(size, -1, np.int64)
+        self.aux_pos[self.aux] = np.arange(self.aux.size)
+        self.diss_pos = np.full(start, -1, np.int64)
+        self.diss_pos[self.diss] = np.arange(self.diss.size)
+
+
+class Recorder:
+    """Stores snapshots at output times and turns them into an ``xarray.Dataset``: only
+    what ``variables`` (glob patterns, None: everything) asks for (:class:`Selection`)."""
+
+    def __init__(self, model: Model, energy: EnergyAccount,
+                 variables: list[str] | None = None) -> None:
         self.model = model
         self.energy = energy
+        self.variables = None if variables is None else list(variables)
         self.t: list[float] = []
         self.x: list[np.ndarray] = []
         self.R: list[np.ndarray] = []
@@ -183,30 +258,35 @@ class Recorder:
         # group, 3.7 % of the Type C vehicle configuration's run (benchmarks/README.md);
         # ``_slices[gi]``: (offset, shape) of group gi in it
         self._slices = _aux_slices(model)
+        # a model whose outputs are not views of aux_all keeps every output (per group)
+        self.selection = Selection(model, self.variables, self._slices)
 
     def record(self, st: State, h: float = 0.0) -> None:
         nn = self.model.nn
+        sel = self.selection
         self.t.append(st.t)
-        self.x.append(st.x[:nn].copy())
-        self.R.append(st.R[:nn].copy())
-        self.v.append(st.v.reshape(nn, 6).copy() if nn else np.zeros((0, 6)))
+        self.x.append(st.x[sel.nodes])
+        self.R.append(st.R[sel.nodes])
+        self.v.append(st.v.reshape(nn, 6)[sel.nodes] if nn else np.zeros((0, 6)))
         if self._slices is not None:
-            self.aux.append(self.model.aux_all.copy())
+            self.aux.append(self.model.aux_all[sel.aux])
         else:
             self.aux.append([g.aux.copy() for g in self.model.groups])
         e = self.energy
-        self.en.append(self._energies(e.acc, e.diss))
-        self.diss.append(e.diss.copy())
+        self.en.append(self._energies(e.acc, total(e.diss)))
+        self.diss.append(e.diss[sel.diss])
         self.h.append(h)
 
     def extend(self, t: np.ndarray, x: np.ndarray, R: np.ndarray, v: np.ndarray,
                aux_all: np.ndarray, acc: np.ndarray, diss: np.ndarray,
                h: np.ndarray) -> None:
         """Snapshots stored by the compiled stepping loop (:mod:`drivedyn.solver.step_loop`),
-        one per row: times (n,) [s], positions (n, nn, 3), rotations (n, nn, 3, 3),
-        velocities (n, nn, 6), copies of ``model.aux_all`` (n, size), of the energy
-        account's ``acc`` (n, 5) and ``diss`` (n, elements), step sizes (n,) [s]. The same
-        values as :meth:`record` at each of those times; the rows are kept as views."""
+        one per row, of the :class:`Selection` only: times (n,) [s], positions (n, k, 3),
+        rotations (n, k, 3, 3), velocities (n, k, 6) of its k nodes, its entries of
+        ``model.aux_all`` (n, a), the energy account's ``acc`` with the total energy
+        dissipated appended (n, 6), its elements' energies dissipated (n, d), step sizes
+        (n,) [s]. The same values as :meth:`record` at each of those times; the rows are
+        kept as views."""
         if self._slices is None:  # the loop stores model.aux_all only for such models
             raise ValueError("Recorder.extend: the groups' outputs are not views of "
                              "model.aux_all")
@@ -216,15 +296,15 @@ class Recorder:
             self.R.append(R[i])
             self.v.append(v[i])
             self.aux.append(aux_all[i])
-            self.en.append(self._energies(acc[i], diss[i]))
+            self.en.append(self._energies(acc[i], float(acc[i, -1])))
             self.diss.append(diss[i])
             self.h.append(float(h[i]))
 
-    def _energies(self, acc: np.ndarray, diss: np.ndarray) -> tuple[float, ...]:
+    def _energies(self, acc: np.ndarray, d: float) -> tuple[float, ...]:
         """The recorded energy terms (kinetic, potential, work in, dissipated, balance error,
-        work of loads, of drivers) [J] from an energy account's ``acc`` and ``diss``."""
+        work of loads, of drivers) [J] from an energy account's ``acc`` and the total energy
+        dissipated ``d`` [J]."""
         kin, pot, w_in = float(acc[E_KINETIC]), float(acc[E_POTENTIAL]), float(acc[E_WORK_IN])
-        d = float(diss.sum())
         return (kin, pot, w_in, d, kin + pot - self.energy.e0 - w_in + d,
                 float(acc[E_WORK_LOADS]), float(acc[E_WORK_DRIVERS]))
 
@@ -259,8 +339,11 @@ class Recorder:
     def dataset(self, attrs: dict | None = None, variables: list[str] | None = None):
         """The recorded data as an ``xarray.Dataset`` (one variable per sensor).
 
-        ``variables``: glob patterns (``"crank.*"``, ``"*.torque"``) of the variables to keep;
-        the energy terms are always kept. None keeps everything."""
+        ``variables``: glob patterns (``"crank.*"``, ``"*.torque"``) of the variables to keep
+        (default: the recorder's own); the energy terms are always kept. None keeps
+        everything recorded."""
+        if variables is None:
+            variables = self.variables
         import xarray as xr
 
         self.drop_partial()
@@ -272,12 +355,14 @@ class Recorder:
         def put(name, dims, values, units, desc):
             data_vars[name] = xr.Variable(dims, values, {"units": units, "description": desc})
 
-        if m.nn and nt:
+        sel = self.selection
+        if sel.nodes.size and nt:
             X = np.asarray(self.x)
             Rm = np.asarray(self.R)
             V = np.asarray(self.v)
             omega_g = np.einsum("tnij,tnj->tni", Rm, V[:, :, 3:])
-            for i, info in enumerate(m.nodes):
+            for i, node in enumerate(sel.nodes):
+                info = m.nodes[int(node)]
                 n = info.name
                 what = "centre of mass" if info.body else "node origin"
                 put(f"{n}.position", ("time", "xyz"), X[:, i], "m",
@@ -288,31 +373,60 @@ class Recorder:
                     f"velocity of the {what} of {n}, global frame")
                 put(f"{n}.angular_velocity", ("time", "xyz"), omega_g[:, i], "rad/s",
                     f"angular velocity of {n}, global frame")
-        Dall = np.asarray(self.diss)  # (nt, elements of all groups)
+        Dall = np.asarray(self.diss).reshape(nt, sel.diss.size)  # (nt, selected elements)
         stacked = np.asarray(self.aux) if self._slices is not None and nt else None
         for gi, g in enumerate(m.groups):
             if nt == 0:
                 break
-            A = self._group_aux(gi, stacked)  # (nt, nel, naux)
+            if stacked is None:
+                A = np.asarray([a[gi] for a in self.aux])  # (nt, nel, naux), every output
+                naux, off = A.shape[2], 0
+            else:
+                off, shape = self._slices[gi]
+                naux = shape[1] if len(shape) == 2 else 0
+
+            def column(ei: int, col: int, _g=gi, _off=off, _naux=naux):
+                """Output ``col`` of element ``ei`` over time, or None if not stored."""
+                if stacked is None:
+                    return A[:, ei, col]
+                p = sel.aux_pos[_off + ei * _naux + col]
+                return None if p < 0 else stacked[:, p]
+
+            def row(ei: int, _off=off, _naux=naux):
+                """Every output of element ``ei`` over time (nt, naux), or None."""
+                if stacked is None:
+                    return A[:, ei, :]
+                p = sel.aux_pos[_off + ei * _naux] if _naux else -1
+                return None if p < 0 else stacked[:, p:p + _naux]
+
             for ei, en in enumerate(g.names):
-                for col, name, unit, desc in g.outputs():
-                    if g.family == "rigid_body":
-                        continue
-                    put(f"{en}.{name}", ("time",), A[:, ei, col], unit, f"{desc} ({g.family})")
+                if g.family != "rigid_body":
+                    for col, name, unit, desc in g.outputs():
+                        c = column(ei, col)
+                        if c is not None:
+                            put(f"{en}.{name}", ("time",), c, unit, f"{desc} ({g.family})")
                 if g.dissipative:
-                    D = Dall[:, self.energy.gstart[gi] + ei]
-                    put(f"{en}.dissipated_energy", ("time",), D, "J",
-                        f"energy dissipated by {en} since the start")
-            for ei, en in enumerate(g.names):
-                # fields of meshed parts (stresses, pressures), see flexible_fields
-                for name, spec in _fields(m, g, ei, en, A[:, ei, :]).items():
-                    put(name, spec[0], spec[1], spec[2], spec[3])
-                    if len(spec) > 4:
-                        data_vars[name].attrs.update(spec[4])
+                    p = sel.diss_pos[self.energy.gstart[gi] + ei]
+                    if p >= 0:
+                        put(f"{en}.dissipated_energy", ("time",), Dall[:, p], "J",
+                            f"energy dissipated by {en} since the start")
+            if "parts" in g.extra or "fields" in g.extra:
+                for ei, en in enumerate(g.names):
+                    # fields of meshed parts (stresses, pressures), see flexible_fields
+                    Ar = row(ei)
+                    if Ar is None:
+                        continue
+                    for name, spec in _fields(m, g, ei, en, Ar).items():
+                        put(name, spec[0], spec[1], spec[2], spec[3])
+                        if len(spec) > 4:
+                            data_vars[name].attrs.update(spec[4])
             if g.family == "rigid_body":
                 for ei, en in enumerate(g.names):
-                    put(f"{en}.angular_momentum", ("time", "xyz"), A[:, ei, :3], "kg m^2/s",
-                        f"angular momentum of {en} about its centre of mass, global frame")
+                    cs = [column(ei, c) for c in range(3)]
+                    if all(c is not None for c in cs):
+                        put(f"{en}.angular_momentum", ("time", "xyz"), np.stack(cs, axis=1),
+                            "kg m^2/s", f"angular momentum of {en} about its centre of "
+                            "mass, global frame")
         E = np.asarray(self.en).reshape(nt, 7)
         for j, (name, desc) in enumerate((
             ("kinetic", "kinetic energy of all bodies"),

@@ -211,7 +211,8 @@ def simulate(
             after every one with DEBUG logging.
         initialize: make velocities and accelerations consistent first (default True).
         variables: glob patterns of the sensors to keep (default all), e.g.
-            ``["crank.*", "*.torque"]``; energy terms are always kept.
+            ``["crank.*", "*.torque"]``; energy terms are always kept. Only those are stored
+            during the run (the memory of a long run with dense outputs follows them).
 
     Returns:
         :class:`Results`; on failure ``success`` is False and it holds all outputs recorded
@@ -247,7 +248,7 @@ def simulate(
         raise InitializationError(f"initial state violates {model.eq_labels[model.nd + i]} "
                                   f"by {viol[i]:.3g}")
     energy.start()
-    rec = Recorder(model, energy)
+    rec = Recorder(model, energy, None if variables is None else list(variables))
     t0 = st.t
     touts = _output_times(t0, t_end, step, output_dt, output_times)
     iout = 0
@@ -258,7 +259,8 @@ def simulate(
     ctl, cs = control_arrays(step, stepper.beta, t_end, model.nn)
     cs[CS_IOUT] = iout
     debug = log.isEnabledFor(logging.DEBUG)
-    loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug, rec.extendable)
+    loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug, rec.extendable,
+                           rec.selection.arrays)
     try:
         success, message = _run_loop(loop, model, st, rec, stats, progress, debug)
     except KeyboardInterrupt:

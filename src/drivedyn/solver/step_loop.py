@@ -49,7 +49,7 @@ from numba import njit
 
 from drivedyn.elements.framework.group import COMMIT_TIME, aux_offset
 from drivedyn.model.model import Model, State
-from drivedyn.results.recorder import EnergyAccount, advance_energy
+from drivedyn.results.recorder import EnergyAccount, advance_energy, total
 from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.newton_kernel import I_NEVAL, I_PHASE, _forget, newton_iterations
 from drivedyn.solver.redundancy import watched
@@ -103,21 +103,26 @@ def _copy_state(x, R, v, vd, a, lam, es, x1, R1, v1, vd1, a1, lam1, es1):
 @njit(cache=True)
 def _snapshot(k, t, h, x, R, v, aux_all, diss, eacc, snaps):
     """Store the outputs at time ``t`` [s] (reached by a step of ``h`` [s]) in row ``k`` of
-    the snapshot arrays (see :func:`run_steps`): what ``Recorder.record`` copies."""
-    sx, sR, sv, saux, sdiss, sacc, sh, stt, _ = snaps
-    for i in range(sx.shape[1]):
+    the snapshot arrays (see :func:`run_steps`): what ``Recorder.record`` copies, the
+    recorder's selection only (``snaps[9]``: nodes, entries of ``aux_all``, elements' energy
+    dissipated)."""
+    sx, sR, sv, saux, sdiss, sacc, sh, stt, _, sel = snaps
+    nodes, aidx, didx = sel
+    for i in range(nodes.shape[0]):
+        n = nodes[i]
         for j in range(3):
-            sx[k, i, j] = x[i, j]
+            sx[k, i, j] = x[n, j]
             for m in range(3):
-                sR[k, i, j, m] = R[i, j, m]
-    for i in range(v.shape[0]):
-        sv[k, i] = v[i]
-    for i in range(aux_all.shape[0]):
-        saux[k, i] = aux_all[i]
-    for i in range(diss.shape[0]):
-        sdiss[k, i] = diss[i]
+                sR[k, i, j, m] = R[n, j, m]
+        for j in range(6):
+            sv[k, 6 * i + j] = v[6 * n + j]
+    for i in range(aidx.shape[0]):
+        saux[k, i] = aux_all[aidx[i]]
+    for i in range(didx.shape[0]):
+        sdiss[k, i] = diss[didx[i]]
     for i in range(eacc.shape[0]):
         sacc[k, i] = eacc[i]
+    sacc[k, eacc.shape[0]] = total(diss)
     sh[k] = h
     stt[k] = t
 
@@ -137,12 +142,14 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
         control = (touts, ctl, cs, ls, lo, stats)              # module docstring
         energy = (eout, gstart, gdriver, pin, pd, diss, eacc)  # as advance_energy
         commits = (dst, src, aux_all)  # es[dst[k]] = aux_all[src[k]] (time if src[k] < 0)
-        snaps = (sx, sR, sv, saux, sdiss, sacc, sh, st, sk)   # outputs held for Python
+        snaps = (sx, sR, sv, saux, sdiss, sacc, sh, st, sk, sel)   # outputs held for Python
 
-    ``snaps`` holds the outputs of up to K output times (rows 0..K-1): positions (K, nn, 3),
-    rotations (K, nn, 3, 3), velocities (K, nd), ``aux_all`` (K, naux), dissipated energies
-    (K, nel), the energy account ``eacc`` (K, 5), step sizes (K,) and times (K,);
-    ``sk[0]`` counts the rows filled (the caller empties them). The loop returns RUN_OUTPUT
+    ``snaps`` holds the outputs of up to K output times (rows 0..K-1) of what the recorder
+    keeps, ``sel = (nodes, aidx, didx)`` (:class:`~drivedyn.results.recorder.Selection`):
+    positions (K, n, 3), rotations (K, n, 3, 3) and velocities (K, 6 n) of the n nodes
+    ``nodes``, the entries ``aidx`` of ``aux_all``, the energies dissipated by the elements
+    ``didx``, the energy account ``eacc`` and the total energy dissipated (K, 6), step sizes
+    (K,) and times (K,); ``sk[0]`` counts the rows filled (the caller empties them). The loop returns RUN_OUTPUT
     when they are full; with K = 0 at every output time (the caller then records).
 
     ``prev_vd`` and ``prev_a`` hold the accelerations and pseudo-accelerations of the state
@@ -287,11 +294,19 @@ def _head(stepper: Any, st: State, prev_vd: np.ndarray, prev_a: np.ndarray,
             stepper._state_args(st)[2])
 
 
-def _snapshot_arrays(k: int, nn: int, nd: int, naux: int, nel: int, nacc: int) -> tuple:
-    """The ``snaps`` argument of :func:`run_steps` for ``k`` output times."""
-    return (np.empty((k, nn, 3)), np.empty((k, nn, 3, 3)), np.empty((k, nd)),
-            np.empty((k, naux)), np.empty((k, nel)), np.empty((k, nacc)), np.empty(k),
-            np.empty(k), np.zeros(1, np.int64))
+#: the selection of a loop that stores no outputs (it returns at each output time)
+_NO_SELECTION = (np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64))
+
+
+def _snapshot_arrays(k: int, sel: tuple, nacc: int) -> tuple:
+    """The ``snaps`` argument of :func:`run_steps` for ``k`` output times of the recorder's
+    selection ``sel`` (nodes, entries of ``aux_all``, elements) and an energy account of
+    ``nacc`` terms."""
+    nodes, aidx, didx = sel
+    n = nodes.shape[0]
+    return (np.empty((k, n, 3)), np.empty((k, n, 3, 3)), np.empty((k, 6 * n)),
+            np.empty((k, aidx.shape[0])), np.empty((k, didx.shape[0])),
+            np.empty((k, nacc + 1)), np.empty(k), np.empty(k), np.zeros(1, np.int64), sel)
 
 
 def _energy_args(energy: EnergyAccount) -> tuple:
@@ -320,7 +335,7 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
                 (lu, piv, ib, tr, stepper._delta, stepper.roff, stepper._no_roff),
                 stepper._no_sparse, stepper._par, stepper._istate, stepper._fstate, control,
                 _energy_args(energy), (*commits, m.aux_all),
-                _snapshot_arrays(0, int(m.nn), int(m.nd), 1, 1, 1))
+                _snapshot_arrays(0, _NO_SELECTION, 5))
         sig = tuple(run_steps.typeof_pyval(a) for a in args)
     except (AttributeError, TypeError, ValueError):  # not typeable: compiled on first use
         return
@@ -344,7 +359,7 @@ class StepLoop:
 
     def __init__(self, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
                  cs: np.ndarray, energy: EnergyAccount, commits: tuple[np.ndarray, np.ndarray],
-                 every: bool, buffered: bool = True) -> None:
+                 every: bool, buffered: bool = True, selection: tuple | None = None) -> None:
         self.stepper = stepper
         self.st = st
         m = stepper.model
@@ -357,20 +372,21 @@ class StepLoop:
         self.energy = _energy_args(energy)
         self.commits = (commits[0], commits[1], m.aux_all)
         self.head = _head(stepper, st, self.prev_vd, self.prev_a, every)
-        self._nn, self._nd = int(m.nn), int(m.nd)
-        self._sizes = (int(m.aux_all.size), int(energy.diss.size), int(energy.acc.size))
+        self._sel = _NO_SELECTION if selection is None else selection
+        self._nacc = int(energy.acc.size)
         self.buffered = buffered
         self._wall = time.perf_counter()
-        self.snaps = _snapshot_arrays(4 if buffered else 0, self._nn, self._nd, *self._sizes)
+        self.snaps = _snapshot_arrays(4 if buffered else 0, self._sel, self._nacc)
 
     @classmethod
     def create(cls, stepper: Any, st: State, touts: np.ndarray, ctl: np.ndarray,
                cs: np.ndarray, energy: EnergyAccount, every: bool,
-               buffered: bool = True) -> StepLoop:
-        """The loop for this run (the kernels bound in the stepper's kernel table)."""
+               buffered: bool = True, selection: tuple | None = None) -> StepLoop:
+        """The loop for this run (the kernels bound in the stepper's kernel table);
+        ``selection``: what the recorder keeps (``Selection.arrays``), for ``buffered``."""
         commits = commit_table(stepper.model)
         stepper.kernel_table(st)
-        return cls(stepper, st, touts, ctl, cs, energy, commits, every, buffered)
+        return cls(stepper, st, touts, ctl, cs, energy, commits, every, buffered, selection)
 
     def _call(self) -> int:
         s = self.stepper
@@ -433,15 +449,15 @@ class StepLoop:
         if n == 0:
             return 0
         snaps[8][0] = 0  # first: a flush interrupted (Ctrl-C) and repeated adds nothing twice
-        sx, sR, sv, saux, sdiss, sacc, sh, stt, _ = snaps
-        rec.extend(stt[:n], sx[:n], sR[:n], sv[:n].reshape(n, self._nn, 6), saux[:n],
+        sx, sR, sv, saux, sdiss, sacc, sh, stt, _, _ = snaps
+        rec.extend(stt[:n], sx[:n], sR[:n], sv[:n].reshape(n, sx.shape[1], 6), saux[:n],
                    sacc[:n], sdiss[:n], sh[:n])
         now = time.perf_counter()
         per = (now - self._wall) / n
         self._wall = now
         k = int(min(BATCH_MAX, max(1.0, BATCH_WALL / max(per, 1e-9))))
         # new arrays: the recorder keeps views of the rows just handed over
-        self.snaps = _snapshot_arrays(k, self._nn, self._nd, *self._sizes)
+        self.snaps = _snapshot_arrays(k, self._sel, self._nacc)
         return n
 
     def outcome(self) -> Any:
