@@ -12,22 +12,22 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from element_cases import contact, flexible
 
 import drivedyn as dd
-from drivedyn.results import recorder as R
+from drivedyn.results import recorder as rc
+from element_cases import contact, flexible
 
 
 def _run(spec, variables, t_end=0.02, monkeypatch=None, widths=None):
     model = dd.compile_model(spec)
     if widths is not None:
-        extend = R.Recorder.extend
+        extend = rc.Recorder.extend
 
         def spy(self, t, x, Rm, v, aux, acc, diss, h):
             widths.append((x.shape[1], aux.shape[1], diss.shape[1]))
             return extend(self, t, x, Rm, v, aux, acc, diss, h)
 
-        monkeypatch.setattr(R.Recorder, "extend", spy)
+        monkeypatch.setattr(rc.Recorder, "extend", spy)
     return dd.simulate(model, t_end, step=dd.FixedStep(1e-4), output_dt=1e-3,
                        variables=variables)
 
@@ -74,8 +74,8 @@ def test_selection_of_everything_is_every_exported_output() -> None:
     """Without patterns every node, every exported output entry (not the hidden state
     columns a contact keeps in its output table) and every dissipative element is kept."""
     model = dd.compile_model(contact.journal_case())
-    slices = R._aux_slices(model)
-    sel = R.Selection(model, None, slices)
+    slices = rc._aux_slices(model)
+    sel = rc.Selection(model, None, slices)
     assert sel.nodes.tolist() == list(range(model.nn))
     expected = set()
     for (off, shape), g in zip(slices, model.groups, strict=True):

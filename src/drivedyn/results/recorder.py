@@ -378,31 +378,18 @@ class Recorder:
         for gi, g in enumerate(m.groups):
             if nt == 0:
                 break
+            A = None
             if stacked is None:
                 A = np.asarray([a[gi] for a in self.aux])  # (nt, nel, naux), every output
-                naux, off = A.shape[2], 0
+                off, naux = 0, A.shape[2]
             else:
                 off, shape = self._slices[gi]
                 naux = shape[1] if len(shape) == 2 else 0
-
-            def column(ei: int, col: int, _g=gi, _off=off, _naux=naux):
-                """Output ``col`` of element ``ei`` over time, or None if not stored."""
-                if stacked is None:
-                    return A[:, ei, col]
-                p = sel.aux_pos[_off + ei * _naux + col]
-                return None if p < 0 else stacked[:, p]
-
-            def row(ei: int, _off=off, _naux=naux):
-                """Every output of element ``ei`` over time (nt, naux), or None."""
-                if stacked is None:
-                    return A[:, ei, :]
-                p = sel.aux_pos[_off + ei * _naux] if _naux else -1
-                return None if p < 0 else stacked[:, p:p + _naux]
-
+            column = _ColumnReader(A, stacked, sel.aux_pos, off, naux)
             for ei, en in enumerate(g.names):
                 if g.family != "rigid_body":
                     for col, name, unit, desc in g.outputs():
-                        c = column(ei, col)
+                        c = column.output(ei, col)
                         if c is not None:
                             put(f"{en}.{name}", ("time",), c, unit, f"{desc} ({g.family})")
                 if g.dissipative:
@@ -413,7 +400,7 @@ class Recorder:
             if "parts" in g.extra or "fields" in g.extra:
                 for ei, en in enumerate(g.names):
                     # fields of meshed parts (stresses, pressures), see flexible_fields
-                    Ar = row(ei)
+                    Ar = column.row(ei)
                     if Ar is None:
                         continue
                     for name, spec in _fields(m, g, ei, en, Ar).items():
@@ -422,7 +409,7 @@ class Recorder:
                             data_vars[name].attrs.update(spec[4])
             if g.family == "rigid_body":
                 for ei, en in enumerate(g.names):
-                    cs = [column(ei, c) for c in range(3)]
+                    cs = [column.output(ei, c) for c in range(3)]
                     if all(c is not None for c in cs):
                         put(f"{en}.angular_momentum", ("time", "xyz"), np.stack(cs, axis=1),
                             "kg m^2/s", f"angular momentum of {en} about its centre of "
@@ -458,6 +445,30 @@ class Recorder:
         attrs["scene"] = _scene_json(m)
         attrs["model_summary"] = json.dumps(model_summary(m))
         return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+class _ColumnReader:
+    """A group's recorded outputs over time: from its full output history ``A`` (nt, nel,
+    naux), or from the recorder's stacked selection ``stacked`` (nt, selected entries) with
+    the positions ``pos`` of the entries of ``model.aux_all`` in it (-1: not stored), the
+    group's table at offset ``off`` with ``naux`` columns per element."""
+
+    def __init__(self, A, stacked, pos, off: int, naux: int) -> None:
+        self.A, self.stacked, self.pos, self.off, self.naux = A, stacked, pos, off, naux
+
+    def output(self, ei: int, col: int):
+        """Output ``col`` of element ``ei`` over time (nt,), or None if not stored."""
+        if self.A is not None:
+            return self.A[:, ei, col]
+        p = self.pos[self.off + ei * self.naux + col]
+        return None if p < 0 else self.stacked[:, p]
+
+    def row(self, ei: int):
+        """Every output of element ``ei`` over time (nt, naux), or None if not stored."""
+        if self.A is not None:
+            return self.A[:, ei, :]
+        p = self.pos[self.off + ei * self.naux] if self.naux else -1
+        return None if p < 0 else self.stacked[:, p:p + self.naux]
 
 
 def model_summary(model: Model) -> dict:

@@ -142,15 +142,16 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
         control = (touts, ctl, cs, ls, lo, stats)              # module docstring
         energy = (eout, gstart, gdriver, pin, pd, diss, eacc)  # as advance_energy
         commits = (dst, src, aux_all)  # es[dst[k]] = aux_all[src[k]] (time if src[k] < 0)
-        snaps = (sx, sR, sv, saux, sdiss, sacc, sh, st, sk, sel)   # outputs held for Python
+        snaps = (sx, sR, sv, saux, sdiss, sacc, sh, st, sk, sel)  # outputs for Python
 
     ``snaps`` holds the outputs of up to K output times (rows 0..K-1) of what the recorder
     keeps, ``sel = (nodes, aidx, didx)`` (:class:`~drivedyn.results.recorder.Selection`):
     positions (K, n, 3), rotations (K, n, 3, 3) and velocities (K, 6 n) of the n nodes
     ``nodes``, the entries ``aidx`` of ``aux_all``, the energies dissipated by the elements
     ``didx``, the energy account ``eacc`` and the total energy dissipated (K, 6), step sizes
-    (K,) and times (K,); ``sk[0]`` counts the rows filled (the caller empties them). The loop returns RUN_OUTPUT
-    when they are full; with K = 0 at every output time (the caller then records).
+    (K,) and times (K,); ``sk[0]`` counts the rows filled (the caller empties them). The
+    loop returns RUN_OUTPUT when they are full; with K = 0 at every output time (the caller
+    then records).
 
     ``prev_vd`` and ``prev_a`` hold the accelerations and pseudo-accelerations of the state
     before the accepted one (the predictor's and the error estimate's history, time
