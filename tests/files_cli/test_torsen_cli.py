@@ -224,6 +224,49 @@ def test_tdr_sides_in_parallel_give_the_same_results() -> None:
     assert [r["side"] for r in par["runs"]] == ["rear", "front"]
 
 
+def test_tdr_parallel_sides_use_one_blas_thread_each() -> None:
+    """Both bench sides, the one here and the forked one, run with one BLAS thread (then the
+    library's setting again): OpenBLAS's threads wait spinning, and two processes of two
+    threads on two cores made each side of the flexible-washer bench 5-25x slower than one
+    after the other (59-481 s against 12-20 s). Fails without ``threadpool_limits`` in
+    ``analysis.tdr._bench_runs``. In a new process (the suite's may hold threads)."""
+    import os
+    import subprocess
+    import sys
+
+    if (os.cpu_count() or 1) < 2 or not sys.platform.startswith("linux"):
+        pytest.skip("one CPU, or no fork: the sides run one after the other")
+    code = textwrap.dedent("""
+        import json, os
+        from threadpoolctl import threadpool_info
+        from drivedyn.analysis import tdr
+        from drivedyn.config import read_library_file
+
+        def blas():
+            return max(i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas")
+
+        def run_bench(p, side, *a):
+            return side, os.getpid(), blas()
+
+        tdr.run_bench = run_bench
+        p = read_library_file("torsen-c")[0]
+        before = blas()
+        sides = [("rear", (1, 2)), ("front", (3, 4))]
+        out = [r for _s, r in tdr._bench_runs(p, sides, 125.0, 2.0, 1.0, None)]
+        print(json.dumps({"before": before, "after": blas(), "runs": out}))
+    """)
+    env = {k: v for k, v in os.environ.items() if not k.startswith("OPENBLAS_")}
+    env["OPENBLAS_NUM_THREADS"] = "2"
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600, env=env)
+    assert res.returncode == 0, res.stderr
+    out = json.loads(res.stdout.strip().splitlines()[-1])
+    assert out["before"] == 2 and out["after"] == 2
+    (_, pid1, n1), (_, pid2, n2) = out["runs"]
+    assert pid1 != pid2  # the second side ran in the forked process
+    assert n1 == 1 and n2 == 1
+
+
 def test_tdr_parallel_sides_import_xarray_before_the_fork() -> None:
     """The second side's results come back pickled (an xarray dataset), unpickled by the
     pool's result thread while this thread may be importing xarray for the first side's

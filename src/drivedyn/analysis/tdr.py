@@ -163,6 +163,8 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
     if len(sides) == 2 and parallel_sides(parallel):
         import multiprocessing as mp
 
+        from threadpoolctl import threadpool_limits
+
         from drivedyn.model.compile import compile_model
         from drivedyn.results.recorder import import_dataset_stack
         from drivedyn.solver.simulate import load_kernels
@@ -175,7 +177,11 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         # second side's dataset, importing xarray, while this thread imports it for the
         # first side's, and Python's import lock refuses one of them (deadlock detected)
         import_dataset_stack()
-        with mp.get_context("fork").Pool(1) as pool:
+        # one BLAS thread in each process (the forked one inherits it): OpenBLAS's threads
+        # wait spinning, and two processes of two threads on two cores took 59-481 s per
+        # side of the flexible-washer bench against 12-20 s one after the other
+        with threadpool_limits(limits=1, user_api="blas"), \
+                mp.get_context("fork").Pool(1) as pool:
             second = pool.apply_async(run_bench, (p, sides[1][0], torque, speed_diff,
                                                   friction_scale))
             if meanwhile is not None:
