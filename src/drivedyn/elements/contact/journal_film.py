@@ -27,18 +27,22 @@ round the pin gives the same eccentricity functions)::
 ``C_rr edot_r^2 + C_tt (e thetadot)^2``. The pin's spin makes no force here (the wedge of a
 hydrodynamic journal bearing needs a continuous film; on gear tips the lands interrupt it).
 
-Near contact the coefficients would grow without bound; the film thickness at the closest
-point ``h = c - |e|`` enters through the C1 blend of
+Near the wall and in metal contact (a :class:`~drivedyn.elements.contact.JournalContact` on
+the same markers, whose "penetration" is the elastic approach of the surfaces) the film sees
+the pin at radius ``rho = c - h_eff`` instead of ``|e|``, with ``h = c - |e|`` the film
+thickness at the closest point and ``h_eff`` the C1 blend of
 :func:`~drivedyn.elements.contact.squeeze_film.effective_thickness` that never falls below
-``min_film`` (``eps_eff = 1 - h_eff / c``), so the film keeps its damping through a metal
-contact (modelled by a :class:`~drivedyn.elements.contact.JournalContact` on the same
-markers) without becoming singular.
+``min_film`` (``eps_f = rho / c = 1 - h_eff / c``): the film's pin moves radially at
+``h_eff'(h) edot_r`` (none in metal contact: an elastic approach squeezes no oil, the
+asperities carry the load) and along the wall at ``(rho / |e|) e thetadot``. The forces on
+the pin are ``-C_rr(eps_f) h_eff' . (h_eff' edot_r)`` and ``-C_tt(eps_f) (rho/|e|)^2 e
+thetadot``: bounded, and equal to the formulas above wherever ``h >= 2 min_film``.
 
 Formulation: with ``p1, p2`` the pin centre's offset along the bore's x and y axes (gradients
 ``g1, g2``, rates ``s_i = g_i . v``), ``pg = p1 g1 + p2 g2`` and ``w = pg . v`` (``= |e|
-edot_r``), the generalised force is ``C_tt (s1 g1 + s2 g2) + E w pg`` with
-``E = 3 C0 (eps_eff / |e|)^2 / (1 - eps_eff^2)^(5/2)``: smooth at the centred position, where
-the film is isotropic.
+edot_r``), the generalised force is ``a (s1 g1 + s2 g2) + b w pg`` with ``a = C_tt
+(rho/|e|)^2`` and ``b = (C_rr h_eff'^2 - a) / |e|^2``; clear of the wall ``b = 3 C0 / (c^2
+(1 - eps^2)^(5/2))``, smooth at the centred position, where the film is isotropic.
 """
 
 from __future__ import annotations
