@@ -14,6 +14,7 @@ Usage::
     python benchmarks/vehicle_4wd.py                  # 10 s launch, TORSEN
     python benchmarks/vehicle_4wd.py --t-end 2 --config open
     python benchmarks/vehicle_4wd.py --no-profile
+    python benchmarks/vehicle_4wd.py --no-profile --t-end 3 --speed 2   # rolling start
 """
 
 from __future__ import annotations
@@ -43,8 +44,10 @@ def main() -> None:
     ap.add_argument("--t-end", type=float, default=10.0)
     ap.add_argument("--config", default="torsen", choices=sorted(V.CONFIGS))
     ap.add_argument("--no-profile", action="store_true")
+    ap.add_argument("--speed", type=float, default=0.0,
+                    help="initial vehicle speed [m/s] (body.speed; 0: launch from rest)")
     a = ap.parse_args()
-    p, _, _ = read_library_file("vehicle-4wd")
+    p, _, _ = read_library_file("vehicle-4wd", [f"body.speed={a.speed}"])
     p = V.configure(p, a.config)
     tc, _, _ = read_library_file("torsen-c")
     tb, _, _ = read_library_file("torsen-b")
@@ -67,7 +70,7 @@ def main() -> None:
     st = res.stats
     t_done = float(res.time[-1])
     out = {
-        "config": a.config, "unknowns": model.neq, "t_end": t_done, "success": res.success,
+        "config": a.config, "speed0": a.speed, "unknowns": model.neq, "t_end": t_done, "success": res.success,
         "wall_s": round(wall, 2), "real_time_factor": round(wall / max(t_done, 1e-12), 2),
         "steps": st.steps, "steps_per_s": round(st.steps / wall, 1), "rejected": st.rejected,
         "newton_iterations": st.newton_iterations, "factorizations": st.factorizations,
@@ -75,7 +78,8 @@ def main() -> None:
         "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1),
         "profiled": prof is not None,
     }
-    print(f"4WD vehicle on split-mu, {a.config}, {model.neq} unknowns, launch from rest")
+    start = "launch from rest" if a.speed == 0 else f"rolling start at {a.speed:g} m/s"
+    print(f"4WD vehicle on split-mu, {a.config}, {model.neq} unknowns, {start}")
     print(f"  simulated {t_done:g} s in {wall:.1f} s wall: real-time factor "
           f"{out['real_time_factor']:g} (wall / simulated)" + (" under cProfile" if prof else ""))
     print(f"  steps {st.steps} ({out['steps_per_s']} /s of wall), rejected {st.rejected}, "
