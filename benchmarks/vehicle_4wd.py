@@ -70,7 +70,8 @@ def main() -> None:
     st = res.stats
     t_done = float(res.time[-1])
     out = {
-        "config": a.config, "speed0": a.speed, "unknowns": model.neq, "t_end": t_done, "success": res.success,
+        "config": a.config, "speed0": a.speed, "unknowns": model.neq, "t_end": t_done,
+        "success": res.success,
         "wall_s": round(wall, 2), "real_time_factor": round(wall / max(t_done, 1e-12), 2),
         "steps": st.steps, "steps_per_s": round(st.steps / wall, 1), "rejected": st.rejected,
         "newton_iterations": st.newton_iterations, "factorizations": st.factorizations,
