@@ -57,7 +57,7 @@ def main() -> None:
     build = time.perf_counter() - t0
     kw = p.solver.settings(h_max=p.run.h_max)
     t0 = time.perf_counter()
-    simulate(model, 1e-3, **kw)
+    simulate(model, 1e-3, output_dt=1e-3, **kw)  # one output: steps of 1 us fail (README)
     warm = time.perf_counter() - t0
     prof = None if a.no_profile else cProfile.Profile()
     t0 = time.perf_counter()
