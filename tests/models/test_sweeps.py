@@ -90,7 +90,8 @@ def cluster_client():
     from distributed import Client, LocalCluster
 
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=logging.ERROR)
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                           silence_logs=logging.ERROR)
     client = Client(cluster)
     yield client
     client.close()
@@ -219,6 +220,83 @@ def test_grid_on_a_local_cluster_equals_separate_run_commands(cluster_client, tm
             assert float(point["dissipated_energy"]) == s["dissipated_energy"]
             assert int(point["newton_iterations"]) == s["newton_iterations"]
             assert int(point["steps"]) == s["steps"]
+
+
+def _listening(pid: int) -> list[tuple[str, int]]:
+    """(address, port) of every TCP socket in LISTEN state held by process ``pid`` or its
+    descendants (Linux: the sockets' inodes in /proc/PID/fd against /proc/net/tcp{,6})."""
+    import socket
+
+    def children(p: int) -> list[int]:
+        out = []
+        for q in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                with open(f"/proc/{q}/stat") as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            if ppid == p:
+                out += [int(q), *children(int(q))]
+        return out
+
+    inodes = set()
+    for p in (pid, *children(pid)):
+        try:
+            fds = os.listdir(f"/proc/{p}/fd")
+        except OSError:
+            continue
+        for fd in fds:
+            try:
+                link = os.readlink(f"/proc/{p}/fd/{fd}")
+            except OSError:
+                continue
+            if link.startswith("socket:["):
+                inodes.add(link[8:-1])
+    found = []
+    for path, fam in (("/proc/net/tcp", socket.AF_INET), ("/proc/net/tcp6", socket.AF_INET6)):
+        with open(path) as f:
+            next(f)
+            for line in f:
+                parts = line.split()
+                if parts[3] != "0A" or parts[9] not in inodes:  # 0A: LISTEN
+                    continue
+                addr, port = parts[1].split(":")
+                raw = bytes.fromhex(addr)
+                raw = b"".join(raw[i:i + 4][::-1] for i in range(0, len(raw), 4))
+                found.append((socket.inet_ntop(fam, raw), int(port, 16)))
+    return found
+
+
+@pytest.mark.parametrize("host", [None, "0.0.0.0"])
+def test_embedded_cluster_listens_on_loopback(monkeypatch, host):
+    """A default sweep's own cluster (scheduler, workers, nannies, dashboard) listens on
+    127.0.0.1 only, and the message names the dashboard; ``host="0.0.0.0"`` (``--host``)
+    opens it on every interface. Fails with the dashboard on ":0" (all interfaces), as it
+    was."""
+    if not sys.platform.startswith("linux"):
+        pytest.skip("reads /proc")
+    from drivedyn.sweeps import execute
+
+    seen: list = []
+    submit = execute._submit
+
+    def spy(client, tasks):
+        seen.extend(_listening(os.getpid()))
+        yield from submit(client, tasks)
+
+    monkeypatch.setattr(execute, "_submit", spy)
+    said: list[str] = []
+    kw = {} if host is None else {"host": host}
+    ds = sweep("pendulum", ["bodies.rod.mass=1:2:2"], t_end=0.05,
+               metrics=["hinge.angle:final"], workers=2, on_cluster=said.append, **kw)
+    assert set(ds["status"].values.ravel()) == {"ok"}
+    addresses = {a for a, _ in seen}
+    assert len(seen) >= 3  # scheduler, dashboard, the workers and nannies
+    if host is None:
+        assert addresses <= {"127.0.0.1", "::1"}, seen
+        assert "dashboard http://127.0.0.1:" in said[0]
+    else:
+        assert "0.0.0.0" in addresses, seen
 
 
 def test_the_callers_dask_client_is_used(cluster_client):

@@ -84,6 +84,9 @@ RPM = UNITS["rpm"][0]  # rad/s per rpm
               help="Seconds to wait for the --scheduler to answer.")
 @click.option("--workers", type=click.IntRange(1, 1024), default=None, metavar="N",
               help="Worker processes of the local cluster (default: the number of CPUs).")
+@click.option("--host", default="127.0.0.1", show_default=True, metavar="ADDRESS",
+              help="Address the local cluster's scheduler, workers and dashboard listen on "
+                   "(127.0.0.1: this machine only; 0.0.0.0: every network interface).")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Results file (netCDF, written atomically). Default: "
                    "<model>-sweep.nc.")
@@ -100,7 +103,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
           mode: str, torque: float | None, speed_diff: float | None, friction_scale: float,
           analytic_only: bool, metrics: tuple[str, ...], t_end: float | None,
           sets: tuple[str, ...], scheduler: str | None, connect_timeout: float,
-          workers: int | None,
+          workers: int | None, host: str,
           out: Path | None, cache_dir: Path | None, no_cache: bool, fresh: bool,
           plots_dir: Path | None, as_json: bool) -> None:
     """Run a MODEL file (path or shipped name) over a grid of values, Monte Carlo samples or a
@@ -159,7 +162,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
             speed_diff=None if speed_diff is None else speed_diff * RPM,
             friction_scale=friction_scale, analytic_only=analytic_only, t_end=t_end,
             metrics=list(metrics), sets=list(sets), scheduler=scheduler, workers=workers,
-            timeout=connect_timeout,
+            host=host, timeout=connect_timeout,
             cache=cache, fresh=fresh, progress=bar.update,
             on_cluster=None if as_json else (lambda s: err(s)))
         interrupted = False

@@ -20,6 +20,9 @@ from typing import Any
 from drivedyn.sweeps.design import SweepInputError
 from drivedyn.sweeps.evaluate import Task, evaluate_point
 
+#: where the embedded cluster listens unless asked otherwise: this machine only
+LOOPBACK = "127.0.0.1"
+
 
 def lost_record(exc: BaseException) -> dict:
     """The record of a point whose evaluation never returned (worker lost, cancelled)."""
@@ -53,7 +56,7 @@ def _default_client() -> Any:
 
 
 def run_tasks(tasks: list[Task], *, client: Any = None, scheduler: str | None = None,
-              workers: int | None = None, timeout: float = 30.0,
+              workers: int | None = None, host: str = LOOPBACK, timeout: float = 30.0,
               on_cluster: Callable[[str], None] | None = None) -> Iterator[tuple[int, dict]]:
     """Yield ``(task index, record)`` as the points finish, in completion order.
 
@@ -64,6 +67,9 @@ def run_tasks(tasks: list[Task], *, client: Any = None, scheduler: str | None = 
             (``tcp://host:8786``) or a scheduler file (``dask scheduler --scheduler-file``).
             None: the caller's default Dask client if there is one, else a new local cluster.
         workers: worker processes of the local cluster (default: the number of CPUs).
+        host: the address the local cluster's scheduler, workers and dashboard listen on
+            (default 127.0.0.1: nobody else on the network sees the sweep; "0.0.0.0" for
+            every interface).
         timeout: seconds to wait for a scheduler to answer.
         on_cluster: called once with a one-line description of where the points run.
     """
@@ -85,17 +91,22 @@ def run_tasks(tasks: list[Task], *, client: Any = None, scheduler: str | None = 
             from distributed import Client, LocalCluster
 
             n = workers or os.cpu_count() or 1
-            # dashboard on a free port (None would mean the default 8787, which a user's own
-            # cluster may hold); silence_logs keeps worker chatter off the terminal
+            # scheduler, workers and dashboard on ``host`` only; the dashboard on a free port
+            # (the default 8787 may be a user's own cluster's); silence_logs keeps worker
+            # chatter off the terminal
+            dash = f"[{host}]:0" if ":" in host else f"{host}:0"
             own_cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                       dashboard_address=":0", silence_logs=logging.ERROR)
+                                       host=host, dashboard_address=dash,
+                                       silence_logs=logging.ERROR)
             client = own_client = Client(own_cluster)
         if on_cluster:
             info = client.scheduler_info()
             nw = len(info.get("workers", {}))
             threads = sum(w.get("nthreads", 0) for w in info.get("workers", {}).values())
             where = "local cluster" if own_cluster is not None else info.get("address", "")
-            on_cluster(f"Dask {where}: {nw} worker(s), {threads} thread(s)")
+            link = getattr(client, "dashboard_link", None)
+            on_cluster(f"Dask {where}: {nw} worker(s), {threads} thread(s)"
+                       + (f"; dashboard {link}" if link else ""))
         yield from _submit(client, tasks)
     finally:
         if own_client is not None:

@@ -24,7 +24,7 @@ from drivedyn.sweeps.design import (
     sensitivity,
 )
 from drivedyn.sweeps.evaluate import CACHED_STATUSES, Task, file_sha256, parse_metric
-from drivedyn.sweeps.execute import run_tasks
+from drivedyn.sweeps.execute import LOOPBACK, run_tasks
 from drivedyn.units import split_quantity
 
 
@@ -149,7 +149,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
           speed_diff: float | None = None, friction_scale: float = 1.0,
           analytic_only: bool = False, t_end: float | None = None,
           metrics: Sequence[str] = (), sets: Any = None, client: Any = None,
-          scheduler: str | None = None, workers: int | None = None,
+          scheduler: str | None = None, workers: int | None = None, host: str = LOOPBACK,
           timeout: float = 10.0, cache: str | Path | None = None, fresh: bool = False,
           progress: Callable[[int, int, dict, bool], None] | None = None,
           on_cluster: Callable[[str], None] | None = None) -> Any:
@@ -174,7 +174,8 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
         sets: fixed overrides of every point (``{"key": value}`` or ``["key=value"]``).
         client: a ``distributed.Client`` to run on; ``scheduler``: ``"serial"``, an address
             or a scheduler file (``timeout`` [s] to answer); default: the caller's Dask
-            client if any, else a local cluster of ``workers`` processes.
+            client if any, else a local cluster of ``workers`` processes whose scheduler,
+            workers and dashboard listen on ``host`` (default 127.0.0.1: this machine only).
         cache: folder of cached points (None: no cache); ``fresh`` recomputes them.
         progress: ``progress(done, total, record, from_cache)`` after each point.
         on_cluster: called with a description of the cluster.
@@ -253,7 +254,8 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
     t0 = time.perf_counter()
     try:
         for j, rec in run_tasks([tasks[i] for i in todo], client=client,
-                                scheduler=scheduler, workers=workers, timeout=timeout,
+                                scheduler=scheduler, workers=workers, host=host,
+                                timeout=timeout,
                                 on_cluster=on_cluster):
             i = todo[j]
             records[i] = rec
