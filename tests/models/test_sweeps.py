@@ -285,6 +285,8 @@ def test_embedded_cluster_listens_on_loopback(monkeypatch, host):
         yield from submit(client, tasks)
 
     monkeypatch.setattr(execute, "_submit", spy)
+    # its own cluster, even where a module fixture's client is the default one
+    monkeypatch.setattr(execute, "_default_client", lambda: None)
     said: list[str] = []
     kw = {} if host is None else {"host": host}
     ds = sweep("pendulum", ["bodies.rod.mass=1:2:2"], t_end=0.05,
