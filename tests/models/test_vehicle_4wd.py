@@ -194,6 +194,19 @@ def test_vehicle_command_open_json(tmp_path):
     assert (tmp_path / "wheel_torques.png").stat().st_size > 10_000
     assert (tmp_path / "vehicle-4wd-open.nc").exists()
     assert math.isfinite(out["runs"][0]["wheels"]["fl"]["torque"])
+    # the results carry the run's parameters: the report finds the 4WD dashboard (before,
+    # "This run comes from no library model with a dashboard")
+    nc = tmp_path / "vehicle-4wd-open.nc"
+    r = runner.invoke(main, ["report", str(nc), "--out", str(tmp_path / "r.html"),
+                             "--no-view"])
+    assert r.exit_code == 0, r.output
+    page = (tmp_path / "r.html").read_text()
+    assert "no library model with a dashboard" not in page
+    import xarray as xr
+
+    with xr.open_dataset(nc) as ds:
+        assert ds.attrs["configuration"] == "open"
+        assert ds.attrs["model_source"].endswith("[open]")
 
 
 def test_differential_commands_refuse_a_vehicle_file():

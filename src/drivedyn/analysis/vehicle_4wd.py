@@ -124,7 +124,12 @@ def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
 
 def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: float | None = None,
         output_dt: float = 1e-3, progress=None):
-    """Build, compile and simulate the vehicle: (results, layout)."""
+    """Build, compile and simulate the vehicle: (results, layout). The results record the
+    parameters of the run (attribute ``model_file``, as a model file loaded by ``drivedyn
+    run`` does, so that reports and plots find the vehicle's dashboard) and its
+    configuration (``configuration``)."""
+    import json
+
     from drivedyn.model.compile import compile_model
     from drivedyn.solver import simulate
 
@@ -133,6 +138,9 @@ def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: floa
     t_end = p.run.t_end if t_end is None else t_end
     res = simulate(model, t_end, output_dt=output_dt, progress=progress,
                    **p.solver.settings(h_max=p.run.h_max))
+    res.dataset.attrs["model_file"] = json.dumps(p.model_dump(mode="json", warnings=False),
+                                                 indent=1, default=str)
+    res.dataset.attrs["configuration"] = config_name(p)
     return res, lay
 
 

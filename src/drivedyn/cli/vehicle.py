@@ -91,6 +91,8 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
                 res, lay = V.run(q, torsen, base, t_end=t_final, progress=cb)
         except ModelError as exc:
             bad_input(f"{source}: {exc}")
+        res.dataset.attrs["model_source"] = f"{source} [{label}]"
+        res.dataset.attrs["overrides"] = json.dumps(list(sets))
         if out is not None:
             target = out / f"{p.model.name}-{label}.nc"
             if not res.success:
