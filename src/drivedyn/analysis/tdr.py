@@ -18,6 +18,7 @@ import numpy as np
 from drivedyn.library import differentials
 from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.results.metrics import run_metrics
+from drivedyn.results.provenance import record_provenance
 
 
 def side_modes(p) -> dict[str, tuple[int, int]]:
@@ -95,10 +96,27 @@ def window_tdr(results, window: tuple[float, float]) -> tuple[float, float, floa
     return float(tdr), float(ta.mean()), float(tr.mean()), float(np.ptp(ratio) / tdr)
 
 
+def bench_parameters(p, side: str, torque: float | None = None,
+                     speed_diff: float | None = None) -> dict:
+    """The model-file content (JSON-ready, SI) of one bench side of parameters ``p``: the
+    scenario set to the bench with the torque on ``side``, the bench torque [N m] and speed
+    difference [rad/s] as run. ``drivedyn run`` of it simulates the same bench run."""
+    data = p.model_dump(mode="json", warnings=False)
+    data["scenario"] = {"kind": "bench", "modes": side}
+    if torque is not None:
+        data["bench"]["torque"] = float(torque)
+    if speed_diff is not None:
+        data["bench"]["speed_diff"] = float(speed_diff)
+    return data
+
+
 def run_bench(p, side: str, torque: float | None = None,
               speed_diff: float | None = None, friction_scale: float = 1.0,
-              progress=None, output_dt: float | None = None) -> BenchRun:
-    """Simulate one bench side and extract the TDR of its two modes.
+              progress=None, output_dt: float | None = None, source: str = "",
+              overrides: list[str] | dict | tuple = ()) -> BenchRun:
+    """Simulate one bench side and extract the TDR of its two modes. The results record the
+    run's parameters (:func:`bench_parameters`) and configuration, so a report or plot of
+    them finds the differential's bench dashboard.
 
     Args:
         p: parameters of a differential (its model file).
@@ -108,7 +126,11 @@ def run_bench(p, side: str, torque: float | None = None,
         friction_scale: factor on every friction coefficient.
         progress: ``progress(t, h, steps)`` callback.
         output_dt: sampling interval [s] (default ``solver.output_dt``).
+        source: model file or shipped name of ``p`` (recorded with the results).
+        overrides: the ``--set`` overrides that made ``p`` (recorded with the results).
     """
+    import json
+
     from drivedyn.model.compile import compile_model
     from drivedyn.solver.simulate import simulate
 
@@ -118,6 +140,14 @@ def run_bench(p, side: str, torque: float | None = None,
     model = compile_model(sp)
     res = simulate(model, p.bench.t_end, **p.solver.settings(),
                    output_dt=output_dt or p.solver.output_dt, progress=progress)
+    config = differentials.configuration(p, side)
+    if friction_scale != 1.0:
+        config += f", friction x{friction_scale:g}"
+    record_provenance(res.dataset,
+                      model_file=json.dumps(bench_parameters(p, side, torque, speed_diff),
+                                            indent=1, default=str),
+                      source=source or p.model.name, overrides=overrides,
+                      library_model=p.model.library, configuration=config)
     run = BenchRun(side, results=res, wall_s=time.perf_counter() - t0,
                    success=bool(res.success), message="" if res.success else str(res.message),
                    size=model_size(model))
@@ -147,7 +177,7 @@ def parallel_sides(requested: bool = True) -> bool:
 
 def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
                 speed_diff: float, friction_scale: float, on_run, meanwhile=None,
-                parallel: bool = True):
+                parallel: bool = True, provenance: dict | None = None):
     """``(side, BenchRun)`` of every side in ``sides``, in order. Two sides run at the same
     time when :func:`parallel_sides` allows: the kernels are compiled (or loaded) here first
     for the first side's model (:func:`~drivedyn.solver.simulate.load_kernels`), then a
@@ -156,7 +186,9 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
     both (2.9 s). ``meanwhile()`` (optional) is called in this process while the second
     side runs in its own, before the first side's run here: on the Type C bench the first
     (rear) side is the shorter one (4953 steps against 6875), so work done there costs no
-    wall time (with one process: after the first side)."""
+    wall time (with one process: after the first side). ``provenance``: ``source`` and
+    ``overrides`` keywords of :func:`run_bench`."""
+    prov = provenance or {}
     for side, pair in sides:
         if on_run is not None:
             on_run(side, pair)
@@ -183,10 +215,10 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         with threadpool_limits(limits=1, user_api="blas"), \
                 mp.get_context("fork").Pool(1) as pool:
             second = pool.apply_async(run_bench, (p, sides[1][0], torque, speed_diff,
-                                                  friction_scale))
+                                                  friction_scale), prov)
             if meanwhile is not None:
                 meanwhile()
-            first = run_bench(p, sides[0][0], torque, speed_diff, friction_scale)
+            first = run_bench(p, sides[0][0], torque, speed_diff, friction_scale, **prov)
             if on_run is not None:
                 on_run(first)
             yield sides[0][0], first
@@ -196,7 +228,7 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         yield sides[1][0], run
         return
     for i, (side, _pair) in enumerate(sides):
-        run = run_bench(p, side, torque, speed_diff, friction_scale)
+        run = run_bench(p, side, torque, speed_diff, friction_scale, **prov)
         if on_run is not None:
             on_run(run)
         if i == 0 and meanwhile is not None:
@@ -250,7 +282,8 @@ class TdrEvaluation:
 
 def evaluate(p, modes: list[int], torque: float | None = None,
              speed_diff: float | None = None, friction_scale: float = 1.0,
-             analytic_only: bool = False, on_run=None, parallel: bool = True) -> TdrEvaluation:
+             analytic_only: bool = False, on_run=None, parallel: bool = True,
+             source: str = "", overrides: list[str] | dict | tuple = ()) -> TdrEvaluation:
     """Simulate the bench runs that cover ``modes`` and give every mode's TDR with its
     analytic and measured values (the computation behind ``drivedyn tdr`` and TDR sweeps).
 
@@ -265,6 +298,8 @@ def evaluate(p, modes: list[int], torque: float | None = None,
             (a :class:`BenchRun`); for progress messages.
         parallel: run the two bench sides at the same time where :func:`parallel_sides`
             allows (False: one after the other; the results are the same).
+        source, overrides: the model file (or shipped name) and the ``--set`` overrides of
+            ``p``, recorded with each bench run's results (:func:`run_bench`).
     """
     diff = differentials.of(p)
     T0 = p.bench.torque if torque is None else torque
@@ -289,7 +324,7 @@ def evaluate(p, modes: list[int], torque: float | None = None,
         # the analytic values (their first call imports scipy.optimize, 0.4-0.7 s) while
         # the second side runs in its own process: no wall time there
         for side, run in _bench_runs(p, sides, T0, dw, friction_scale, on_run, analytic,
-                                     parallel):
+                                     parallel, {"source": source, "overrides": overrides}):
             m = run_metrics(run.results)
             metrics["dissipated_energy"] += m["dissipated_energy"]
             if not metrics["peak_pressure"] >= m["peak_pressure"]:

@@ -29,15 +29,9 @@ from typing import Any
 import numpy as np
 
 from drivedyn.library.vehicles.vehicle_4wd import Layout, Vehicle4WDFile, build_spec
+from drivedyn.library.vehicles.vehicle_4wd.configurations import CONFIGS, config_name
 from drivedyn.library.vehicles.vehicle_4wd.schema import WHEELS
-
-#: the configurations ``compare`` knows: position types
-CONFIGS = {
-    "open": ("open", "open", "open"),
-    "locked": ("locked", "locked", "locked"),
-    "clutch": ("clutch", "clutch", "clutch"),
-    "torsen": ("torsen-c", "torsen-b", "torsen-b"),
-}
+from drivedyn.results.provenance import record_provenance
 
 
 @dataclass
@@ -100,19 +94,6 @@ class Summary:
         return config_name(self.types)
 
 
-def config_name(types: dict[str, str] | Vehicle4WDFile) -> str:
-    """The :data:`CONFIGS` key of a set of position types (a dict or the parameters), or
-    ``"central/front/rear"`` types when it is none of them."""
-    if isinstance(types, Vehicle4WDFile):
-        d = types.differentials
-        types = {"central": d.central, "front": d.front, "rear": d.rear}
-    key = tuple(types[p] for p in ("central", "front", "rear"))
-    for k, v in CONFIGS.items():
-        if key == v:
-            return k
-    return "/".join(key)
-
-
 def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
     """``p`` with every position set to the types of ``config`` (a :data:`CONFIGS` key)."""
     if config not in CONFIGS:
@@ -123,11 +104,12 @@ def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
 
 
 def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: float | None = None,
-        output_dt: float = 1e-3, progress=None):
+        output_dt: float = 1e-3, progress=None, source: str = "",
+        overrides: list[str] | tuple = ()):
     """Build, compile and simulate the vehicle: (results, layout). The results record the
-    parameters of the run (attribute ``model_file``, as a model file loaded by ``drivedyn
-    run`` does, so that reports and plots find the vehicle's dashboard) and its
-    configuration (``configuration``)."""
+    parameters of the run, its ``source`` file, ``overrides`` and configuration
+    (:func:`~drivedyn.results.provenance.record_provenance`), so that reports and plots find
+    the vehicle's dashboard."""
     import json
 
     from drivedyn.model.compile import compile_model
@@ -138,9 +120,11 @@ def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: floa
     t_end = p.run.t_end if t_end is None else t_end
     res = simulate(model, t_end, output_dt=output_dt, progress=progress,
                    **p.solver.settings(h_max=p.run.h_max))
-    res.dataset.attrs["model_file"] = json.dumps(p.model_dump(mode="json", warnings=False),
-                                                 indent=1, default=str)
-    res.dataset.attrs["configuration"] = config_name(p)
+    record_provenance(res.dataset,
+                      model_file=json.dumps(p.model_dump(mode="json", warnings=False),
+                                            indent=1, default=str),
+                      source=source or p.model.name, overrides=overrides,
+                      library_model=p.model.library, configuration=config_name(p))
     return res, lay
 
 

@@ -70,10 +70,15 @@ def _params(model_file: str, sets: tuple[str, ...]):
 @click.option("--sequential", is_flag=True,
               help="Run the two bench sides one after the other (default: at the same time "
                    "with two or more CPUs; the results are the same).")
+@click.option("--out", "out_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=None, metavar="DIR",
+              help="Write each bench run's results to DIR/<model>-bench-<side>.nc (for "
+                   "`drivedyn report`, `plot`, `view`: they find the differential's bench "
+                   "dashboard).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | None,
         friction_scale: float, sets: tuple[str, ...], analytic_only: bool, sequential: bool,
-        as_json: bool) -> None:
+        out_dir: Path | None, as_json: bool) -> None:
     """Torque distribution ratio of a differential on the simulated test bench (seed 003).
 
     FILE is a differential model file or a shipped one by name (torsen-c, torsen-b).
@@ -89,9 +94,11 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
         drivedyn tdr torsen-b --mode all
         drivedyn tdr torsen-c --mode 1 --torque 250 --speed-diff 10
         drivedyn tdr torsen-c --friction-scale 0.8 --set pockets.mu=0.12 --json
+        drivedyn tdr torsen-b --out bench && drivedyn report bench/torsen-b-bench-right.nc
     """
     from drivedyn.analysis.tdr import evaluate, size_text
 
+    check_output_path(out_dir, "--out", directory=True)
     p, source = _params(model_file, sets)
     if torque is not None and not torque > 0:
         bad_input(f"--torque: expected a positive torque in N m, got {torque}")
@@ -103,8 +110,11 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
     modes = [1, 2, 3, 4] if mode == "all" else [int(mode)]
     t0 = time.perf_counter()
     first = []
+    written: list[str] = []
 
     def on_run(*args) -> None:
+        if len(args) == 1 and out_dir is not None:
+            written.append(str(_write_bench_run(args[0], out_dir, p.model.name)))
         if as_json:
             return
         if len(args) == 2:
@@ -116,22 +126,34 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
             click.echo(size_text(args[0].size), err=True)
 
     ev = evaluate(p, modes, torque, None if speed_diff is None else speed_diff * RPM,
-                  friction_scale, analytic_only, on_run=on_run, parallel=not sequential)
+                  friction_scale, analytic_only, on_run=on_run, parallel=not sequential,
+                  source=source, overrides=list(sets))
     T0, dw, rows, runs, failed = ev.torque, ev.speed_diff, ev.rows, ev.runs, ev.failed
     wall = time.perf_counter() - t0
     if as_json:
         out = {"model": p.model.name, "source": source, "torque": T0,
                "speed_diff": dw / RPM, "friction_scale": friction_scale,
                "simulated": not analytic_only, "modes": rows, "runs": runs,
-               "metrics": ev.metrics, "wall_s": round(wall, 3)}
+               "metrics": ev.metrics, "results_files": written, "wall_s": round(wall, 3)}
         if failed:
             out["error"] = failed
         click.echo(json.dumps(jsonable(out)))
     else:
         _print_table(p.model.name, T0, dw, rows, wall, analytic_only)
+        for f in written:
+            click.echo(f"results: {f}")
     if failed:
         err(failed)
         sys.exit(1)
+
+
+def _write_bench_run(run, out_dir: Path, name: str) -> Path:
+    """Write one bench run's results to ``out_dir/<name>-bench-<side>.nc`` (``.partial.nc``
+    when it stopped early)."""
+    from drivedyn.results.results import write_netcdf_atomic
+
+    target = out_dir / f"{name}-bench-{run.side}{'' if run.success else '.partial'}.nc"
+    return write_netcdf_atomic(run.results.dataset, target)
 
 
 def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:

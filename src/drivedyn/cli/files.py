@@ -88,6 +88,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     from drivedyn.cli.progress import progress_bar
     from drivedyn.config import ModelFileError, UnitError, load_model
     from drivedyn.model.spec import ModelError
+    from drivedyn.results.provenance import record_provenance
     from drivedyn.results.results import write_netcdf_atomic
     from drivedyn.solver.simulate import InitializationError, simulate
 
@@ -126,9 +127,10 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     except KeyboardInterrupt:  # before the time loop (kernel loading, initial state)
         err("interrupted before the first step: nothing to write")
         sys.exit(EXIT_FAILED)
-    res.dataset.attrs["model_file"] = model.meta["model_file"]
-    res.dataset.attrs["model_source"] = model.meta["source"]
-    res.dataset.attrs["overrides"] = json.dumps(list(sets))
+    record_provenance(res.dataset, model_file=model.meta["model_file"],
+                      source=model.meta["source"], overrides=list(sets),
+                      library_model=model.meta.get("library_model"),
+                      configuration=model.meta.get("configuration"))
     if not res.success:
         target = target.with_name(target.stem + ".partial.nc")
     write_netcdf_atomic(res.dataset, target)

@@ -95,6 +95,11 @@ RPM = UNITS["rpm"][0]  # rad/s per rpm
               "rerunning the same command computes only what is missing.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the point cache.")
 @click.option("--fresh", is_flag=True, help="Recompute every point (the cache is rewritten).")
+@click.option("--keep-runs", "runs_dir", type=click.Path(file_okay=False, path_type=Path),
+              default=None, metavar="DIR",
+              help="Keep every point's results files in DIR (point-0000.nc ..., "
+                   "points.json lists their overrides), for `drivedyn report`, `plot`, "
+                   "`view`.")
 @click.option("--plots", "plots_dir", type=click.Path(file_okay=False, path_type=Path),
               default=None, help="Also draw the sweep's figures into this folder.")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
@@ -105,7 +110,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
           sets: tuple[str, ...], scheduler: str | None, connect_timeout: float,
           workers: int | None, host: str,
           out: Path | None, cache_dir: Path | None, no_cache: bool, fresh: bool,
-          plots_dir: Path | None, as_json: bool) -> None:
+          runs_dir: Path | None, plots_dir: Path | None, as_json: bool) -> None:
     """Run a MODEL file (path or shipped name) over a grid of values, Monte Carlo samples or a
     sensitivity stencil, each point an independent run on a Dask cluster, and write one
     netCDF file with a dimension per varied key.
@@ -121,6 +126,8 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
             --vary washers.ring_case.mu
         drivedyn sweep pendulum --vary bodies.rod.mass=1:3:5 --metric hinge.angle:max \\
             --scheduler tcp://10.0.0.5:8786
+        drivedyn sweep torsen-b --tdr --mode 1 --vary pockets.mu=0.10,0.14 \\
+            --keep-runs runs && drivedyn report runs/point-0001-right.nc
     """
     from drivedyn.config import ModelFileError, UnitError
     from drivedyn.errors import ModelError
@@ -150,6 +157,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
     cache = None if no_cache else (cache_dir or target.with_name(target.name + ".cache"))
     check_output_path(cache, "--cache", directory=True)
     check_output_path(plots_dir, "--plots", directory=True)
+    check_output_path(runs_dir, "--keep-runs", directory=True)
 
     bar = _Bar(enabled=not as_json and sys.stderr.isatty())
     t0 = time.perf_counter()
@@ -163,7 +171,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
             friction_scale=friction_scale, analytic_only=analytic_only, t_end=t_end,
             metrics=list(metrics), sets=list(sets), scheduler=scheduler, workers=workers,
             host=host, timeout=connect_timeout,
-            cache=cache, fresh=fresh, progress=bar.update,
+            cache=cache, fresh=fresh, keep_runs=runs_dir, progress=bar.update,
             on_cluster=None if as_json else (lambda s: err(s)))
         interrupted = False
     except (SweepInputError, ModelFileError, ModelError, UnitError) as exc:
@@ -223,6 +231,8 @@ def _print(ds, target: Path, cache: Path | None, wall: float, figures: list[str]
     out.print(f"{n} points: {computed} computed, {n - computed} from the cache"
               + (f" ({cache})" if cache else "") + f"; wall time {wall:.1f} s")
     out.print(f"results: {target}")
+    if ds.attrs.get("runs_dir"):
+        out.print(f"results files of the points: {ds.attrs['runs_dir']}")
     for f in figures:
         out.print(f"figure: {f}")
 

@@ -88,11 +88,10 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         err(f"simulating {p.model.name} [{label}] to t = {t_final:g} s")
         try:
             with progress_bar(t_final) as cb:
-                res, lay = V.run(q, torsen, base, t_end=t_final, progress=cb)
+                res, lay = V.run(q, torsen, base, t_end=t_final, progress=cb,
+                                 source=source, overrides=list(sets))
         except ModelError as exc:
             bad_input(f"{source}: {exc}")
-        res.dataset.attrs["model_source"] = f"{source} [{label}]"
-        res.dataset.attrs["overrides"] = json.dumps(list(sets))
         if out is not None:
             target = out / f"{p.model.name}-{label}.nc"
             if not res.success:

@@ -510,4 +510,7 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     model.meta["model_name"] = params.model.name
     model.meta["notes"] = []
     model.meta["library"] = params
+    model.meta["library_model"] = lib
+    model.meta["configuration"] = (vehicles.configuration(params) if lib in vehicles.TYPES
+                                   else differentials.configuration(params))
     return model

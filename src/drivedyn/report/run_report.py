@@ -66,6 +66,13 @@ def _model_section(ds: Any) -> str:
         erows.append((fam, e["count"], names))
     source = ds.attrs.get("model_source", "")
     head = f"<p>Model <b>{html.escape(str(source))}</b></p>" if source else ""
+    library = str(ds.attrs.get("library_model", ""))
+    if library:
+        rows = [("library model", library),
+                ("configuration", str(ds.attrs.get("configuration", "")) or "-"), *rows]
+    sets = json.loads(ds.attrs.get("overrides", "[]") or "[]")
+    if sets:
+        rows.append(("overrides (--set)", ", ".join(sets)))
     return head + _table(rows) + "<h3>Elements by type</h3>" + _table(
         erows, ("family", "count", "elements"))
 

@@ -122,6 +122,9 @@ class Task:
             ``tdr``: ``modes``, ``torque`` [N m] or None, ``speed_diff`` [rad/s] or None,
             ``friction_scale``, ``analytic_only``.
         key: the point's cache key.
+        run_file: path without suffix where the point's results are kept (``run``:
+            ``<run_file>.nc``; ``tdr``: ``<run_file>-<side>.nc`` per bench run), with the
+            run's provenance (:mod:`drivedyn.results.provenance`); empty: not kept.
     """
 
     model: str
@@ -130,6 +133,16 @@ class Task:
     overrides: dict = field(hash=False)
     options: dict = field(hash=False)
     key: str = ""
+    run_file: str = ""
+
+
+def kept_files(task: Task) -> list[Path]:
+    """The results files a point with ``task.run_file`` has written (empty if none)."""
+    if not task.run_file:
+        return []
+    stem = Path(task.run_file)
+    return sorted(stem.parent.glob(stem.name + ".nc")) + sorted(
+        stem.parent.glob(stem.name + "-*.nc"))
 
 
 def file_sha256(path: str | Path) -> str:
@@ -193,6 +206,15 @@ def _run(task: Task, rec: dict) -> None:
     except InitializationError as exc:
         rec.update(status="invalid", message=str(exc))
         return
+    if task.run_file:
+        from drivedyn.results.provenance import record_provenance
+        from drivedyn.results.results import write_netcdf_atomic
+
+        record_provenance(res.dataset, model_file=model.meta["model_file"],
+                          source=model.meta["source"], overrides=task.overrides,
+                          library_model=model.meta.get("library_model"),
+                          configuration=model.meta.get("configuration"))
+        write_netcdf_atomic(res.dataset, task.run_file + ".nc")
     m = run_metrics(res)
     m["simulation_wall_s"] = m.pop("wall_s")
     rec["outputs"].update(m)
@@ -216,8 +238,16 @@ def _tdr(task: Task, rec: dict) -> None:
         return
     differentials.of(p).check(p)
     o = task.options
+
+    def keep(*args: Any) -> None:
+        if len(args) == 1 and task.run_file:
+            from drivedyn.results.results import write_netcdf_atomic
+
+            write_netcdf_atomic(args[0].results.dataset, f"{task.run_file}-{args[0].side}.nc")
+
     ev = evaluate(p, list(o["modes"]), o.get("torque"), o.get("speed_diff"),
-                  o.get("friction_scale", 1.0), o.get("analytic_only", False))
+                  o.get("friction_scale", 1.0), o.get("analytic_only", False), on_run=keep,
+                  source=source, overrides=task.overrides)
     out, units = rec["outputs"], rec["units"]
     for row in ev.rows:
         m = row["mode"]

@@ -23,7 +23,13 @@ from drivedyn.sweeps.design import (
     parse_vary,
     sensitivity,
 )
-from drivedyn.sweeps.evaluate import CACHED_STATUSES, Task, file_sha256, parse_metric
+from drivedyn.sweeps.evaluate import (
+    CACHED_STATUSES,
+    Task,
+    file_sha256,
+    kept_files,
+    parse_metric,
+)
 from drivedyn.sweeps.execute import LOOPBACK, run_tasks
 from drivedyn.units import split_quantity
 
@@ -151,6 +157,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
           metrics: Sequence[str] = (), sets: Any = None, client: Any = None,
           scheduler: str | None = None, workers: int | None = None, host: str = LOOPBACK,
           timeout: float = 10.0, cache: str | Path | None = None, fresh: bool = False,
+          keep_runs: str | Path | None = None,
           progress: Callable[[int, int, dict, bool], None] | None = None,
           on_cluster: Callable[[str], None] | None = None) -> Any:
     """Compute a model file over a grid of values, Monte Carlo samples or a finite-difference
@@ -177,6 +184,11 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
             client if any, else a local cluster of ``workers`` processes whose scheduler,
             workers and dashboard listen on ``host`` (default 127.0.0.1: this machine only).
         cache: folder of cached points (None: no cache); ``fresh`` recomputes them.
+        keep_runs: folder where every point's results files are kept
+            (``point-0000.nc``, ``point-0000-<side>.nc`` for ``tdr``, in submission order;
+            ``points.json`` lists each file's overrides), each recording its library model
+            and configuration so ``drivedyn report`` finds the dashboard. A cached point
+            whose files are missing is computed again.
         progress: ``progress(done, total, record, from_cache)`` after each point.
         on_cluster: called with a description of the cluster.
 
@@ -226,11 +238,20 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
         if tdr else {"t_end": t_end, "metrics": list(metrics)})
     model_sha = file_sha256(path)
     refs = referenced_files(path, fixed)
+    runs_dir = None if keep_runs is None else Path(keep_runs).resolve()
     tasks = []
-    for p in design.points:
+    for i, p in enumerate(design.points):
         ov = {**fixed, **p.overrides}
         tasks.append(Task(model_ref, model_sha, kind, ov, options,
-                          point_key(model_sha, refs, kind, options, ov)))
+                          point_key(model_sha, refs, kind, options, ov),
+                          str(runs_dir / f"point-{i:04d}") if runs_dir else ""))
+    if runs_dir is not None:
+        import json
+
+        runs_dir.mkdir(parents=True, exist_ok=True)
+        (runs_dir / "points.json").write_text(json.dumps(
+            [{"file": Path(t.run_file).name, "overrides": t.overrides} for t in tasks],
+            indent=1, default=str), encoding="utf-8")
     store = PointCache(cache)
     n = len(tasks)
     records: list[dict | None] = [None] * n
@@ -239,6 +260,8 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
     todo = []
     for i, t in enumerate(tasks):
         rec = None if fresh else store.get(t.key)
+        if rec is not None and t.run_file and not kept_files(t):
+            rec = None  # its results files are wanted and missing
         if rec is not None and rec.get("status") in CACHED_STATUSES:
             records[i], cached[i] = rec, True
             done += 1
@@ -250,6 +273,7 @@ def sweep(model: str | Path, vary: Any = None, *, sample: Any = None, samples: i
              "kind": kind, "options": options, "sets": fixed,
              "drivedyn_version": __version__, "code_sha256": code_fingerprint(),
              "cache": str(cache) if cache is not None else None,
+             "runs_dir": str(runs_dir) if runs_dir is not None else None,
              "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
     t0 = time.perf_counter()
     try:

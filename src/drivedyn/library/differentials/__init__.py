@@ -48,10 +48,22 @@ def dashboard_of(params: Any) -> Dashboard:
     return differential_dashboard(of(params), params)
 
 
+def configuration(params: Any, side: str | None = None) -> str:
+    """Which configuration of the differential a run of ``params`` is: ``"bench, torque on
+    the rear output (modes 1, 2)"`` (``side``, or the scenario's loaded output) or
+    ``"vehicle configuration"`` (recorded with the results, shown by the report)."""
+    diff = of(params)
+    if side is None and params.scenario.kind != "bench":
+        return "vehicle configuration"
+    side = side or params.scenario.modes or diff.sides[0]
+    a, b = diff.side_modes[side]
+    return f"bench, torque on the {side} output (modes {a}, {b})"
+
+
 def schemas() -> dict[str, type]:
     """library key -> model-file schema of every differential."""
     return {k: get(k).schema for k in TYPES}
 
 
-__all__ = ["TYPES", "Differential", "Mode", "Output", "dashboard_of", "get", "of",
-           "schemas"]
+__all__ = ["TYPES", "Differential", "Mode", "Output", "configuration", "dashboard_of", "get",
+           "of", "schemas"]

@@ -1,7 +1,8 @@
 """Vehicles that take any differential by name (architecture: ``library/vehicles``): each
 a subpackage with a model-file schema (``SCHEMA``), a builder (``build_spec``) and the
 dashboard of its runs (``DASHBOARD``: params -> :class:`~drivedyn.library.dashboards.
-Dashboard`, drawn by ``drivedyn plot``).
+Dashboard`, drawn by ``drivedyn plot``) and the name of a run's configuration
+(``CONFIGURATION``: params -> str, recorded with the results).
 
 Adding a vehicle = one subpackage + one default model file + one line in :data:`TYPES`.
 """
@@ -34,9 +35,15 @@ def dashboard_of(params: Any) -> Dashboard:
     return get(params.model.library).DASHBOARD(params)
 
 
+def configuration(params: Any) -> str:
+    """The name of the configuration of the vehicle of validated parameters ``params``
+    (``"torsen"``, ``"open"``...; recorded with a run's results)."""
+    return get(params.model.library).CONFIGURATION(params)
+
+
 def schemas() -> dict[str, type]:
     """library key -> model-file schema of every vehicle."""
     return {k: get(k).SCHEMA for k in TYPES}
 
 
-__all__ = ["TYPES", "dashboard_of", "get", "schemas"]
+__all__ = ["TYPES", "configuration", "dashboard_of", "get", "schemas"]
