@@ -152,6 +152,22 @@ class TyreContact(ElementSpec):
         return (cylinder(self.marker, r0, 0.35 * r0, inner_radius=0.65 * r0, role="wheel",
                          label=self.name),)
 
+    def road(self) -> dict | None:
+        """What the 3-D viewer draws of this tyre's road (JSON-ready): ``height`` [m] of the
+        plane, ``mu`` outside the patches, ``patches`` ``[[x_start, x_end, mu], ...]`` [m],
+        ``transition`` [m], and the tyre's unloaded ``radius`` and section ``width`` [m]
+        (the footprint); None when the tyre cannot be read (``validate`` says why)."""
+        try:
+            tyre, patches = self.resolved()
+            r0 = tyre.unloaded_radius
+            width = tyre.value("WIDTH")
+        except Exception:  # an unreadable tyre is reported by validate(), not here
+            return None
+        return {"height": float(self.road_height), "mu": float(self.mu),
+                "patches": [[float(q.x_start), float(q.x_end), float(q.mu)] for q in patches],
+                "transition": float(self.transition), "radius": float(r0),
+                "width": float(width) if width > 0 else 0.35 * float(r0)}
+
     def validate(self) -> None:
         what = what_of(self)
         _, patches = self.resolved()

@@ -16,6 +16,9 @@ The description is a JSON-ready dict::
                   "variable"? , "opacity"?, "node_b"? "position_b"? (point forces)}, ...],
      "markers": [{"name", "node", "position", "rotation"}, ...],
      "beams":   [{"element", "radius" [m]}, ...],
+     "road":    [{"name", "node", "position", "rotation" (the wheel marker), "height",
+                  "mu", "patches" [[x_start, x_end, mu], ...], "transition", "radius",
+                  "width"}, ...]  (one per tyre: the road under it, from its element),
      "length":  size of the largest shape [m]}
 
 ``node`` is a node name or ``"ground"`` (fixed global frame).
@@ -119,7 +122,26 @@ def scene_description(model: Model) -> dict[str, Any]:
     beams = [{"element": e.name, "radius": _beam_radius(e.section)}
              for e in spec.elements if getattr(e, "family", "") == "beam"]
     return {"version": 1, "shapes": shapes, "markers": markers, "beams": beams,
-            "length": _length_scale(shapes)}
+            "road": _road(model), "length": _length_scale(shapes)}
+
+
+def _road(model: Model) -> list[dict[str, Any]]:
+    """The road under each tyre element (its ``road()`` description on its wheel marker)."""
+    out = []
+    for e in model.spec.elements:
+        describe = getattr(e, "road", None)
+        if not callable(describe):
+            continue
+        road = describe()
+        marker = e.markers()[0]
+        if road is None or marker not in model.marker_frames:
+            continue
+        node, pos, rot = model.marker_frames[marker]
+        road.update(name=e.name, node=_node_name(model, node),
+                    position=[float(p) for p in pos],
+                    rotation=[float(r) for r in np.asarray(rot).ravel()])
+        out.append(road)
+    return out
 
 
 _SIZE_KEYS = ("radius", "length", "pitch_radius", "face_width", "sx", "sy", "sz")

@@ -4,7 +4,8 @@ The page inlines three.js (vendored under ``vendor/``, MIT), its orbit controls,
 script (``viewer.js``) and the scene data (JSON, arrays as base64 float32 / uint32), so it
 opens offline from a file or an e-mail attachment and fetches nothing. Controls: time slider,
 play/pause and speed, deformation scale factor, camera presets, a section plane along x, y or
-z, toggles for force arrows, semi-transparent cases, markers and joint axes.
+z, toggles for force arrows, semi-transparent cases, the road (lanes coloured by friction, with
+a legend, and the tyres' footprints), markers and joint axes.
 """
 
 from __future__ import annotations
@@ -51,6 +52,11 @@ def scene_payload(scene: Scene) -> dict[str, Any]:
         "parts": [{"name": p.name, "node": p.node, "triangles": _b64(p.triangles, np.uint32),
                    "points": _b64(p.points), "displacement": _b64(p.displacement),
                    "stress": _b64(p.stress)} for p in scene.parts],
+        "links": [{"name": k.name, "a": _b64(k.a), "b": _b64(k.b), "radius": k.radius,
+                   "colour": list(k.colour)} for k in scene.links],
+        "footprints": [{"name": f.name, "centre": _b64(f.centre), "heading": _b64(f.heading),
+                        "length": _b64(f.length), "width": f.width} for f in scene.footprints],
+        "road": [{"mu": r.mu, "colour": list(r.colour), "tyres": r.tyres} for r in scene.road],
         "markers": [frame(m) for m in scene.markers],
         "joints": [frame(j) for j in scene.joints],
     }
@@ -76,12 +82,17 @@ _PAGE = """<!DOCTYPE html>
  #legend div {{ width: 160px; height: 10px; background: linear-gradient(90deg, #30123b,
         #4569f0, #1acbd1, #5cfa66, #e3db36, #fa8021, #cc290a, #7a0503); }}
  button {{ font: inherit; }}
+ #road-legend {{ position: absolute; top: 40px; right: 10px; display: none;
+        background: rgba(255,255,255,0.85); padding: 4px 6px; }}
+ #road-legend .swatch {{ display: inline-block; width: 14px; height: 10px; margin-right: 6px;
+        border: 1px solid #888; }}
  fieldset {{ border: none; padding: 0; margin: 0; display: flex; gap: 4px; align-items: center; }}
 </style></head>
 <body>
 <div id="view"></div>
 <div id="info"></div>
 <div id="legend">von Mises stress<div></div>0 &#8211; <span id="legend-max"></span></div>
+<div id="road-legend"><b>road friction factor</b> (tyres' mu scale; footprints in orange)</div>
 <div id="bar">
  <button id="play">play</button>
  <label>speed <select id="speed"><option value="0.1">0.1x</option>
@@ -99,6 +110,7 @@ _PAGE = """<!DOCTYPE html>
   <input id="section-offset" type="range" min="-100" max="100" value="0"></fieldset>
  <label><input id="forces" type="checkbox" checked> forces</label>
  <label><input id="ghost" type="checkbox" checked> cases</label>
+ <label id="road-toggle"><input id="road" type="checkbox" checked> road</label>
  <label><input id="markers" type="checkbox"> markers</label>
  <label><input id="joints" type="checkbox"> joint axes</label>
 </div>

@@ -14,6 +14,7 @@ only), a flexible part the elastic displacement of its surface nodes in its host
 
 from __future__ import annotations
 
+import itertools
 import json
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,7 +28,7 @@ COLOURS = {"gear": (0.80, 0.62, 0.25), "shaft": (0.55, 0.57, 0.62), "washer": (0
            "case": (0.62, 0.66, 0.72), "housing": (0.55, 0.62, 0.70),
            "body": (0.60, 0.60, 0.66), "wheel": (0.15, 0.15, 0.17), "pin": (0.50, 0.52, 0.58),
            "chassis": (0.70, 0.20, 0.20), "part": (0.65, 0.65, 0.70), "joint": (0.1, 0.1, 0.1),
-           "force": (0.85, 0.15, 0.15)}
+           "force": (0.85, 0.15, 0.15), "road": (0.4, 0.4, 0.42)}
 OPACITY = {"case": 0.3, "housing": 0.3, "chassis": 0.25}
 
 
@@ -84,6 +85,42 @@ class Part:
 
 
 @dataclass
+class Link:
+    """A tube between two moving points (a shaft joining two bodies): its ends ``a``, ``b``
+    (nf, 3) [m] in the global frame and its ``radius`` [m]."""
+
+    name: str
+    a: np.ndarray
+    b: np.ndarray
+    radius: float
+    colour: tuple[float, float, float]
+
+
+@dataclass
+class Footprint:
+    """A tyre's contact patch on the road at each frame: ``centre`` (nf, 3) [m] (global,
+    on the road plane under the wheel centre), ``heading`` (nf, 3) the unit rolling
+    direction in the road plane, ``length`` (nf,) [m] (the chord the road cuts from the
+    unloaded tyre circle: 0 when the wheel is off the road) and ``width`` [m]."""
+
+    name: str
+    centre: np.ndarray
+    heading: np.ndarray
+    length: np.ndarray
+    width: float
+
+
+@dataclass
+class RoadFriction:
+    """One friction value of the road, for the legend: ``mu`` (the tyres' road friction
+    factor), its colour and the tyres that run on it."""
+
+    mu: float
+    colour: tuple[float, float, float]
+    tyres: list[str]
+
+
+@dataclass
 class Scene:
     """Everything the viewer draws, over ``nf`` frames.
 
@@ -93,7 +130,9 @@ class Scene:
         nodes: node names (nn).
         position: (nf, nn, 3) [m], global frame.
         quaternion: (nf, nn, 4) rotation of each node, (x, y, z, w), body to global.
-        meshes, arrows, beams, parts: see the classes.
+        meshes, arrows, beams, parts, links, footprints: see the classes; the road is
+            meshes of role ``"road"`` on the ground (one lane per tyre, coloured by its
+            friction), ``road`` the legend of its friction values.
         markers: (name, node, position (3,), rotation (3, 3) in the node frame).
         joints: joint frames (same layout as markers), drawn on request.
         length: characteristic size of the mechanism [m] (camera distance, arrow sizes).
@@ -109,6 +148,9 @@ class Scene:
     arrows: list[Arrow] = field(default_factory=list)
     beams: list[Beam] = field(default_factory=list)
     parts: list[Part] = field(default_factory=list)
+    links: list[Link] = field(default_factory=list)
+    footprints: list[Footprint] = field(default_factory=list)
+    road: list[RoadFriction] = field(default_factory=list)
     markers: list[tuple[str, int, np.ndarray, np.ndarray]] = field(default_factory=list)
     joints: list[tuple[str, int, np.ndarray, np.ndarray]] = field(default_factory=list)
     length: float = 1.0
@@ -259,6 +301,14 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
             scene.joints.append((s["label"], node, np.asarray(s["position"]),
                                  np.asarray(s["rotation"]).reshape(3, 3)))
             continue
+        if s["kind"] == "link":
+            nb = index.get(s.get("node_b", ""))
+            if nb is not None:
+                scene.links.append(Link(
+                    s["label"], _pose(node, X, Rm, np.asarray(s["position"], dtype=float)),
+                    _pose(nb, X, Rm, np.asarray(s["position_b"], dtype=float)),
+                    float(s["params"]["radius"]), COLOURS[s["role"]]))
+            continue
         if s["kind"] in ("arrow", "point_force"):
             arrow = _arrow(s, ds, idx, index, X, Rm)
             if arrow is not None:
@@ -278,6 +328,7 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
             scene.markers.append((name, node, np.asarray(pos), np.asarray(rot).reshape(3, 3)))
     _add_beams(scene, ds, desc, idx, index)
     _add_parts(scene, ds, idx, index)
+    _add_road(scene, desc.get("road", []), index, X, Rm)
     spread = float(np.ptp(X[0], axis=0).max()) if len(nodes) > 1 else 0.0
     scene.length = max(spread, float(desc.get("length", 0.0)), 1e-3)
     return scene
@@ -385,3 +436,101 @@ def _add_parts(scene: Scene, ds: Any, idx: np.ndarray, index: dict[str, int]) ->
               if f"{part}.von_mises" in ds else np.full(u.shape[:2], np.nan))
         scene.parts.append(Part(part, index[host], remap[tri].astype(np.int32),
                                 np.asarray(ds[name].values)[used], u, vm))
+
+
+#: road colours: pale ice at mu <= 0.001, blue at 0.03, asphalt at mu >= 1 (log scale)
+_ROAD_STOPS = ((-3.0, (0.86, 0.94, 1.00)), (np.log10(0.03), (0.30, 0.55, 0.88)),
+               (0.0, (0.22, 0.22, 0.25)))
+
+
+def road_colour(mu: float) -> tuple[float, float, float]:
+    """The colour of road friction ``mu`` (ramp over log10 mu, :data:`_ROAD_STOPS`)."""
+    x = float(np.clip(np.log10(max(mu, 1e-12)), _ROAD_STOPS[0][0], _ROAD_STOPS[-1][0]))
+    for (x0, c0), (x1, c1) in itertools.pairwise(_ROAD_STOPS):
+        if x <= x1:
+            f = (x - x0) / (x1 - x0)
+            return tuple(float(a + f * (b - a)) for a, b in zip(c0, c1, strict=True))
+    return _ROAD_STOPS[-1][1]
+
+
+def lane_segments(mu: float, patches: list[list[float]], x0: float, x1: float
+                  ) -> list[tuple[float, float, float]]:
+    """``(start, end, mu)`` [m] covering ``[x0, x1]``: ``mu`` outside the patches, a patch's
+    value inside it, later patches winning where they overlap (as the tyre element reads
+    them; the element blends over its ``transition`` at the edges, drawn sharp here)."""
+    cuts = sorted({x0, x1, *(x for p in patches for x in p[:2] if x0 < x < x1)})
+    out: list[tuple[float, float, float]] = []
+    for a, b in itertools.pairwise(cuts):
+        m = 0.5 * (a + b)
+        value = mu
+        for p in patches:
+            if p[0] <= m < p[1]:
+                value = p[2]
+        if out and out[-1][2] == value:
+            out[-1] = (out[-1][0], b, value)
+        else:
+            out.append((a, b, value))
+    return out
+
+
+def _add_road(scene: Scene, road: list[dict], index: dict[str, int], X: np.ndarray,
+              Rm: np.ndarray) -> None:
+    """The lane of road each tyre runs on (ground meshes coloured by friction over the
+    wheel's travel, with a run-up of two tyre radii each way), the tyres' footprints and
+    the legend. Lanes that would overlap (a front and a rear tyre on one track with their
+    own friction each) share the track's width side by side, the front tyre's outside."""
+    from drivedyn.viewer.meshes import box_mesh
+
+    lanes = []
+    for r in road:
+        node = index.get(r["node"])
+        if node is None:
+            scene.warnings.append(f"{r['name']}: node {r['node']!r} not recorded")
+            continue
+        R0, width, h = r["radius"], r["width"], r["height"]
+        centre = _pose(node, X, Rm, np.asarray(r["position"], dtype=float))
+        Rs = np.asarray(r["rotation"]).reshape(3, 3)
+        axle = (np.broadcast_to(Rs[:, 2], centre.shape) if node < 0
+                else np.einsum("fij,j->fi", Rm[:, node], Rs[:, 2]))
+        heading = np.cross(axle, [0.0, 0.0, 1.0])
+        heading /= np.maximum(np.linalg.norm(heading, axis=1), 1e-300)[:, None]
+        above = centre[:, 2] - h
+        chord = 2.0 * np.sqrt(np.maximum(R0 * R0 - above * above, 0.0))
+        ground = centre.copy()
+        ground[:, 2] = h
+        scene.footprints.append(Footprint(r["name"], ground, heading, chord, width))
+        pad = 2.0 * R0
+        lanes.append({"road": r, "x0": float(centre[:, 0].min()) - pad,
+                      "x1": float(centre[:, 0].max()) + pad,
+                      "y": 0.5 * float(centre[:, 1].min() + centre[:, 1].max()),
+                      "w": float(np.ptp(centre[:, 1])) + 2.5 * width,
+                      "front": float(centre[:, 0].mean())})
+    # tracks: lanes whose strips overlap are split across the track's width
+    tracks: list[list[dict]] = []
+    for lane in lanes:
+        for t in tracks:
+            if any(abs(lane["y"] - o["y"]) < 0.5 * (lane["w"] + o["w"])
+                   and lane["x0"] < o["x1"] and o["x0"] < lane["x1"] for o in t):
+                t.append(lane)
+                break
+        else:
+            tracks.append([lane])
+    legend: dict[float, list[str]] = {}
+    for t in tracks:
+        t.sort(key=lambda o: -o["front"])
+        w = max(o["w"] for o in t)
+        y_out = float(np.mean([o["y"] for o in t]))
+        side = 1.0 if y_out >= 0 else -1.0  # outside: away from the vehicle's centre line
+        for k, lane in enumerate(t):
+            r = lane["road"]
+            strip = w / len(t)
+            y = y_out + side * (0.5 * w - (k + 0.5) * strip)
+            for a, b, mu in lane_segments(r["mu"], r["patches"], lane["x0"], lane["x1"]):
+                thick = 1e-3 * r["radius"]
+                V, F = box_mesh(b - a, strip, thick)
+                V = V + np.array([0.5 * (a + b), y, r["height"] - 0.5 * thick])
+                scene.meshes.append(Mesh(f"{r['name']} road (mu {mu:g})", -1, "road", V, F,
+                                         road_colour(mu), 1.0))
+                legend.setdefault(mu, []).append(r["name"])
+    scene.road = [RoadFriction(mu, road_colour(mu), sorted(set(names)))
+                  for mu, names in sorted(legend.items())]

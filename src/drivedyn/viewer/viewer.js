@@ -40,7 +40,7 @@
   const groups = D.nodes.map((n) => { const g = new THREE.Group(); g.name = n; scene.add(g); return g; });
   const ground = new THREE.Group(); ground.name = "ground"; scene.add(ground);
   const parentOf = (i) => (i < 0 ? ground : groups[i]);
-  const solid = [], ghosts = [];
+  const solid = [], ghosts = [], roads = [];
   for (const m of D.meshes) {
     const geo = new THREE.BufferGeometry();
     geo.setAttribute("position", new THREE.BufferAttribute(b64(m.vertices, F32), 3));
@@ -57,7 +57,7 @@
     mesh.name = m.name;
     mesh.renderOrder = transparent ? 2 : 0;
     parentOf(m.node).add(mesh);
-    (transparent ? ghosts : solid).push(mesh);
+    (m.role === "road" ? roads : transparent ? ghosts : solid).push(mesh);
   }
 
   // frames drawn on request: markers (small) and joint axes (larger)
@@ -94,6 +94,33 @@
     arrows.push({ helper: h, origin: o, vector: v });
   }
   const forceScale = fmax > 0 ? 0.4 * L / fmax : 0;
+
+  // ---- shafts between bodies: a unit cylinder (along y) placed and stretched per frame ----
+  const links = [];
+  const unitCylinder = new THREE.CylinderGeometry(1, 1, 1, 16, 1, false);
+  for (const k of D.links) {
+    const mesh = new THREE.Mesh(unitCylinder, new THREE.MeshStandardMaterial({
+      color: new THREE.Color(k.colour[0], k.colour[1], k.colour[2]), metalness: 0.3, roughness: 0.5 }));
+    mesh.name = k.name;
+    mesh.frustumCulled = false;
+    scene.add(mesh);
+    links.push({ mesh: mesh, a: b64(k.a, F32), b: b64(k.b, F32), r: k.radius });
+  }
+
+  // ---- tyre footprints on the road: a unit square (in xy) placed per frame ---------------
+  const footprints = [];
+  const unitSquare = new THREE.PlaneGeometry(1, 1);
+  for (const fp of D.footprints) {
+    const mesh = new THREE.Mesh(unitSquare, new THREE.MeshBasicMaterial({
+      color: 0xd9480f, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -4,
+      polygonOffsetUnits: -4 }));
+    mesh.name = fp.name;
+    mesh.renderOrder = 3;
+    mesh.frustumCulled = false;
+    scene.add(mesh);
+    footprints.push({ mesh: mesh, c: b64(fp.centre, F32), hd: b64(fp.heading, F32),
+      len: b64(fp.length, F32), w: fp.width });
+  }
 
   // ---- colour map (turbo-like, 0..1) ----------------------------------------------------
   const CMAP = [[0.19, 0.07, 0.23], [0.27, 0.42, 0.94], [0.10, 0.80, 0.82], [0.36, 0.98, 0.40],
@@ -232,6 +259,27 @@
         a.helper.setLength(len, Math.min(0.3 * len, 0.04 * L), Math.min(0.15 * len, 0.02 * L));
       }
     }
+    const yAxis = new THREE.Vector3(0, 1, 0);
+    for (const K of links) {
+      const k = 3 * frame;
+      v1.set(K.a[k], K.a[k + 1], K.a[k + 2]);
+      dir.set(K.b[k] - v1.x, K.b[k + 1] - v1.y, K.b[k + 2] - v1.z);
+      const len = dir.length();
+      K.mesh.visible = len > 0;
+      if (len > 0) {
+        K.mesh.position.copy(v1).addScaledVector(dir, 0.5);
+        K.mesh.quaternion.setFromUnitVectors(yAxis, dir.divideScalar(len));
+        K.mesh.scale.set(K.r, len, K.r);
+      }
+    }
+    const showRoad = el("road").checked;
+    for (const P of footprints) {
+      const k = 3 * frame, len = P.len[frame];
+      P.mesh.visible = showRoad && len > 0;
+      P.mesh.position.set(P.c[k], P.c[k + 1], P.c[k + 2]);
+      P.mesh.rotation.set(0, 0, Math.atan2(P.hd[k + 1], P.hd[k]));
+      P.mesh.scale.set(Math.max(len, 1e-9), P.w, 1);
+    }
     slider.value = String(frame);
     label.textContent = "t = " + time[frame].toFixed(4) + " s   (frame " + (frame + 1) + " / " + nf + ")";
     render();
@@ -289,6 +337,7 @@
   el("markers").addEventListener("input", () => { for (const a of markerTriads) a.visible = el("markers").checked; render(); });
   el("joints").addEventListener("input", () => { for (const a of jointTriads) a.visible = el("joints").checked; render(); });
   el("ghost").addEventListener("input", () => { for (const g of ghosts) g.visible = el("ghost").checked; render(); });
+  el("road").addEventListener("input", () => { for (const g of roads) g.visible = el("road").checked; setFrame(frame); });
   const duration = Math.max(time[nf - 1] - time[0], 1e-12);
   function tick(now) {
     if (!playing) return;
@@ -308,6 +357,21 @@
   if (smax > 0) {
     el("legend").style.display = "block";
     el("legend-max").textContent = (smax / 1e6).toPrecision(3) + " MPa";
+  }
+  if (D.road.length) {  // the road's friction values, coloured as the lanes
+    const box = el("road-legend");
+    box.style.display = "block";
+    for (const r of D.road) {
+      const row = document.createElement("div");
+      const sw = document.createElement("span");
+      sw.className = "swatch";
+      sw.style.background = "rgb(" + r.colour.map((c) => Math.round(255 * c)).join(",") + ")";
+      row.appendChild(sw);
+      row.appendChild(document.createTextNode("mu " + r.mu + ": " + r.tyres.join(", ")));
+      box.appendChild(row);
+    }
+  } else {
+    el("road-toggle").style.display = "none";
   }
   el("info").textContent = D.summary;
   function resize() {

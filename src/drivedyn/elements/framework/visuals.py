@@ -30,6 +30,9 @@ Kinds and their parameters (all lengths in metres, angles in radians):
   point, a pin's contact point in its bore. ``radial = 0``: the force is the global vector
   ``variable_x, _y, _z``; ``radial = 1``: it is ``variable`` (a scalar) along the line from
   ``marker_b`` towards the marker (the bore pushing the pin back).
+- ``"link"``: ``radius``: a tube from the marker's origin to ``marker_b``'s origin, redrawn
+  at every frame (a shaft between two bodies: a half-shaft from its differential output to
+  the wheel hub).
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-KINDS = ("cylinder", "gear", "box", "sphere", "axes", "arrow", "point_force")
+KINDS = ("cylinder", "gear", "box", "sphere", "axes", "arrow", "point_force", "link")
 ROLES = ("gear", "shaft", "washer", "case", "housing", "body", "wheel", "joint", "force",
          "chassis", "pin", "part")
 
@@ -56,7 +59,7 @@ class Visual:
         variable: results variable driving an ``"arrow"`` or ``"point_force"`` (empty for
             the other kinds).
         opacity: 0..1; None chooses from the role.
-        marker_b: the second marker of a ``"point_force"``.
+        marker_b: the second marker of a ``"point_force"`` or a ``"link"``.
     """
 
     marker: str
@@ -154,3 +157,10 @@ def point_force(marker: str, marker_b: str, variable: str, reach: float, *,
     (``radial``: the scalar ``variable`` [N] pushing ``marker_b`` back towards the axis)."""
     return Visual(marker, "point_force", "force", _params(reach=reach, radial=float(radial)),
                   label=label, variable=variable, marker_b=marker_b)
+
+
+def link(marker: str, marker_b: str, radius: float, *, role: str = "shaft",
+         label: str = "") -> Visual:
+    """A tube of ``radius`` [m] from the origin of ``marker`` to the origin of ``marker_b``,
+    following both at every frame (a shaft joining two bodies)."""
+    return Visual(marker, "link", role, _params(radius=radius), label=label, marker_b=marker_b)

@@ -42,7 +42,7 @@ from drivedyn.elements import (
     TorsionalSpringDamper,
     TyreContact,
 )
-from drivedyn.elements.framework.visuals import box
+from drivedyn.elements.framework.visuals import box, link
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
 from drivedyn.library.vehicles.bevel_differential import build_bevel
@@ -280,6 +280,9 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         pin_pos = apex + sgn * fd_geo["d_pinion"] * X
         sp.add_marker(f"{axle}_pinion", name, position=R_CENTRAL.T @ (pin_pos - [xp, 0, h]),
                       rotation=R_CENTRAL.T @ frame_from_axis(X))
+        # the shaft for the 3-D viewer: from its pinion to the central output (a 70 mm
+        # tube, illustrative); on the shaft's own marker, so no inertia box stands for it
+        sp.add_visual(link(f"{axle}_pinion", central_out, 0.035, label=name))
         ring_side = 1.0 if axle == "front" else -1.0
         sp.add_marker(f"{axle}_ring", f"{axle}_housing",
                       position=(0.0, 0.0, ring_side * fd_geo["d_ring"]), axis=Z)
@@ -308,6 +311,7 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         sp.add(TorsionalSpringDamper(f"halfshaft_{w}", out, f"hub_{w}",
                                      stiffness=sh.halfshaft_stiffness,
                                      damping=sh.halfshaft_damping))
+        sp.add_visual(link(f"hub_{w}", out, 0.015, label=f"halfshaft_{w}"))  # 30 mm shaft
         sp.add(TyreContact(f"tyre_{w}", f"hub_{w}", tyre, mu=getattr(p.road.mu, w),
                            patches=patches[w], transition=p.road.transition,
                            relaxation=p.wheels.relaxation,
