@@ -420,6 +420,45 @@ def test_vehicle_results_and_figures_fall_back(tmp_path: Path, cwd: Path,
     assert not (cwd / "out-1").exists()
 
 
+def test_bounce_figure_falls_back(tmp_path: Path, cwd: Path,
+                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """``bounce --plot`` (0.3 s of bouncing): the output folder is replaced by a file during
+    the simulation; the figure goes to the current folder, the table names it, exit code 1.
+
+    Deliberate mutation that fails it: the figure saved straight to ``--plot`` (an internal
+    error)."""
+    out = tmp_path / "out"
+    out.mkdir()
+    _sabotage(monkeypatch, "drivedyn.library.bouncing_ball:run_bounce", out)
+    res = CliRunner().invoke(main, ["bounce", "--t-end", "0.3", "--plot", str(out / "b.png")])
+    _fell_back(res, "--plot", out / "b.png", cwd / "b.png")
+    assert (cwd / "b.png").read_bytes()[:4] == b"\x89PNG"
+    assert f"figure written to {cwd / 'b.png'}" in res.output
+
+
+def test_validation_report_falls_back(tmp_path: Path, cwd: Path,
+                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """``validate --report`` with one stand-in case (the real cases are not run): the report
+    folder is replaced by a file while the case runs; ``report.md`` goes to a folder of the
+    same name in the current folder, exit code 1 although the check passed.
+
+    Deliberate mutation that fails it: the report written straight into ``--report`` (an
+    internal error)."""
+    import drivedyn.validation
+    from drivedyn.validation.base import compare
+
+    def case(quick: bool = False, figure_dir: str | None = None) -> list:
+        return [compare("stand-in", "period", 2.0, 2.0, "s", 1e-6, source="exact")]
+
+    monkeypatch.setattr(drivedyn.validation, "CASES", {"stand-in": case})
+    rep = tmp_path / "rep"
+    rep.mkdir()
+    _sabotage(monkeypatch, "drivedyn.cli.validate:_run", rep)
+    res = CliRunner().invoke(main, ["validate", "--case", "stand-in", "--report", str(rep)])
+    _fell_back(res, "--report", rep, cwd / "rep")
+    assert "1 of 1 checks passed" in (cwd / "rep" / "report.md").read_text()
+
+
 # -- the fallback helper -----------------------------------------------------------------
 
 

@@ -200,8 +200,8 @@ def check_output_path(path: Path | None, option: str, *, directory: bool = False
 class OutputFiles:
     """The output files of one command, written after its work, so that a result is never
     lost: a write that fails although its path passed :func:`check_output_path` (the folder
-    was removed or made read-only during the run, the disk filled up, a network share went
-    away) is redone into a fallback of the same name in the current folder, else in the
+    was removed or made read-only during the run, a network share went away: any
+    ``OSError``) is redone into a fallback of the same name in the current folder, else in the
     system's temporary folder, never over an existing file; the message names both paths and
     :meth:`exit_if_failed` ends the command with exit code 1 once its other outputs are
     written. Later writes into a folder that fell back go to its fallback."""

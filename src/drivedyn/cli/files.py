@@ -1,8 +1,9 @@
 """CLI commands on model and results files: ``run``, ``plot``, ``models``.
 
 Exit codes: 0 success, 1 simulation failure or interruption (partial results are still
-written), 2 bad input (unreadable or invalid model file, impossible model, bad option, an
-output path that cannot be written: refused before the run starts).
+written), or an output that its path refused after the run (written to a fallback file, named
+in the message), 2 bad input (unreadable or invalid model file, impossible model, bad option,
+an output path that cannot be written: refused before the run starts).
 """
 
 from __future__ import annotations
