@@ -133,8 +133,8 @@ def _first_existing(path: Path) -> Path:
 
 def _probe(folder: Path) -> OSError | None:
     """Create and delete a temporary file in the existing ``folder``: the only test that
-    answers as the later write will (permission bits, read-only or full file systems, /proc
-    and /sys, access control lists, root); ``os.access`` says yes to most of them."""
+    answers as the later write will (permission bits, read-only file systems, /proc and
+    /sys, access control lists, root); ``os.access`` says yes to several of them."""
     try:
         fd, tmp = tempfile.mkstemp(prefix=".drivedyn-probe-", dir=folder)
     except OSError as exc:
