@@ -35,7 +35,9 @@ limited-slip (TORSEN) differentials and their test benches. `drivedyn validate` 
 simulated quantities with exact or published references and exits with 0 only if every check
 passes; `drivedyn run` simulates a model file, `drivedyn plot` draws its results and
 `drivedyn models` lists the shipped model files. Exit codes: 0 success, 1 failure (partial
-results are written), 2 bad input.
+results are written; an output whose path refuses it after the work goes to a fallback file
+in the current or temporary folder), 2 bad input (including an output path where no file can
+be created, refused before any work).
 
 \b
 Examples:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from drivedyn.cli.common import FiniteFloat, check_output_path, console, jsonable
+from drivedyn.cli.common import FiniteFloat, OutputFiles, check_output_path, console, jsonable
 
 _BOUNCE_LAWS = ("hunt-crossley", "lankarani-nikravesh", "flores", "gonthier", "hu-guo",
                 "exact")
@@ -56,6 +56,7 @@ def bounce(law: str, e: float, n: float, k: float, mass: float, h0: float, gravi
 
     check_output_path(plot, "--plot")
 
+    outputs = OutputFiles()  # a path that refuses the figure now: it goes to a fallback
     err = console(stderr=True)
     with err.status("simulating the bouncing ball ..."):
         run = run_bounce(law=law, e=e, n=n, k=k, mass=mass, h0=h0, gravity=gravity,
@@ -68,8 +69,12 @@ def bounce(law: str, e: float, n: float, k: float, mass: float, h0: float, gravi
         FigureCanvasAgg(fig)
         plot_height(run, fig)
         fig.tight_layout()
-        plot.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(plot, dpi=110)
+
+        def write(path: Path) -> Path:
+            fig.savefig(path, dpi=110)
+            return path
+
+        plot = outputs.write(write, plot, "--plot")
     if as_json:
         click.echo(json.dumps(jsonable(run.as_dict())))
     else:
@@ -97,5 +102,6 @@ def bounce(law: str, e: float, n: float, k: float, mass: float, h0: float, gravi
     if not run.success:
         err.print(f"[red]simulation failed: {run.message}[/red]")
         sys.exit(1)
+    outputs.exit_if_failed()
 
 

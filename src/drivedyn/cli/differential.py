@@ -17,6 +17,7 @@ import click
 
 from drivedyn.cli.common import (
     FiniteFloat,
+    OutputFiles,
     bad_input,
     check_output_path,
     console,
@@ -220,6 +221,7 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     from drivedyn.library import differentials
 
     check_output_path(out, "--out")
+    outputs = OutputFiles()  # a path that refuses the fitted file: it goes to a fallback
     p, _ = _params(model_file, sets)
     diff = differentials.of(p)
     groups = C.groups_of(list(free)) if free else declared_free(p) or list(diff.free)
@@ -269,10 +271,15 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
             new = C.update_toml_text(text, cal.values, table)
         except KeyError as exc:
             bad_input(str(exc))
-        # with --set, overridden keys are written too so the file reproduces the fit
-        tmp = out.with_suffix(out.suffix + ".tmp")
-        tmp.write_text(new)
-        tmp.replace(out)
+
+        def write(path: Path) -> Path:
+            # with --set, overridden keys are written too so the file reproduces the fit
+            tmp = path.with_suffix(path.suffix + ".tmp")
+            tmp.write_text(new)
+            tmp.replace(path)
+            return path
+
+        out = outputs.write(write, out, "--out")
     if as_json:
         click.echo(json.dumps(jsonable({
             "model": p.model.name, "free": cal.values,
@@ -280,6 +287,7 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
             "analytic": cal.analytic, "simulated": cal.simulated, "error_pct": errors,
             "cross_validation": cv, "at_bound": cal.at_bound, "iterations": cal.iterations,
             "written": str(out) if out else None, "wall_s": round(wall, 3)})))
+        outputs.exit_if_failed()
         return
     click.echo(f"fitted: {len(cal.groups)} number(s) for {len(goal)} measurement(s)")
     for g in cal.groups:
@@ -295,6 +303,7 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     if out is not None:
         click.echo(f"model file written to {out}")
     click.echo(f"wall time {wall:.1f} s")
+    outputs.exit_if_failed()
 
 
 def declared_free(p) -> list[tuple[str, ...]]:

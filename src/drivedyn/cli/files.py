@@ -1,8 +1,9 @@
 """CLI commands on model and results files: ``run``, ``plot``, ``models``.
 
 Exit codes: 0 success, 1 simulation failure or interruption (partial results are still
-written), 2 bad input (unreadable or invalid model file, impossible model, bad option, an
-output path that cannot be written: refused before the run starts).
+written), or an output that its path refused after the run (written to a fallback file, named
+in the message), 2 bad input (unreadable or invalid model file, impossible model, bad option,
+an output path that cannot be written: refused before the run starts).
 """
 
 from __future__ import annotations
@@ -18,7 +19,14 @@ from pathlib import Path
 import click
 import numpy as np
 
-from drivedyn.cli.common import EXIT_FAILED, FiniteFloat, bad_input, check_output_path, err
+from drivedyn.cli.common import (
+    EXIT_FAILED,
+    FiniteFloat,
+    OutputFiles,
+    bad_input,
+    check_output_path,
+    err,
+)
 from drivedyn.errors import did_you_mean
 
 
@@ -133,9 +141,10 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
                       configuration=model.meta.get("configuration"))
     if not res.success:
         target = target.with_name(target.stem + ".partial.nc")
-    write_netcdf_atomic(res.dataset, target)
+    outputs = OutputFiles()  # a path that refuses the write now: the run goes to a fallback
+    target = outputs.write(lambda p: write_netcdf_atomic(res.dataset, p), target, "--out")
     if csv_path is not None:
-        res.to_csv(csv_path)
+        csv_path = outputs.write(res.to_csv, csv_path, "--csv")
     summary = _summary(res, target)
     if as_json:
         click.echo(json.dumps(summary))
@@ -152,6 +161,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
                        f"reactions are not unique): {', '.join(red)}")
     if not res.success:
         sys.exit(EXIT_FAILED)
+    outputs.exit_if_failed()
 
 
 def _sweep_dataset(path: Path):
@@ -218,14 +228,25 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
 
     matplotlib.use("Agg")
 
+    check_output_path(out_dir, "--out", directory=True)
+    outputs = OutputFiles()  # a folder that refuses the figures now: they go to a fallback
+    _plot(results_file, out_dir, outputs, patterns, stress_elements, shape, scale, snapshots,
+          pressure_contacts, parts, vtu_parts)
+    outputs.exit_if_failed()
+
+
+def _plot(results_file: Path, out_dir: Path, outputs: OutputFiles, patterns: tuple[str, ...],
+          stress_elements: tuple[str, ...], shape: bool, scale: float, snapshots: int,
+          pressure_contacts: tuple[str, ...], parts: tuple[str, ...],
+          vtu_parts: tuple[str, ...]) -> None:
     from drivedyn.results.results import load_results
 
-    check_output_path(out_dir, "--out", directory=True)
     sweep_ds = _sweep_dataset(results_file)
     if sweep_ds is not None:  # a `drivedyn sweep` file: lines, maps, histograms, tornado
         from drivedyn.plots.sweeps import plot_sweep
 
-        for path in plot_sweep(sweep_ds, out_dir):
+        for path in outputs.write(lambda d: plot_sweep(sweep_ds, d), out_dir, "--out",
+                                  directory=True):
             click.echo(f"figure: {path}")
         return
     try:
@@ -233,15 +254,33 @@ def plot(results_file: Path, out_dir: Path, patterns: tuple[str, ...],
     except (OSError, ValueError) as exc:
         bad_input(f"{results_file}: not a drivedyn results file ({exc})")
     if stress_elements or shape:
-        _beam_plots(res, out_dir, stress_elements, shape, scale, snapshots)
+        _beam_plots(res, out_dir, outputs, stress_elements, shape, scale, snapshots)
     if pressure_contacts or parts or vtu_parts:
-        _flexible_plots(res, out_dir, pressure_contacts, parts, vtu_parts, scale, snapshots)
+        _flexible_plots(res, out_dir, outputs, pressure_contacts, parts, vtu_parts, scale,
+                        snapshots)
     if (stress_elements or shape or pressure_contacts or parts or vtu_parts) and not patterns:
         return
-    _engineering_plots(res.dataset, out_dir, patterns)
+    _engineering_plots(res.dataset, out_dir, outputs, patterns)
 
 
-def _engineering_plots(ds, out_dir: Path, patterns: tuple[str, ...]) -> None:
+def _save_figures(figs: list, out_dir: Path, outputs: OutputFiles) -> None:
+    """Save the figures ``(name, fig)`` as ``out_dir/<name>.png`` (or into the fallback folder
+    if ``out_dir`` refuses them) and print their paths."""
+
+    def save(folder: Path) -> list[Path]:
+        paths = []
+        for name, fig in figs:
+            path = folder / f"{name}.png"
+            fig.savefig(path, dpi=110)
+            paths.append(path)
+        return paths
+
+    for path in outputs.write(save, out_dir, "--out", directory=True):
+        click.echo(str(path))
+
+
+def _engineering_plots(ds, out_dir: Path, outputs: OutputFiles,
+                       patterns: tuple[str, ...]) -> None:
     """The engineering figures (only the variables of ``patterns`` when given, else with the
     library model's dashboard): one PNG each, paths printed."""
     from drivedyn.plots.engineering import dashboard_figures, engineering_figures, slug
@@ -268,15 +307,11 @@ def _engineering_plots(ds, out_dir: Path, patterns: tuple[str, ...]) -> None:
     if not figs:
         err("note: nothing to draw")
         return
-    out_dir.mkdir(parents=True, exist_ok=True)
-    for title, fig in figs:
-        path = out_dir / f"{slug(title)}.png"
-        fig.savefig(path, dpi=110)
-        click.echo(str(path))
+    _save_figures([(slug(title), fig) for title, fig in figs], out_dir, outputs)
 
 
-def _beam_plots(res, out_dir: Path, elements: tuple[str, ...], shape: bool, scale: float,
-                snapshots: int) -> None:
+def _beam_plots(res, out_dir: Path, outputs: OutputFiles, elements: tuple[str, ...],
+                shape: bool, scale: float, snapshots: int) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from drivedyn.plots.beams import beam_elements, beam_shape_figure, beam_stress_figure
@@ -293,19 +328,17 @@ def _beam_plots(res, out_dir: Path, elements: tuple[str, ...], shape: bool, scal
         if e not in known:
             bad_input(f"--stress: {e!r} is not a beam element{did_you_mean(e, known)} "
                       f"(e.g. {', '.join(list(known)[:3])}; --stress list shows all)")
-    out_dir.mkdir(parents=True, exist_ok=True)
     figs = [(f"{e}.stress", beam_stress_figure(res, e)) for e in elements]
     if shape:
         figs.append(("beams.shape", beam_shape_figure(res, scale=scale, snapshots=snapshots)))
-    for name, fig in figs:
+    for _, fig in figs:
         FigureCanvasAgg(fig)
-        path = out_dir / f"{name}.png"
-        fig.savefig(path, dpi=110)
-        click.echo(str(path))
+    _save_figures(figs, out_dir, outputs)
 
 
-def _flexible_plots(res, out_dir: Path, contacts: tuple[str, ...], parts: tuple[str, ...],
-                    vtu_parts: tuple[str, ...], scale: float, snapshots: int) -> None:
+def _flexible_plots(res, out_dir: Path, outputs: OutputFiles, contacts: tuple[str, ...],
+                    parts: tuple[str, ...], vtu_parts: tuple[str, ...], scale: float,
+                    snapshots: int) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from drivedyn.errors import ModelError
@@ -330,19 +363,19 @@ def _flexible_plots(res, out_dir: Path, contacts: tuple[str, ...], parts: tuple[
                           f" ({kind}s: {', '.join(known) or 'none'})")
     if not scale > 0:
         bad_input(f"--scale: must be > 0, got {scale:g}")
-    out_dir.mkdir(parents=True, exist_ok=True)
     figs = [(f"{c}.pressure", pressure_map_figure(res, c)) for c in contacts]
     figs += [(f"{p}.stress", part_stress_figure(res, p, snapshots, scale)) for p in parts]
-    for name, fig in figs:
+    for _, fig in figs:
         FigureCanvasAgg(fig)
-        path = out_dir / f"{name}.png"
-        fig.savefig(path, dpi=110)
-        click.echo(str(path))
+    if figs:
+        _save_figures(figs, out_dir, outputs)
     for p in vtu_parts:
         try:
-            click.echo(str(write_vtu_series(res.dataset, p, out_dir / "vtu", scale)))
+            pvd = outputs.write(lambda d, p=p: write_vtu_series(res.dataset, p, d / "vtu", scale),
+                                out_dir, "--out", directory=True)
         except ModelError as exc:
             bad_input(str(exc))
+        click.echo(str(pvd))
 
 
 @click.command()

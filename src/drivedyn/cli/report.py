@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from drivedyn.cli.common import bad_input, check_output_path, err
+from drivedyn.cli.common import OutputFiles, bad_input, check_output_path, err
 
 
 @click.command()
@@ -41,20 +41,32 @@ def report(results_file: Path, out: Path | None, with_view: bool) -> None:
     if ds.attrs.get("drivedyn_kind") == "sweep" or "time" not in ds.coords:
         bad_input(f"{results_file}: not the results of one run (a report needs "
                   "`drivedyn run ... --out RESULTS.nc`)")
-    view_rel = None
+    outputs = OutputFiles()  # a path that refuses the write now: the page goes to a fallback
+    view_path = None
     if with_view:
         from drivedyn.cli.view import load_scene
         from drivedyn.viewer.html import write_html
 
-        view_path = target.with_name(target.stem.removesuffix("-report") + "-view.html")
         try:
             scene = load_scene(results_file, 400)
         except click.ClickException as exc:
             err(f"note: no 3-D view ({exc.message})")
         else:
-            write_html(scene, view_path)
+            view_path = outputs.write(
+                lambda p: write_html(scene, p),
+                target.with_name(target.stem.removesuffix("-report") + "-view.html"), "--out")
             click.echo(f"view: {view_path}")
-            view_rel = os.path.relpath(view_path, target.parent)
     from drivedyn.report import write_report
 
-    click.echo(f"report: {write_report(ds, target, view=view_rel)}")
+    def write(path: Path) -> Path:
+        # the link to the view is relative to where the report lands (either may fall back)
+        view = None
+        if view_path is not None:
+            try:
+                view = os.path.relpath(view_path, path.parent)
+            except ValueError:  # on another drive (Windows): no relative path
+                view = Path(view_path).absolute().as_uri()
+        return write_report(ds, path, view=view)
+
+    click.echo(f"report: {outputs.write(write, target, '--out')}")
+    outputs.exit_if_failed()

@@ -21,6 +21,7 @@ import click
 from drivedyn.cli.common import (
     EXIT_FAILED,
     FiniteFloat,
+    OutputFiles,
     bad_input,
     check_output_path,
     console,
@@ -181,12 +182,14 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
         ds, interrupted = exc.dataset, True
     bar.close()
     ds.attrs["command"] = "drivedyn sweep " + " ".join(sys.argv[2:])
-    write_netcdf_atomic(ds, target)
+    outputs = OutputFiles()  # a path that refuses the results now: they go to a fallback
+    target = outputs.write(lambda p: write_netcdf_atomic(ds, p), target, "--out")
     figures = []
     if plots_dir is not None:
         from drivedyn.plots.sweeps import plot_sweep
 
-        figures = [str(p) for p in plot_sweep(ds, plots_dir)]
+        figures = [str(p) for p in outputs.write(lambda d: plot_sweep(ds, d), plots_dir,
+                                                  "--plots", directory=True)]
     counts = json.loads(ds.attrs["status_counts"])
     incomplete = counts["lost"] + counts["missing"] + counts["error"]
     wall = time.perf_counter() - t0
@@ -209,6 +212,7 @@ def sweep(model_file: str, varies: tuple[str, ...], samples_spec: tuple[str, ...
         err(f"{incomplete} point(s) not computed (lost, error or missing): rerun the same "
             "command to compute them")
         sys.exit(EXIT_FAILED)
+    outputs.exit_if_failed()
 
 
 def _print(ds, target: Path, cache: Path | None, wall: float, figures: list[str]) -> None:

@@ -15,7 +15,7 @@ from typing import Any
 
 import click
 
-from drivedyn.cli.common import check_output_path, console, fmt, jsonable
+from drivedyn.cli.common import OutputFiles, check_output_path, console, fmt, jsonable
 
 
 def _load_cases() -> dict[str, Any]:
@@ -196,11 +196,14 @@ def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: 
             f"[bold red]{len(failed)} failed[/bold red]"
         out.print(f"{len(results) - len(failed)} of {len(results)} checks passed "
                   f"({verdict}) in {wall:.1f} s")
+    outputs = OutputFiles()  # a folder that refuses the report now: it goes to a fallback
     if report is not None:
-        path = write_report(report, results, errors, quick)
+        path = outputs.write(lambda d: write_report(d, results, errors, quick), report,
+                             "--report", directory=True)
         err.print(f"report written to {path}")
     if failed:
         sys.exit(1)
+    outputs.exit_if_failed()
 
 
 

@@ -16,6 +16,7 @@ import click
 from drivedyn.cli.common import (
     EXIT_FAILED,
     FiniteFloat,
+    OutputFiles,
     bad_input,
     check_output_path,
     console,
@@ -83,6 +84,7 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         bad_input(f"run.window = {list(p.run.window)} s ends after the final time "
                   f"{t_final:g} s; set --t-end or run.window")
     summaries, runs, failed = [], [], False
+    outputs = OutputFiles()  # a folder that refuses the results now: they go to a fallback
     for q in variants:
         label = V.config_name(q)
         err(f"simulating {p.model.name} [{label}] to t = {t_final:g} s")
@@ -93,10 +95,9 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         except ModelError as exc:
             bad_input(f"{source}: {exc}")
         if out is not None:
-            target = out / f"{p.model.name}-{label}.nc"
-            if not res.success:
-                target = target.with_name(target.stem + ".partial.nc")
-            write_netcdf_atomic(res.dataset, target)
+            name = f"{p.model.name}-{label}" + (".nc" if res.success else ".partial.nc")
+            outputs.write(lambda d, res=res, name=name: write_netcdf_atomic(res.dataset, d / name),
+                          out, "--out", directory=True)
         if not res.success:
             err(f"[{label}] FAILED: {res.message}")
             failed = True
@@ -115,8 +116,10 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
     if out is not None and runs:
         from drivedyn.plots.vehicle_4wd import comparison_figure, save, wheel_torques_figure
 
-        save(wheel_torques_figure(runs, p.run.window), out / "wheel_torques.png")
-        save(comparison_figure(summaries), out / "comparison.png")
+        figures = {"wheel_torques.png": wheel_torques_figure(runs, p.run.window),
+                   "comparison.png": comparison_figure(summaries)}
+        outputs.write(lambda d: [save(f, d / n) for n, f in figures.items()], out, "--out",
+                      directory=True)
     if as_json:
         click.echo(json.dumps(jsonable({"model": p.model.name, "window": p.run.window,
                                         "runs": results, "passed": ok})))
@@ -129,6 +132,9 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
                 mark = "ok  " if passed else "FAIL"
                 con.print(f"  {mark} {name}: {value:.4g} (limit {limit:.4g})")
         if out is not None:
-            con.print(f"\nresults and figures: {out}")
+            where = outputs.path(out)
+            con.print(f"\nresults and figures: {out}"
+                      + (f"; what it refused: {where}" if where != out else ""))
     if not ok:
         sys.exit(EXIT_FAILED)
+    outputs.exit_if_failed()

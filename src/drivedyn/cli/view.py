@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from drivedyn.cli.common import FiniteFloat, bad_input, check_output_path, err
+from drivedyn.cli.common import FiniteFloat, OutputFiles, bad_input, check_output_path, err
 
 
 def load_scene(results_file: Path, frames: int):
@@ -69,12 +69,17 @@ def view(results_file: Path, out: Path | None, frames: int, gltf_path: Path | No
 
     for w in scene.warnings:
         err(f"note: {w}")
-    click.echo(f"view: {write_html(scene, target)}")
+    outputs = OutputFiles()  # a path that refuses the write now: the file goes to a fallback
+    click.echo(f"view: {outputs.write(lambda p: write_html(scene, p), target, '--out')}")
     if gltf_path is not None:
         from drivedyn.viewer.gltf import write_glb
 
-        click.echo(f"glTF: {write_glb(scene, gltf_path)}")
+        glb = outputs.write(lambda p: write_glb(scene, p), gltf_path, "--gltf")
+        click.echo(f"glTF: {glb}")
     if vtk_dir is not None:
         from drivedyn.viewer.vtk import write_vtk
 
-        click.echo(f"VTK: {write_vtk(scene, vtk_dir, scale=scale, name=results_file.stem)}")
+        pvd = outputs.write(lambda d: write_vtk(scene, d, scale=scale, name=results_file.stem),
+                            vtk_dir, "--vtk", directory=True)
+        click.echo(f"VTK: {pvd}")
+    outputs.exit_if_failed()
