@@ -104,6 +104,10 @@ OUTPUTS = [
     ("sweep", "--plots", True, ["pendulum", "--vary", "bodies.rod.mass=1,2", "--t-end",
                                 "0.01", "--scheduler", "serial", "--no-cache"],
      ["drivedyn.sweeps:sweep"]),
+    ("sweep", "--keep-runs", True, ["pendulum", "--vary", "bodies.rod.mass=1,2", "--t-end",
+                                    "0.01", "--scheduler", "serial", "--no-cache"],
+     ["drivedyn.sweeps:sweep"]),
+    ("tdr", "--out", True, ["torsen-b", "--mode", "1"], ["drivedyn.analysis.tdr:evaluate"]),
     ("view", "--out", False, ["{results}"], ["drivedyn.cli.view:load_scene"]),
     ("view", "--gltf", False, ["{results}"], ["drivedyn.cli.view:load_scene"]),
     ("view", "--vtk", True, ["{results}"], ["drivedyn.cli.view:load_scene"]),
@@ -168,13 +172,12 @@ def test_an_output_path_that_cannot_be_written_is_refused_before_any_work(
     assert sorted(tmp_path.iterdir()) == before  # nothing written, no probe left behind
 
 
-def test_every_output_option_is_covered_and_tdr_writes_no_file() -> None:
+def test_every_output_option_is_covered() -> None:
     """The table above lists every option of every command that names a file or folder to
     write (a ``click.Path`` option that need not exist), so a new output option is tested.
-    ``tdr`` prints its table or JSON on standard output and has none.
 
-    Deliberate mutation that fails it: a new ``click.Path`` output option (say ``tdr --out``)
-    without a row in OUTPUTS, or a row removed."""
+    Deliberate mutation that fails it: a new ``click.Path`` output option without a row in
+    OUTPUTS, or a row removed."""
     found = set()
     for name, cmd in main.commands.items():
         for p in cmd.params:
@@ -182,7 +185,6 @@ def test_every_output_option_is_covered_and_tdr_writes_no_file() -> None:
                     and not p.type.exists:
                 found.add((name, p.opts[0]))
     assert found == {(c, o) for c, o, *_ in OUTPUTS}
-    assert not any(c == "tdr" for c, _ in found)
 
 
 def test_the_probe_leaves_nothing_behind(tmp_path: Path) -> None:
@@ -418,6 +420,41 @@ def test_vehicle_results_and_figures_fall_back(tmp_path: Path, cwd: Path,
     names = sorted(p.name for p in (cwd / "out").iterdir())
     assert names == ["comparison.png", "vehicle-4wd-open.nc", "wheel_torques.png"]
     assert not (cwd / "out-1").exists()
+
+
+def test_tdr_bench_results_fall_back(tmp_path: Path, cwd: Path,
+                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    """``tdr --out DIR``: the bench evaluation is a stand-in that replaces the output folder
+    by a file and then reports one finished bench run (a small dataset): its results file
+    goes to a folder of the same name in the current folder, exit code 1.
+
+    Deliberate mutations that fail it: the bench run's write not going through
+    ``OutputFiles``; ``exit_if_failed`` removed from ``tdr``."""
+    import types
+
+    import xarray as xr
+
+    import drivedyn.analysis.tdr as tdr_mod
+
+    out = tmp_path / "out"
+    out.mkdir()
+
+    def evaluate(p, modes, *args, on_run=None, **kwargs):
+        shutil.rmtree(out)
+        out.write_text("the output folder was replaced by a file during the work")
+        ds = xr.Dataset({"x": ("time", [0.0, 1.0])}, coords={"time": [0.0, 1.0]})
+        on_run(tdr_mod.BenchRun("right", results=types.SimpleNamespace(dataset=ds),
+                                size={"unknowns": 2, "coordinates": 2, "multipliers": 0,
+                                      "parts": {}}))
+        rows = [{"mode": 1, "name": "drive", "tdr": 1.6, "analytic": 1.6,
+                 "experimental": 1.6, "error_pct": 0.0, "sim_vs_analytic_pct": 0.0}]
+        return tdr_mod.TdrEvaluation(rows, [], {}, "", 125.0, 2.0)
+
+    monkeypatch.setattr(tdr_mod, "evaluate", evaluate)
+    res = CliRunner().invoke(main, ["tdr", "torsen-b", "--mode", "1", "--out", str(out)])
+    _fell_back(res, "--out", out, cwd / "out")
+    with xr.open_dataset(cwd / "out" / "torsen-b-bench-right.nc") as ds:
+        assert list(ds["x"].values) == [0.0, 1.0]
 
 
 def test_bounce_figure_falls_back(tmp_path: Path, cwd: Path,

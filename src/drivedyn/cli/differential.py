@@ -112,10 +112,14 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
     t0 = time.perf_counter()
     first = []
     written: list[str] = []
+    outputs = OutputFiles()  # a folder that refuses a run's results now: they go to a fallback
 
     def on_run(*args) -> None:
         if len(args) == 1 and out_dir is not None:
-            written.append(str(_write_bench_run(args[0], out_dir, p.model.name)))
+            run = args[0]
+            written.append(str(outputs.write(
+                lambda d: _write_bench_run(run, d, p.model.name), out_dir, "--out",
+                directory=True)))
         if as_json:
             return
         if len(args) == 2:
@@ -143,6 +147,7 @@ def tdr(model_file: str, mode: str, torque: float | None, speed_diff: float | No
         _print_table(p.model.name, T0, dw, rows, wall, analytic_only)
         for f in written:
             click.echo(f"results: {f}")
+    outputs.exit_if_failed()
     if failed:
         err(failed)
         sys.exit(1)
