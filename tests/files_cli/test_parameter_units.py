@@ -23,7 +23,7 @@ from typing import Any
 import pytest
 
 from drivedyn import units as U  # noqa: N812
-from drivedyn.config import ModelFileError, load_model
+from drivedyn.config import ModelFileError, load_model, read_library_file
 from drivedyn.config.elements_section import element_types, parameter_record, parameter_value
 from drivedyn.elements.framework.checks import declared_unit
 from drivedyn.elements.framework.registry import REGISTRY
@@ -431,3 +431,19 @@ def test_dimensionless_and_mixed_parameters_in_model_files(tmp_path: Path) -> No
     msg = _message(tmp_path, MODEL.replace('marker_b = "centre"\n\n[[elements]]',
                                            'marker_b = "centre"\nk = -2\n\n[[elements]]'))
     assert "elements[0] (slide).k: must be > 0 N/m or N m/rad, got -2.0" in msg
+
+
+def test_library_contact_stiffness_in_n_per_m_to_the_exponent() -> None:
+    """A differential file's ``contact.stiffness`` is read in the normal law's unit
+    N/m^exponent: refused in it when implausible or not positive, converted from a unit
+    string. Fails if the library schema checks the stiffness as a bare number again
+    (mutation: ``stiffness: Annotated[float, Field(gt=0)]`` without the validator)."""
+    with pytest.raises(ModelFileError) as exc:
+        read_library_file("torsen-c", {"contact.stiffness": 1e18})
+    assert ("contact.stiffness: 1e+18 N/m^1.5 is implausibly large (|value| <= 1e+15 "
+            "N/m^1.5): a unit mistake?") in str(exc.value)
+    with pytest.raises(ModelFileError) as exc:
+        read_library_file("torsen-c", {"contact.stiffness": -1, "contact.exponent": 1})
+    assert "contact.stiffness: must be > 0 N/m" in str(exc.value)
+    p = read_library_file("torsen-c", {"contact.stiffness": "1e5 N/mm^1.5"})[0]
+    assert p.contact.stiffness == pytest.approx(1e5 * 1e-3**-1.5)

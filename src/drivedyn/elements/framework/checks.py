@@ -61,13 +61,6 @@ def declared_unit(owner: Any, label: str, values: Mapping[str, Any] | None = Non
     return _PLACEHOLDER.sub(fill, text)
 
 
-def declared_dims(owner: Any, label: str, values: Mapping[str, Any] | None = None) \
-        -> tuple[U.Dim, ...] | None:
-    """Dimensions of :func:`declared_unit` (alternatives: several); None if undeclared."""
-    text = declared_unit(owner, label, values)
-    return None if text is None else U.declared_dims(text)
-
-
 def unit_of(owner: Any, label: str) -> str:
     """The SI unit of parameter ``label`` of ``owner`` as messages print it (``"N/m^1.5"``,
     ``"N/m or N m/rad"``); ``""`` for a dimensionless or undeclared parameter."""
