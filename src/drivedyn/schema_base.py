@@ -15,15 +15,17 @@ import drivedyn.units as U  # noqa: N812 - short name for units
 
 def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False) -> BeforeValidator:
     """Validator of a quantity of dimension ``dim``: SI number or unit string, finite, of
-    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`), optionally > 0 or >= 0."""
+    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`), optionally > 0 or >= 0;
+    every message gives the SI unit (none for a dimensionless quantity)."""
+    unit = f" {U.unit_label(dim)}" if U.unit_label(dim) else ""
 
     def conv(v: Any) -> float:
         x = U.to_si(v, dim)
         U.check_plausible(x, dim)
         if positive and x <= 0:
-            raise ValueError(f"must be > 0 {U.dim_name(dim)}")
+            raise ValueError(f"must be > 0{unit}")
         if nonneg and x < 0:
-            raise ValueError(f"must be >= 0 {U.dim_name(dim)}")
+            raise ValueError(f"must be >= 0{unit}")
         return x
 
     return BeforeValidator(conv)
@@ -31,10 +33,11 @@ def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False) -> BeforeVa
 
 def vector(dim: U.Dim) -> BeforeValidator:
     """Validator of a 3-vector of dimension ``dim`` (finite, plausible components)."""
+    unit = f" [{U.unit_label(dim)}]" if U.unit_label(dim) else ""
 
     def conv(v: Any) -> tuple[float, float, float]:
         if not isinstance(v, (list, tuple)) or len(v) != 3:
-            raise ValueError(f"expected a list of 3 values [{U.dim_name(dim)}]")
+            raise ValueError(f"expected a list of 3 values{unit}")
         out = tuple(U.to_si(x, dim) for x in v)
         for x in out:
             U.check_plausible(x, dim)

@@ -135,7 +135,7 @@ def test_builder_refusals(build, message):
 @pytest.mark.parametrize(("element", "message"), [
     (dict(node_a="a", node_b="nowhere"), "node_b: unknown node 'nowhere'"),
     (dict(node_a="a", node_b="c"), "zero-length element"),
-    (dict(node_a="a", node_b="b", damping=-1.0), "damping: must be >= 0"),
+    (dict(node_a="a", node_b="b", damping=-1.0), "damping: must be >= 0 s"),
     (dict(node_a="a", node_b="b", mass_matrix="diagonal"), "mass_matrix"),
     (dict(node_a="a", node_b="b", material=None), "material"),
 ])

@@ -520,7 +520,7 @@ def _pair(**kw):
 
 @pytest.mark.parametrize(("kw", "match"), [
     ({"a": 0.0905}, r"GearPair 'g': centre distance of the markers 0.0905 m does not match"),
-    ({"module": 0.0}, r"GearPair 'g'.module: must be > 0, got 0.0"),
+    ({"module": 0.0}, r"GearPair 'g'.module: must be > 0 m, got 0.0"),
     ({"module": -1e-3}, r"GearPair 'g'.module: must be > 0"),
     ({"teeth_a": 0}, r"GearPair 'g'.teeth_a: must be a positive whole number of teeth"),
     ({"teeth_b": 12.5}, r"GearPair 'g'.teeth_b: must be a positive whole number"),
@@ -537,8 +537,8 @@ def _pair(**kw):
     ({"backlash": 1e-4, "initial_gap": 2e-4}, r"GearPair 'g'.initial_gap: must not exceed"),
     ({"damping": 1.0, "damping_ratio": 0.1}, r"give either damping or damping_ratio"),
     ({"pressure_angle": 0.0}, r"GearPair 'g'.pressure_angle: must be in \(0, 45 deg\)"),
-    ({"friction": -0.1}, r"GearPair 'g'.friction: must be >= 0"),
-    ({"stiffness": -1.0}, r"GearPair 'g'.stiffness: must be > 0"),
+    ({"friction": -0.1}, r"GearPair 'g'.friction: must be >= 0, got -0.1"),
+    ({"stiffness": -1.0}, r"GearPair 'g'.stiffness: must be > 0 N/m"),
 ])
 def test_inconsistent_gear_data_refused(kw, match):
     with pytest.raises(ModelError, match=match):

@@ -133,7 +133,7 @@ def test_file_model_matches_python_model(tmp_path):
     (('stiffness = "200 N/m"', 'stiffness = "200 N m"'),
      "elements[1] (s).stiffness: '200 N m' is in N m, expected N/m"),
     (('stiffness = "200 N/m"', "stiffness = -200"),
-     "elements[1] (s).stiffness: must be >= 0, got -200.0"),
+     "elements[1] (s).stiffness: must be >= 0 N/m, got -200.0"),
     (('type = "Prismatic"', 'type = "Slider"'),
      "elements[0] (p).type: unknown element type 'Slider'"),
     (('h = "1 ms"', "h = 0"), "solver.step.h: must be > 0 s"),

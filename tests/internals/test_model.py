@@ -104,11 +104,11 @@ def test_load_on_ground_and_bad_parameters():
         dd.compile_model(spec)
     spec = _two_bodies()
     spec.add(dd.SpringDamper("s", "ma", "mb", stiffness=-5.0))
-    with pytest.raises(ModelError, match=r"SpringDamper 's'.stiffness: must be >= 0, got -5.0"):
+    with pytest.raises(ModelError, match=r"SpringDamper 's'.stiffness: must be >= 0 N/m, got -5.0"):
         dd.compile_model(spec)
     spec = _two_bodies()
     spec.add(dd.Hinge("h", "ma", "mb", k=-1.0))
-    with pytest.raises(ModelError, match=r"Hinge 'h'.k: must be > 0, got -1.0"):
+    with pytest.raises(ModelError, match=r"Hinge 'h'.k: must be > 0 N/m or N m/rad, got -1.0"):
         dd.compile_model(spec)
 
 

@@ -5,6 +5,8 @@ unit the element class declares in ``units`` (parameter -> SI unit string)."""
 from __future__ import annotations
 
 import dataclasses
+import functools
+import typing
 from typing import Any
 
 from drivedyn.errors import ModelError, did_you_mean
@@ -50,12 +52,13 @@ def generic_element(e: Any, where: str, function: Any) -> Any:
     if missing:
         raise ModelError(f"{where}.{missing[0]}: required key is missing ({e.type} needs "
                          f"{', '.join(missing)})")
-    kwargs = {}
-    for k, v in params.items():
+    kwargs: dict[str, Any] = {}
+    for k in _ordered(cls, params):
+        v = params[k]
         if k == "function" or k.endswith("_function"):
             kwargs[k] = function(v, where)
         else:
-            kwargs[k] = parameter_value(cls, fields[k].type, k, v, f"{where}.{k}")
+            kwargs[k] = parameter_value(cls, fields[k].type, k, v, f"{where}.{k}", kwargs)
     try:
         spec = cls(name=e.name, **kwargs)
     except TypeError as exc:
@@ -79,29 +82,47 @@ def element_parameters(type_name: str) -> list[str] | None:
     return ["type", *(f.name for f in dataclasses.fields(cls) if f.init)]
 
 
-def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> Any:
+def _ordered(cls: type, params: dict[str, Any]) -> list[str]:
+    """The keys of ``params`` with those other parameters' units refer to first (the
+    exponent of a contact law before its stiffness in N/m^exponent)."""
+    from drivedyn.elements.framework.checks import unit_references
+
+    first = unit_references(cls)
+    return sorted(params, key=lambda k: k not in first)
+
+
+def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str,
+                    done: dict[str, Any] | None = None) -> Any:
     """``value`` of parameter ``key`` of element class ``cls`` checked against its field type
-    (``int``, ``float``, ``bool``, ``str``, a nested parameter record such as ``NormalLaw``)
-    and converted to SI with the unit the class declares in ``units`` (a unit string of
-    another dimension, or on a parameter without a unit, is refused)."""
+    (``int``, ``float``, ``bool``, ``str``, a nested parameter record such as ``NormalLaw``, a
+    list of records) and converted to SI with the unit the class declares in ``units`` (a
+    unit string of another dimension, or on a dimensionless parameter, is refused; a value
+    too large for the unit is refused with the unit in the message). ``done``: the entry's
+    parameters converted so far (a unit such as ``"N/m^{exponent}"`` takes its exponent from
+    there, else from the class default)."""
     import drivedyn.units as U  # noqa: N812
+    from drivedyn.elements.framework.checks import declared_unit
 
     tname = ftype if isinstance(ftype, str) else getattr(ftype, "__name__", str(ftype))
     kinds = {t.strip() for t in tname.split("|")}
     optional = "None" in kinds
     if value is None and optional:
         return None
-    declared = dict(getattr(cls, "units", {}) or {})
-    if key in declared:  # a quantity (or a vector of them) in the declared unit
-        dim = U.parse_unit(declared[key])[1]
+    unit = declared_unit(cls, key, done)
+    try:
+        dims = None if unit is None else U.declared_dims(unit)
+    except U.UnitError as exc:  # an exponent the unit cannot take (its own check says why)
+        raise ModelError(f"{where}: {exc}") from None
+    if dims is not None and dims != (U.DIMENSIONLESS,):
+        # a quantity (or a vector of them) in the declared unit
         try:
             if isinstance(value, list):
-                out = [U.to_si(v, dim) for v in value]
+                out = [U.to_si(v, *dims) for v in value]
                 for x in out:
-                    U.check_plausible(x, dim)
+                    U.check_plausible(x, *dims)
                 return out
-            x = U.to_si(value, dim)
-            U.check_plausible(x, dim)
+            x = U.to_si(value, *dims)
+            U.check_plausible(x, *dims)
         except U.UnitError as exc:
             raise ModelError(f"{where}: {exc}") from None
         return x
@@ -113,7 +134,7 @@ def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> 
         if not isinstance(value, bool):
             raise ModelError(f"{where}: expected true or false, got {value!r}")
         return value
-    if "float" in kinds:
+    if "float" in kinds:  # dimensionless (declared "1"): a plain number
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ModelError(f"{where}: expected a plain number (this parameter takes no "
                              f"unit), got {value!r}")
@@ -126,25 +147,47 @@ def parameter_value(cls: type, ftype: Any, key: str, value: Any, where: str) -> 
         if not isinstance(value, str):
             raise ModelError(f"{where}: expected a string, got {value!r}")
         return value
-    # a nested parameter record (NormalLaw, FrictionLaw): its own keys, units and types
-    record = _record_class(kinds)
-    if record is not None and isinstance(value, dict):
-        rfields = {f.name: f for f in dataclasses.fields(record) if f.init}
-        unknown = sorted(set(value) - set(rfields))
-        if unknown:
-            raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} for "
-                             f"{record.__name__}{did_you_mean(unknown[0], rfields)} (keys: "
-                             f"{', '.join(rfields)})")
-        return {k: parameter_value(record, rfields[k].type, k, v, f"{where}.{k}")
-                for k, v in value.items()}
+    # a nested parameter record (NormalLaw, FrictionLaw) or a list of them (road patches):
+    # their own keys, units and types
+    record, many = parameter_record(cls, key)
+    if record is not None and many and isinstance(value, list):
+        return [_record_value(record, v, f"{where}[{i}]") if isinstance(v, dict) else v
+                for i, v in enumerate(value)]
+    if record is not None and not many and isinstance(value, dict):
+        return _record_value(record, value, where)
     return value  # anything else goes to the element, which checks it
 
 
-def _record_class(kinds: set[str]) -> type | None:
-    import drivedyn.elements as E  # noqa: N812
+def _record_value(record: type, value: dict[str, Any], where: str) -> dict[str, Any]:
+    """A table given for a parameter record: its keys checked, each value converted."""
+    rfields = {f.name: f for f in dataclasses.fields(record) if f.init}
+    unknown = sorted(set(value) - set(rfields))
+    if unknown:
+        raise ModelError(f"{where}: unknown key(s) {', '.join(unknown)} for "
+                         f"{record.__name__}{did_you_mean(unknown[0], rfields)} (keys: "
+                         f"{', '.join(rfields)})")
+    out: dict[str, Any] = {}
+    for k in _ordered(record, value):
+        out[k] = parameter_value(record, rfields[k].type, k, value[k], f"{where}.{k}", out)
+    return {k: out[k] for k in value}  # the file's order
 
-    for k in kinds:
-        cls = getattr(E, k, None)
-        if isinstance(cls, type) and dataclasses.is_dataclass(cls):
-            return cls
-    return None
+
+def parameter_record(cls: type, key: str) -> tuple[type | None, bool]:
+    """The parameter record class (a dataclass declaring its ``units``: ``NormalLaw``,
+    ``RoadPatch``) that parameter ``key`` of ``cls`` takes, and whether it takes a sequence
+    of them (``tuple[RoadPatch, ...]``); (None, False) for other parameters."""
+    hint = _hints(cls).get(key)
+    many = typing.get_origin(hint) in (tuple, list)
+    args = typing.get_args(hint) if many else (hint,)
+    for arg in args:
+        for t in typing.get_args(arg) or (arg,):  # the members of a union
+            if isinstance(t, type) and dataclasses.is_dataclass(t) \
+                    and getattr(t, "units", None) is not None:
+                return t, many
+    return None, False
+
+
+@functools.cache
+def _hints(cls: type) -> dict[str, Any]:
+    """Resolved type hints of a spec or record class (cached: they never change)."""
+    return typing.get_type_hints(cls)

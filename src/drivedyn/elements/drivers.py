@@ -23,6 +23,7 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.checks import check_param_optional
 from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays_at, local_size
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_angle, quad_form, unwrap
@@ -55,7 +56,8 @@ class JointDriver(ElementSpec):
         function: time function (number, :class:`~drivedyn.timefunctions.TimeFunction` or
             dict) giving the angle increment [rad] or the speed [rad/s].
         quantity: ``"angle"`` or ``"speed"``.
-        k, p: scaling and penalty of the constraint row (None = automatic).
+        k, p: scaling [N m/rad] > 0 and penalty [N m/rad] >= 0 of the constraint row (a
+            rotation row; None = automatic).
     """
 
     name: str
@@ -65,11 +67,14 @@ class JointDriver(ElementSpec):
     k: float | None = None
     p: float | None = None
     family: ClassVar[str] = "joint_driver"
+    units: ClassVar[dict[str, str]] = {"k": "N m/rad", "p": "N m/rad"}
 
     def validate(self) -> None:
         if self.quantity not in ("angle", "speed"):
             raise ModelError(f"JointDriver {self.name!r}.quantity: expected 'angle' or 'speed', "
                              f"got {self.quantity!r}")
+        check_param_optional(self, "k", 0.0, strict=True)
+        check_param_optional(self, "p", 0.0)
 
 
 @dataclass(frozen=True)
@@ -199,7 +204,8 @@ class SpeedDifferenceDriver(ElementSpec):
         name: unique element name.
         joint_1, joint_2: hinge, cylindrical or screw joints.
         function: time function of the speed difference [rad/s].
-        k, p: scaling and penalty (None = automatic).
+        k, p: scaling [N m/rad] > 0 and penalty [N m/rad] >= 0 of the constraint row (a
+            rotation row; None = automatic).
     """
 
     name: str
@@ -209,6 +215,11 @@ class SpeedDifferenceDriver(ElementSpec):
     k: float | None = None
     p: float | None = None
     family: ClassVar[str] = "speed_difference_driver"
+    units: ClassVar[dict[str, str]] = {"k": "N m/rad", "p": "N m/rad"}
+
+    def validate(self) -> None:
+        check_param_optional(self, "k", 0.0, strict=True)
+        check_param_optional(self, "p", 0.0)
 
 
 class SpeedDifferenceDriverFamily(Family):

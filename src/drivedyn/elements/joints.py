@@ -41,7 +41,7 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, two_markers, what_of
-from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.checks import check_param, check_param_optional
 from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays_at, local_size
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import (
@@ -234,21 +234,24 @@ class Joint(TwoMarkerSpec):
         name: unique element name.
         marker_a: marker on the first body (its z axis is the joint axis).
         marker_b: marker on the second body.
-        k: scaling factor of the augmented Lagrangian [N/m or N m/rad]; None = automatic.
-        p: penalty factor [N/m or N m/rad]; None = equal to k.
+        k: scaling factor of the augmented Lagrangian [N/m on the rows that hold a position,
+            N m/rad on those that hold a rotation]; None = automatic.
+        p: penalty factor [N/m or N m/rad, as k]; None = equal to k.
     """
 
     k: float | None = None
     p: float | None = None
 
     family: ClassVar[str] = "joint"
+    # one k (and p) for all rows of the joint: N/m on position rows, N m/rad on rotation rows
+    units: ClassVar[dict[str, str]] = {"k": "N/m or N m/rad", "p": "N/m or N m/rad"}
     kind: ClassVar[str] = ""  # joint type, e.g. "hinge"
     rows: ClassVar[tuple[tuple[int, int, int], ...]] = ()
     has_angle: ClassVar[bool] = False
 
     def validate(self) -> None:
-        check_optional(what_of(self), "k", self.k, 0.0, strict=True)
-        check_optional(what_of(self), "p", self.p, 0.0, strict=True)
+        check_param_optional(self, "k", 0.0, strict=True)
+        check_param_optional(self, "p", 0.0, strict=True)
 
     def visuals(self) -> tuple:
         """The joint frame (z = joint axis) at ``marker_a``, drawn on request; length 0 lets
@@ -266,6 +269,7 @@ class Spherical(Joint):
     """Ball joint: marker origins coincide, all rotations free."""
 
     kind: ClassVar[str] = "spherical"
+    units: ClassVar[dict[str, str]] = {"k": "N/m", "p": "N/m"}  # position rows only
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0))
 
 
@@ -335,6 +339,7 @@ class ParallelAxes(Joint):
     """
 
     kind: ClassVar[str] = "parallel_axes"
+    units: ClassVar[dict[str, str]] = {"k": "N m/rad", "p": "N m/rad"}  # rotation rows only
     rows: ClassVar = ((_D, 2, 0), (_D, 2, 1))
 
 
@@ -348,13 +353,13 @@ class Screw(Joint):
 
     pitch: float = 0.0
     kind: ClassVar[str] = "screw"
-    units: ClassVar[dict[str, str]] = {"pitch": "m"}
+    units: ClassVar[dict[str, str]] = {**Joint.units, "pitch": "m"}
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_S, 2, 0))
     has_angle: ClassVar[bool] = True
 
     def validate(self) -> None:
         super().validate()
-        check_number(what_of(self), "pitch", self.pitch)
+        check_param(self, "pitch")
 
 
 def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,

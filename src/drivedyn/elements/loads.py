@@ -16,6 +16,7 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
+from drivedyn.elements.framework.checks import unit_of
 from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import cross, mat_skew, mtv, mv, set_skew, skew_skew
@@ -134,7 +135,8 @@ class Force(ElementSpec):
             raise ModelError(f"{what}.frame: expected 'global' or 'marker', got {self.frame!r}")
         vec = np.asarray(self.vector, dtype=float)
         if vec.shape != (3,) or not np.all(np.isfinite(vec)):
-            raise ModelError(f"{what}.vector: expected 3 finite numbers, got {self.vector!r}")
+            raise ModelError(f"{what}.vector: expected 3 finite numbers "
+                             f"[{unit_of(self, 'vector')}], got {self.vector!r}")
 
 
 @dataclass(frozen=True)

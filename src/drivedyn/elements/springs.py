@@ -20,8 +20,8 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
-from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.building import make_group, node_dofs, two_markers
+from drivedyn.elements.framework.checks import check_param, check_param_optional
 from drivedyn.elements.framework.contract import local_arrays
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_angle, prim_distance, unwrap
@@ -107,10 +107,10 @@ class SpringDamper(TwoMarkerSpec):
     }
 
     def validate(self) -> None:
-        what = what_of(self)
-        check_number(what, "stiffness", self.stiffness, 0.0)
-        check_number(what, "damping", self.damping, 0.0)
-        check_optional(what, "free_length", self.free_length, 0.0)
+        check_param(self, "stiffness", 0.0)
+        check_param(self, "damping", 0.0)
+        check_param_optional(self, "free_length", 0.0)
+        check_param(self, "preload")
 
 
 @dataclass(frozen=True)
@@ -140,9 +140,10 @@ class TorsionalSpringDamper(TwoMarkerSpec):
     }
 
     def validate(self) -> None:
-        what = what_of(self)
-        check_number(what, "stiffness", self.stiffness, 0.0)
-        check_number(what, "damping", self.damping, 0.0)
+        check_param(self, "stiffness", 0.0)
+        check_param(self, "damping", 0.0)
+        check_param(self, "free_angle")
+        check_param(self, "preload")
 
 
 class SpringFamily(Family):

@@ -46,7 +46,7 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, check_param_optional, unit_of
 from drivedyn.elements.framework.contract import local_arrays
 from drivedyn.elements.framework.group import COMMIT_TIME, Group
 from drivedyn.elements.framework.primitives import mm
@@ -78,6 +78,7 @@ class RoadPatch:
     x_start: float
     x_end: float
     mu: float
+    units: ClassVar[dict[str, str]] = {"x_start": "m", "x_end": "m", "mu": "1"}
 
 
 @dataclass(frozen=True)
@@ -113,7 +114,8 @@ class TyreContact(ElementSpec):
     low_speed_damping: float = 0.2
     vertical_damping: float | None = None
     family: ClassVar[str] = "tyre"
-    units: ClassVar[dict[str, str]] = {"transition": "m", "road_height": "m", "pressure": "Pa",
+    units: ClassVar[dict[str, str]] = {"mu": "1", "transition": "m", "road_height": "m",
+                                       "pressure": "Pa", "low_speed_damping": "1",
                                        "vertical_damping": "N s/m"}
 
     def markers(self) -> tuple[str, ...]:
@@ -171,25 +173,22 @@ class TyreContact(ElementSpec):
     def validate(self) -> None:
         what = what_of(self)
         _, patches = self.resolved()
-        check_number(what, "mu", self.mu, 0.0)
-        check_number(what, "transition", self.transition, 0.0)
-        if self.transition <= 0.0:
-            raise ModelError(f"{what}.transition: must be > 0 m, got {self.transition!r}")
-        check_number(what, "pressure", self.pressure, 0.0)
-        check_number(what, "low_speed_damping", self.low_speed_damping, 0.0)
-        if self.vertical_damping is not None:
-            check_number(what, "vertical_damping", self.vertical_damping, 0.0)
-        if not math.isfinite(self.road_height):
-            raise ModelError(f"{what}.road_height: expected a finite number, got "
-                             f"{self.road_height!r}")
+        check_param(self, "mu", 0.0)
+        check_param(self, "transition", 0.0, strict=True)
+        check_param(self, "pressure", 0.0)
+        check_param(self, "low_speed_damping", 0.0)
+        check_param_optional(self, "vertical_damping", 0.0)
+        check_param(self, "road_height")
         if len(self.patches) > MAX_PATCHES:
             raise ModelError(f"{what}.patches: at most {MAX_PATCHES}, got {len(self.patches)}")
         for i, p in enumerate(patches):
-            check_number(f"{what}.patches[{i}]", "mu", p.mu, 0.0)
-            if not (math.isfinite(p.x_start) and math.isfinite(p.x_end)
-                    and p.x_end > p.x_start):
-                raise ModelError(f"{what}.patches[{i}]: expected x_start < x_end [m], got "
-                                 f"{p.x_start!r}, {p.x_end!r}")
+            where = f"{what}.patches[{i}]"
+            check_param(p, "mu", 0.0, what=where)
+            x0 = check_param(p, "x_start", what=where)
+            x1 = check_param(p, "x_end", what=where)
+            if not x1 > x0:
+                raise ModelError(f"{where}: expected x_start < x_end [{unit_of(p, 'x_end')}], "
+                                 f"got {p.x_start!r}, {p.x_end!r}")
 
 
 @njit(cache=True, inline="always")

@@ -17,7 +17,7 @@ from drivedyn.elements.beams.kernel import beam_kernel
 from drivedyn.elements.beams.se3 import log_se3
 from drivedyn.elements.beams.section import Material, SectionProperties
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError, did_you_mean
@@ -90,7 +90,7 @@ class GeometricallyExactBeam(ElementSpec):
 
     def validate(self) -> None:
         what = what_of(self)
-        check_number(what, "damping", self.damping, 0.0)
+        check_param(self, "damping", 0.0)
         if self.node_a == self.node_b:
             raise ModelError(f"{what}: node_a and node_b are the same node {self.node_a!r}")
         self.properties()

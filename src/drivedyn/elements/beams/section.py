@@ -14,10 +14,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 from numba import njit
 
+from drivedyn.elements.framework.checks import unit_of
 from drivedyn.errors import ModelError
 
 KIND_CIRCULAR = 0
@@ -50,12 +52,13 @@ class Material:
     E: float
     G: float
     density: float
+    units: ClassVar[dict[str, str]] = {"E": "Pa", "G": "Pa", "density": "kg/m^3"}
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "E", _positive("material.E", self.E, "Pa"))
-        object.__setattr__(self, "G", _positive("material.G", self.G, "Pa"))
-        object.__setattr__(self, "density", _positive("material.density", self.density,
-                                                      "kg/m^3"))
+        for label in ("E", "G", "density"):
+            object.__setattr__(self, label, _positive(f"material.{label}",
+                                                      getattr(self, label),
+                                                      unit_of(Material, label)))
         nu = self.nu
         if not -1.0 < nu < 0.5:
             raise ModelError(f"material: Poisson's ratio E/(2G) - 1 = {nu:.4g} (E = {self.E:g}"
@@ -70,7 +73,7 @@ class Material:
             raise ModelError(f"material.nu: expected a number, got {nu!r}") from None
         if not -1.0 < n < 0.5:
             raise ModelError(f"material.nu: must lie in (-1, 0.5), got {nu!r}")
-        E = _positive("material.E", E, "Pa")
+        E = _positive("material.E", E, unit_of(cls, "E"))
         return cls(E, E / (2.0 * (1.0 + n)), density)
 
     @property

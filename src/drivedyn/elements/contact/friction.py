@@ -34,7 +34,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, check_param_optional
 from drivedyn.errors import ModelError
 
 FRICTION_LAWS = ("coulomb", "tanh")
@@ -59,7 +59,8 @@ class FrictionLaw:
     law: str = "coulomb"
     mu_static: float | None = None
     stribeck_speed: float = 1e-2
-    units: ClassVar[dict[str, str]] = {"eps_v": "m/s", "stribeck_speed": "m/s"}
+    units: ClassVar[dict[str, str]] = {"mu": "1", "eps_v": "m/s", "mu_static": "1",
+                                       "stribeck_speed": "m/s"}
 
     def validate(self, what: str) -> None:
         """Raise :class:`ModelError` naming ``what`` for impossible values."""
@@ -67,16 +68,10 @@ class FrictionLaw:
         if self.law not in FRICTION_LAWS:
             raise ModelError(f"{w}.law: expected one of {', '.join(FRICTION_LAWS)}, got "
                              f"{self.law!r}")
-        vals = {"mu": self.mu, "eps_v": self.eps_v, "stribeck_speed": self.stribeck_speed}
-        if self.mu_static is not None:
-            vals["mu_static"] = self.mu_static
-        for label, val in vals.items():
-            check_number(w, label, val, 0.0)
-        if self.eps_v <= 0.0:
-            raise ModelError(f"{w}.eps_v: must be > 0 m/s, got {self.eps_v!r}")
-        if self.stribeck_speed <= 0.0:
-            raise ModelError(f"{w}.stribeck_speed: must be > 0 m/s, got "
-                             f"{self.stribeck_speed!r}")
+        check_param(self, "mu", 0.0, what=w)
+        check_param(self, "eps_v", 0.0, strict=True, what=w)
+        check_param(self, "stribeck_speed", 0.0, strict=True, what=w)
+        check_param_optional(self, "mu_static", 0.0, what=w)
         if self.mu_static is not None and self.mu_static < self.mu:
             raise ModelError(f"{w}.mu_static: must be >= mu = {self.mu!r}, got "
                              f"{self.mu_static!r}")

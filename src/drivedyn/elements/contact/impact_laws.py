@@ -63,7 +63,7 @@ from typing import ClassVar
 import numpy as np
 from numba import njit
 
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, range_message
 from drivedyn.errors import ModelError
 
 LAW_NAMES = ("penalty", "hunt-crossley", "lankarani-nikravesh", "flores", "gonthier",
@@ -179,32 +179,27 @@ class NormalLaw:
     restitution: float = 0.8
     damping: float = 0.0
     min_impact_speed: float = 1e-4
-    # stiffness is in N/m^n with n = exponent: a plain SI number in model files
-    units: ClassVar[dict[str, str]] = {"damping": "N s/m", "min_impact_speed": "m/s"}
+    # the stiffness's unit depends on the exponent n: N/m^n (N/m^1.5 for Hertz)
+    units: ClassVar[dict[str, str]] = {
+        "stiffness": "N/m^{exponent}", "exponent": "1", "restitution": "1",
+        "damping": "N s/m", "min_impact_speed": "m/s",
+    }
 
     def validate(self, what: str) -> None:
         """Raise :class:`ModelError` naming ``what`` (the element) for impossible values."""
         w = f"{what}.law"
         if self.law not in LAW_NAMES:
             raise ModelError(f"{w}: unknown law {self.law!r} (known: {', '.join(LAW_NAMES)})")
-        K = check_number(w, "stiffness", self.stiffness)
-        if K <= 0.0:
-            raise ModelError(f"{w}.stiffness: must be > 0 N/m^n, got {self.stiffness!r}")
-        n = check_number(w, "exponent", self.exponent)
-        if n < 1.0:
-            raise ModelError(f"{w}.exponent: must be >= 1, got {self.exponent!r}")
-        c = check_number(w, "damping", self.damping)
-        if c < 0.0:
-            raise ModelError(f"{w}.damping: must be >= 0 N s/m, got {self.damping!r}")
-        vmin = check_number(w, "min_impact_speed", self.min_impact_speed)
-        if vmin <= 0.0:
-            raise ModelError(f"{w}.min_impact_speed: must be > 0 m/s, got "
-                             f"{self.min_impact_speed!r}")
+        check_param(self, "exponent", 1.0, what=w)  # first: the stiffness's unit uses it
+        check_param(self, "stiffness", 0.0, strict=True, what=w)
+        check_param(self, "damping", 0.0, what=w)
+        check_param(self, "min_impact_speed", 0.0, strict=True, what=w)
         if self.law != "penalty":
-            e = check_number(w, "restitution", self.restitution)
+            e = check_param(self, "restitution", what=w)
             if not 0.0 < e < 1.0:
-                raise ModelError(f"{w}.restitution: must be in (0, 1) for the {self.law} law, "
-                                 f"got {self.restitution!r}")
+                rng = range_message(self, "restitution", "in (0, 1)")
+                raise ModelError(f"{w}.restitution: {rng} for the {self.law} law, got "
+                                 f"{self.restitution!r}")
 
     @property
     def chi(self) -> float:

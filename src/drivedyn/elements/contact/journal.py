@@ -44,7 +44,7 @@ from drivedyn.elements.contact.common import (
 from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.framework.building import two_markers, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, unit_of
 from drivedyn.elements.framework.contract import local_arrays_at
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_axial
@@ -164,11 +164,12 @@ class JournalContact(TwoMarkerSpec):
 
     def validate(self) -> None:
         what = what_of(self)
-        rb = check_number(what, "bore_radius", self.bore_radius, 0.0, strict=True)
-        rp = check_number(what, "pin_radius", self.pin_radius, 0.0, strict=True)
+        rb = check_param(self, "bore_radius", 0.0, strict=True)
+        rp = check_param(self, "pin_radius", 0.0, strict=True)
         if rp >= rb:
-            raise ModelError(f"{what}: pin_radius = {self.pin_radius!r} must be < bore_radius "
-                             f"= {self.bore_radius!r} (a clearance is needed)")
+            m = unit_of(self, "bore_radius")
+            raise ModelError(f"{what}: pin_radius = {self.pin_radius!r} {m} must be < "
+                             f"bore_radius = {self.bore_radius!r} {m} (a clearance is needed)")
         check_laws(self, what)
 
     def visuals(self) -> tuple:

@@ -58,7 +58,7 @@ import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.contact.common import transpose_times, work_offsets, work_size
 from drivedyn.elements.contact.squeeze_film import effective_thickness
 from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, unit_of
 from drivedyn.elements.framework.contract import local_arrays_at
 from drivedyn.elements.framework.primitives import prim_axial
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
@@ -209,8 +209,8 @@ class JournalFilm(TwoMarkerSpec):
     min_film: float = 0.0
     family: ClassVar[str] = "journal_film"
     units: ClassVar[dict[str, str]] = {"viscosity": "Pa s", "length": "m", "bore_radius": "m",
-                                       "pin_radius": "m", "lands": "1", "land_width": "m",
-                                       "min_film": "m"}
+                                       "pin_radius": "m", "land_width": "m",
+                                       "min_film": "m"}  # lands: a count
 
     @property
     def clearance(self) -> float:
@@ -227,26 +227,31 @@ class JournalFilm(TwoMarkerSpec):
 
     def validate(self) -> None:
         what = what_of(self)
-        check_number(what, "viscosity", self.viscosity, 0.0, strict=True)
-        check_number(what, "length", self.length, 0.0, strict=True)
-        rb = check_number(what, "bore_radius", self.bore_radius, 0.0, strict=True)
-        rp = check_number(what, "pin_radius", self.pin_radius, 0.0, strict=True)
+        check_param(self, "viscosity", 0.0, strict=True)
+        check_param(self, "length", 0.0, strict=True)
+        rb = check_param(self, "bore_radius", 0.0, strict=True)
+        rp = check_param(self, "pin_radius", 0.0, strict=True)
         if rp >= rb:
-            raise ModelError(f"{what}: pin_radius = {self.pin_radius!r} must be < bore_radius "
-                             f"= {self.bore_radius!r} (the film needs a clearance)")
+            m = unit_of(self, "bore_radius")
+            raise ModelError(f"{what}: pin_radius = {self.pin_radius!r} {m} must be < "
+                             f"bore_radius = {self.bore_radius!r} {m} (the film needs a "
+                             f"clearance)")
         if isinstance(self.lands, bool) or not isinstance(self.lands, (int, np.integer)) \
                 or self.lands < 0:
             raise ModelError(f"{what}.lands: expected an integer >= 0 (0: plain journal), got "
                              f"{self.lands!r}")
         if self.lands > 0:
-            b = check_number(what, "land_width", self.land_width, 0.0, strict=True)
+            b = check_param(self, "land_width", 0.0, strict=True)
             if self.lands * b > 2.0 * math.pi * rp:
-                raise ModelError(f"{what}.land_width: {self.lands} lands of {b!r} m do not fit "
-                                 f"round a pin of radius {rp!r} m (n b <= 2 pi R expected)")
-        hm = check_number(what, "min_film", self.min_film, 0.0, strict=True)
+                m = unit_of(self, "land_width")
+                raise ModelError(f"{what}.land_width: {self.lands} lands of {b!r} {m} do not "
+                                 f"fit round a pin of radius {rp!r} {m} (n b <= 2 pi R "
+                                 f"expected)")
+        hm = check_param(self, "min_film", 0.0, strict=True)
         if hm >= 0.5 * (rb - rp):
-            raise ModelError(f"{what}.min_film: {self.min_film!r} m must be below half the "
-                             f"radial clearance ({0.5 * (rb - rp)!r} m)")
+            m = unit_of(self, "min_film")
+            raise ModelError(f"{what}.min_film: {self.min_film!r} {m} must be below half the "
+                             f"radial clearance ({0.5 * (rb - rp)!r} {m})")
 
 
 class JournalFilmFamily(Family):

@@ -38,7 +38,7 @@ from drivedyn.elements.contact.common import (
 from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.framework.building import two_markers, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param
 from drivedyn.elements.framework.contract import local_arrays_at
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import add_scaled, prim_axial
@@ -168,7 +168,7 @@ class PlaneContact(TwoMarkerSpec):
 
     def validate(self) -> None:
         what = what_of(self)
-        check_number(what, "radius", self.radius, 0.0)
+        check_param(self, "radius", 0.0)
         check_laws(self, what)
 
 

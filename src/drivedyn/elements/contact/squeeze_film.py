@@ -68,7 +68,7 @@ from drivedyn.elements.contact.common import (
 from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.framework.building import two_markers, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, unit_of
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.errors import ModelError
@@ -230,14 +230,16 @@ class SqueezeFilm(TwoMarkerSpec):
 
     def validate(self) -> None:
         what = what_of(self)
-        check_number(what, "viscosity", self.viscosity, 0.0, strict=True)
-        ri = check_number(what, "r_int", self.r_int, 0.0)
-        re = check_number(what, "r_ext", self.r_ext, 0.0, strict=True)
+        check_param(self, "viscosity", 0.0, strict=True)
+        ri = check_param(self, "r_int", 0.0)
+        re = check_param(self, "r_ext", 0.0, strict=True)
         if ri >= re:
-            raise ModelError(f"{what}: r_int = {self.r_int!r} must be < r_ext = {self.r_ext!r}")
-        check_number(what, "roughness", self.roughness, 0.0)
+            m = unit_of(self, "r_ext")
+            raise ModelError(f"{what}: r_int = {self.r_int!r} {m} must be < r_ext = "
+                             f"{self.r_ext!r} {m}")
+        check_param(self, "roughness", 0.0)
         if self.min_film is not None:
-            check_number(what, "min_film", self.min_film, 0.0, strict=True)
+            check_param(self, "min_film", 0.0, strict=True)
         elif self.roughness == 0.0:
             raise ModelError(f"{what}.min_film: needed (> 0) when roughness is 0 (the film "
                              "force is regularised below h_min)")

@@ -47,7 +47,7 @@ from drivedyn.elements.contact.common import (
 from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw, impact_state, initial_state
 from drivedyn.elements.framework.building import two_markers, what_of
-from drivedyn.elements.framework.checks import check_number
+from drivedyn.elements.framework.checks import check_param, unit_of
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.errors import ModelError
@@ -132,10 +132,12 @@ class ThrustWasherContact(TwoMarkerSpec):
 
     def validate(self) -> None:
         what = what_of(self)
-        ri = check_number(what, "r_int", self.r_int, 0.0)
-        re = check_number(what, "r_ext", self.r_ext, 0.0, strict=True)
+        ri = check_param(self, "r_int", 0.0)
+        re = check_param(self, "r_ext", 0.0, strict=True)
         if ri >= re:
-            raise ModelError(f"{what}: r_int = {self.r_int!r} must be < r_ext = {self.r_ext!r}")
+            m = unit_of(self, "r_ext")
+            raise ModelError(f"{what}: r_int = {self.r_int!r} {m} must be < r_ext = "
+                             f"{self.r_ext!r} {m}")
         check_laws(self, what)
 
     def visuals(self) -> tuple:

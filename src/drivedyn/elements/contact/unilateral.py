@@ -58,8 +58,8 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.contact.common import axial_motion, commit_range
-from drivedyn.elements.framework.building import make_group, two_markers, what_of
-from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.building import make_group, two_markers
+from drivedyn.elements.framework.checks import check_param, check_param_optional
 from drivedyn.elements.framework.contract import (
     MODE_ACC,
     MODE_DYN,
@@ -346,13 +346,12 @@ class UnilateralContact(TwoMarkerSpec):
     k: float | None = None
     p: float | None = None
     family: ClassVar[str] = "unilateral_contact"
-    units: ClassVar[dict[str, str]] = {"k": "N/m", "p": "N/m"}
+    units: ClassVar[dict[str, str]] = {"mu": "1", "k": "N/m", "p": "N/m"}
 
     def validate(self) -> None:
-        what = what_of(self)
-        check_number(what, "mu", self.mu, 0.0)
-        check_optional(what, "k", self.k, 0.0, strict=True)
-        check_optional(what, "p", self.p, 0.0)
+        check_param(self, "mu", 0.0)
+        check_param_optional(self, "k", 0.0, strict=True)
+        check_param_optional(self, "p", 0.0)
 
 
 class UnilateralContactFamily(Family):

@@ -20,6 +20,7 @@ import numpy as np
 
 from drivedyn.elements.flexible.kernel import flexible_body_kernel
 from drivedyn.elements.framework.building import make_group, what_of
+from drivedyn.elements.framework.checks import check_param
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError, did_you_mean
@@ -66,9 +67,7 @@ class FlexibleBody(ElementSpec):
         if len(self.coordinates) != need:
             raise ModelError(f"{what}.coordinates: {nq} elastic coordinates need {need} "
                              f"coordinate nodes, got {len(self.coordinates)}")
-        d = float(self.damping)
-        if not (math.isfinite(d) and d >= 0.0):
-            raise ModelError(f"{what}.damping: must be >= 0 s, got {self.damping!r}")
+        check_param(self, "damping", 0.0)
 
 
 def flexible_body_named(spec: Any, name: str, what: str) -> FlexibleBody:

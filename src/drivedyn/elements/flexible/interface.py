@@ -30,7 +30,7 @@ from numba import njit
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.flexible.family import flexible_body_named
 from drivedyn.elements.framework.building import make_group, what_of
-from drivedyn.elements.framework.checks import check_optional
+from drivedyn.elements.framework.checks import check_param_optional
 from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
@@ -238,7 +238,8 @@ class FlexibleInterface(ElementSpec):
         body: the flexible body element's name.
         interface: index (>= 1) or name of the part's interface.
         node: a plain node placed at the interface (its frame: the part axes).
-        k, p: scaling and penalty of the augmented Lagrangian (None: automatic).
+        k, p: scaling and penalty of the augmented Lagrangian [N/m on the three position
+            rows, N m/rad on the three rotation rows] (None: automatic).
     """
 
     name: str
@@ -248,10 +249,11 @@ class FlexibleInterface(ElementSpec):
     k: float | None = None
     p: float | None = None
     family: ClassVar[str] = "flexible_interface"
+    units: ClassVar[dict[str, str]] = {"k": "N/m or N m/rad", "p": "N/m or N m/rad"}
 
     def validate(self) -> None:
-        check_optional(what_of(self), "k", self.k, 0.0, strict=True)
-        check_optional(what_of(self), "p", self.p, 0.0, strict=True)
+        check_param_optional(self, "k", 0.0, strict=True)
+        check_param_optional(self, "p", 0.0, strict=True)
 
 
 def interface_index(part, interface: int | str, what: str) -> int:

@@ -17,14 +17,19 @@ from drivedyn.elements.framework.group import Group
 class ElementSpec:
     """Base class of element parameter records (frozen dataclasses).
 
-    Subclasses set ``family`` (the registry key) and ``units`` (the SI unit of each
-    dimensional parameter, used by model files), and implement ``markers()`` (names of the
-    markers they attach to, used for validation) and ``validate()``.
+    Subclasses set ``family`` (the registry key) and ``units`` (the SI unit of each float
+    parameter, used by model files and in messages), and implement ``markers()`` (names of
+    the markers they attach to, used for validation) and ``validate()``.
     """
 
     family: ClassVar[str] = ""
-    #: SI unit of each dimensional parameter (``{"stiffness": "N/m"}``); model files may give
-    #: these with any unit of the same dimension, the others only as plain numbers.
+    #: SI unit of each float parameter (``{"stiffness": "N/m", "mu": "1"}``): ``"1"`` declares
+    #: a dimensionless one, ``"N/m or N m/rad"`` one number used in either dimension,
+    #: ``"N/m^{exponent}"`` a unit depending on another parameter
+    #: (:mod:`drivedyn.elements.framework.checks`). Model files may give a dimensional
+    #: parameter in any unit of its dimension, a dimensionless one only as a plain number;
+    #: range checks (:func:`~drivedyn.elements.framework.checks.check_param`) and
+    #: plausibility checks print the unit.
     units: ClassVar[dict[str, str]] = {}
     name: str
 

@@ -7,8 +7,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from drivedyn.elements.framework.building import what_of
-from drivedyn.elements.framework.checks import check_number, check_optional
+from drivedyn.elements.framework.checks import check_param, check_param_optional, unit_of
 from drivedyn.elements.framework.registry import TwoMarkerSpec
 from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.errors import ModelError
@@ -117,6 +116,11 @@ class GearPair(TwoMarkerSpec):
         "stiffness": "N/m", "damping": "N s/m", "backlash": "m", "initial_gap": "m",
         "transmission_error": "m", "flank_onset": "m", "friction_velocity": "m/s",
         "youngs_modulus": "Pa", "max_misalignment": "rad",
+        # dimensionless: shift coefficients and rack proportions (over the module), ratios,
+        # fractions of a mesh cycle, the friction coefficient, the relative tolerance
+        "profile_shift_a": "1", "profile_shift_b": "1", "addendum": "1", "dedendum": "1",
+        "contact_ratio": "1", "variation_smoothing": "1", "mesh_phase": "1",
+        "damping_ratio": "1", "friction": "1", "rim_factor": "1", "tolerance": "1",
     }
 
     def visuals(self) -> tuple:
@@ -156,16 +160,17 @@ class GearPair(TwoMarkerSpec):
             val = getattr(self, label)
             if isinstance(val, bool) or int(val) != val or val <= 0:
                 self._fail(label, "must be a positive whole number of teeth", val)
-        what = what_of(self)
         for label in ("module", "face_width", "friction_velocity", "youngs_modulus",
                       "rim_factor", "tolerance", "addendum", "dedendum"):
-            check_number(what, label, getattr(self, label), 0.0, strict=True)
+            check_param(self, label, 0.0, strict=True)
         for label in ("backlash", "initial_gap", "transmission_error", "flank_onset",
                       "friction", "max_misalignment"):
-            check_number(what, label, getattr(self, label), 0.0)
+            check_param(self, label, 0.0)
         for label in ("pressure_angle", "helix_angle", "profile_shift_a", "profile_shift_b",
                       "variation_smoothing", "mesh_phase"):
-            check_number(what, label, getattr(self, label))
+            check_param(self, label)
+        for label in ("helix_angle_b", "cone_angle_a", "cone_angle_b"):
+            check_param_optional(self, label)
         if not 0.0 < self.pressure_angle < np.radians(45.0):
             self._fail("pressure_angle", "must be in (0, 45 deg) [rad]", self.pressure_angle)
         for label in ("helix_angle", "helix_angle_b"):
@@ -186,15 +191,15 @@ class GearPair(TwoMarkerSpec):
                 self._fail(f"teeth_{self.internal}", "the ring gear needs more teeth than the "
                            f"pinion ({pinion})", ring)
         if self.initial_gap > self.backlash:
-            self._fail("initial_gap", f"must not exceed the backlash {self.backlash!r}",
-                       self.initial_gap)
-        check_optional(what, "stiffness", self.stiffness, 0.0, strict=True)
+            self._fail("initial_gap", f"must not exceed the backlash {self.backlash!r} "
+                       f"{unit_of(self, 'backlash')}", self.initial_gap)
+        check_param_optional(self, "stiffness", 0.0, strict=True)
         if self.damping is not None and self.damping_ratio is not None:
             self._fail("damping_ratio", "give either damping or damping_ratio",
                        self.damping_ratio)
-        check_optional(what, "damping", self.damping, 0.0)
-        check_optional(what, "damping_ratio", self.damping_ratio, 0.0)
-        check_optional(what, "contact_ratio", self.contact_ratio, 1.0)
+        check_param_optional(self, "damping", 0.0)
+        check_param_optional(self, "damping_ratio", 0.0)
+        check_param_optional(self, "contact_ratio", 1.0)
         if not 0.0 < self.variation_smoothing <= 0.5:
             self._fail("variation_smoothing", "must be in (0, 0.5] (fraction of a mesh cycle)",
                        self.variation_smoothing)

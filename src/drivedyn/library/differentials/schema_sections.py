@@ -5,12 +5,13 @@ a calibration. Each differential's schema adds its own geometry sections."""
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
 from drivedyn.elements.contact import NormalLaw
+from drivedyn.elements.framework.checks import declared_unit
 from drivedyn.schema_base import (
     AdaptiveStepFile,
     Force,
@@ -69,12 +70,29 @@ class ElasticWashers(Strict):
 class Contact(Strict):
     """Normal law of every washer and pocket contact, and the friction regularisation."""
 
-    stiffness: Annotated[float, Field(gt=0)] = 1e10
-    exponent: float = Field(default=1.5, ge=1.0, le=3.0)
+    exponent: float = Field(default=1.5, ge=1.0, le=3.0)  # first: the stiffness's unit uses it
+    stiffness: float = 1e10  # [N/m^exponent]
     law: str = "hunt-crossley"
     restitution: float = Field(default=0.5, gt=0.0, le=1.0)
     eps_v: PositiveVelocity = 1e-3
     elastic_washers: ElasticWashers = Field(default_factory=ElasticWashers)
+
+    @field_validator("stiffness", mode="before")
+    @classmethod
+    def _stiffness(cls, v: Any, info: ValidationInfo) -> Any:
+        """K in the normal law's unit N/m^exponent (N/m^1.5 for the default Hertz law): an SI
+        number or a unit string, > 0 and plausible, the messages in that unit. Left to the
+        type check if the exponent itself is refused."""
+        n = info.data.get("exponent")
+        if n is None:
+            return v
+        unit = declared_unit(NormalLaw, "stiffness", {"exponent": n})
+        dim = U.parse_unit(unit)[1]
+        x = U.to_si(v, dim)
+        U.check_plausible(x, dim)
+        if not x > 0.0:
+            raise ValueError(f"must be > 0 {U.unit_label(dim)}")
+        return x
 
     def law_of(self, stiffness: float | None = None) -> NormalLaw:
         """The normal law with this file's exponent and damping, ``stiffness`` [N/m^n] or
