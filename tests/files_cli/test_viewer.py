@@ -4,6 +4,7 @@ a results file, the HTML page in a real headless browser, glTF and VTK exports."
 from __future__ import annotations
 
 import io
+import itertools
 import json
 import os
 import re
@@ -28,7 +29,15 @@ from drivedyn.viewer.meshes import (
     gear_profile,
     sphere_mesh,
 )
-from drivedyn.viewer.scene import _rigid_fit, _surface, build_scene, frame_indices, quaternions
+from drivedyn.viewer.scene import (
+    _rigid_fit,
+    _surface,
+    build_scene,
+    frame_indices,
+    lane_segments,
+    quaternions,
+    road_colour,
+)
 from drivedyn.viewer.vtk import _rotation, frame_geometry
 
 
@@ -424,3 +433,136 @@ def test_viewer_renders_in_headless_chromium_and_the_slider_moves_it(torsen_c_ru
     assert changed > 0.004, changed
     assert np.mean(np.abs(back - first).sum(axis=2) > 0.05) < 1e-4
     assert label0 != label1 and "t = 0.0100 s" in label1
+
+
+# --- the road of a vehicle run ---------------------------------------------------------------
+
+#: the 4WD file's friction under each wheel, and a patch of 0.3 under the front wheels
+ROAD_MU = {"tyre_fl": 0.002, "tyre_fr": 0.05, "tyre_rl": 0.01, "tyre_rr": 0.8}
+PATCH = (1.4, 1.7, 0.3)
+
+
+@pytest.fixture(scope="module")
+def vehicle_run(tmp_path_factory) -> str:
+    """The 4WD vehicle for 10 ms at rest, with a friction patch under the front wheels."""
+    out = tmp_path_factory.mktemp("vehicle") / "v.nc"
+    x0, x1, mu = PATCH
+    r = CliRunner().invoke(main, [
+        "run", "vehicle-4wd", "--t-end", "0.01", "--out", str(out), "--set",
+        f'road.patches=[{{x_start={x0}, x_end={x1}, mu={mu}, wheels=["fl","fr"]}}]'])
+    assert r.exit_code == 0, r.output
+    return str(out)
+
+
+def test_lane_segments_follow_the_tyre_element_s_patch_rule() -> None:
+    """The lane drawn under a tyre is its friction over x as the element reads it: ``mu``
+    outside the patches, later patches winning where they overlap, equal neighbours merged.
+
+    Deliberate mutations that fail it: the first patch winning an overlap ((3, 4) at 0.1);
+    no merging of equal neighbours (two segments of 1.0 after the last patch)."""
+    segs = lane_segments(1.0, [[2.0, 4.0, 0.1], [3.0, 5.0, 0.5], [6.0, 7.0, 1.0]], 0.0, 10.0)
+    assert segs == [(0.0, 2.0, 1.0), (2.0, 3.0, 0.1), (3.0, 5.0, 0.5), (5.0, 10.0, 1.0)]
+    assert lane_segments(0.2, [[-50.0, 50.0, 0.9]], -1.0, 1.0) == [(-1.0, 1.0, 0.9)]
+
+
+def test_road_colours_tell_the_seed_s_friction_values_apart() -> None:
+    """Road colours darken as the friction rises (ice pale, asphalt dark), and the split-mu
+    values of the 4WD file (0.002 to 0.8) are told apart.
+
+    Deliberate mutation that fails it: a linear instead of a logarithmic ramp (0.002 and
+    0.01 get nearly the same colour)."""
+    mus = [0.001, 0.002, 0.01, 0.05, 0.3, 0.8, 1.0]
+    lum = [sum(road_colour(m)) for m in mus]
+    assert all(a > b for a, b in itertools.pairwise(lum)), lum
+    for a, b in itertools.pairwise(mus[1:-1]):
+        assert np.abs(np.subtract(road_colour(a), road_colour(b))).max() > 0.08, (a, b)
+
+
+def test_vehicle_scene_draws_the_road_footprints_and_shafts(vehicle_run) -> None:
+    """The scene of a 4WD run: one lane per tyre with the file's friction and the patch under
+    the front wheels, a legend of every value with its tyres, each tyre's footprint on the
+    road under its wheel at every frame (its length the chord the road cuts from the
+    unloaded tyre), and the propeller and half-shafts as links that follow their bodies.
+
+    Deliberate mutations that fail it: lanes from each tyre's ``mu`` only (no 0.3 lane);
+    the footprint at the wheel centre instead of on the road; a half-shaft's ends swapped
+    (its end at the hub is not the wheel centre); the propeller shafts' links on the central
+    outputs' markers (the shafts get inertia boxes again)."""
+    import xarray as xr
+
+    with xr.open_dataset(vehicle_run) as ds:
+        ds = ds.load()
+    desc = json.loads(ds.attrs["scene"])
+    assert {r["name"]: r["mu"] for r in desc["road"]} == ROAD_MU
+    scene = build_scene(ds, frames=6)
+    assert not scene.warnings
+    legend = {r.mu: r.tyres for r in scene.road}
+    assert legend == {**{mu: [t] for t, mu in ROAD_MU.items()}, 0.3: ["tyre_fl", "tyre_fr"]}
+    lanes = [m for m in scene.meshes if m.role == "road"]
+    assert all(m.node == -1 for m in lanes)
+    patch = [m for m in lanes if m.name == "tyre_fl road (mu 0.3)"]
+    assert len(patch) == 1
+    assert patch[0].vertices[:, 0].min() == pytest.approx(PATCH[0])
+    assert patch[0].vertices[:, 0].max() == pytest.approx(PATCH[1])
+    radius = {r["name"]: r["radius"] for r in desc["road"]}
+    for fp in scene.footprints:
+        wheel = scene.nodes.index("wheel_" + fp.name.removeprefix("tyre_"))
+        centre = scene.position[:, wheel]
+        assert np.allclose(fp.centre[:, :2], centre[:, :2]) and np.all(fp.centre[:, 2] == 0.0)
+        chord = 2 * np.sqrt(radius[fp.name] ** 2 - centre[:, 2] ** 2)
+        assert np.allclose(fp.length, chord) and np.all(fp.length > 0)
+        own = [m for m in lanes if m.name.startswith(fp.name + " ")]
+        for f in range(scene.frames):
+            x, y = fp.centre[f, :2]
+            assert any(m.vertices[:, 0].min() <= x <= m.vertices[:, 0].max()
+                       and m.vertices[:, 1].min() <= y <= m.vertices[:, 1].max()
+                       for m in own), (fp.name, f)
+    links = {k.name: k for k in scene.links}
+    assert set(links) == {"prop_front", "prop_rear", *(f"halfshaft_{w}" for w in
+                                                     ("fl", "fr", "rl", "rr"))}
+    for w in ("fl", "fr", "rl", "rr"):
+        k = links[f"halfshaft_{w}"]
+        assert np.allclose(k.a, scene.position[:, scene.nodes.index(f"wheel_{w}")])
+        assert np.all(np.abs(k.b[:, 1]) < 0.3)  # at the axle's differential, mid-track
+    assert not any(m.equivalent and m.name.startswith("prop_") for m in scene.meshes)
+
+
+def test_viewer_draws_the_road_in_headless_chromium(vehicle_run, tmp_path) -> None:
+    """The page of a 4WD run in a real browser: the road's legend lists the five friction
+    values, and the lanes are on the canvas: switching the road off changes a good part of
+    the picture, and what it removes is mostly the blue of the low-friction lanes.
+
+    Deliberate mutations that fail it: road meshes left out of the page, or the toggle not
+    hiding them (nothing changes); the legend not filled."""
+    exe, sync_playwright = _browser()
+    html = tmp_path / "v.html"
+    r = CliRunner().invoke(main, ["view", vehicle_run, "--out", str(html)])
+    assert r.exit_code == 0, r.output
+    problems: list[str] = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=[
+            "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+        try:
+            page = browser.new_page(viewport={"width": 1000, "height": 700})
+            page.on("console", lambda m: problems.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda e: problems.append(str(e)))
+            page.goto(html.as_uri())
+            page.wait_for_function("window.drivedynViewer && window.drivedynViewer.ready",
+                                   timeout=30000)
+            legend = page.inner_text("#road-legend")
+            canvas = page.locator("canvas")
+            on = _pixels(canvas.screenshot())
+            page.locator("#road").evaluate("(el) => { el.checked = false; "
+                                           "el.dispatchEvent(new Event('input')); }")
+            off = _pixels(canvas.screenshot())
+        finally:
+            browser.close()
+    assert not problems, problems
+    for mu in ("0.002", "0.01", "0.05", "0.3", "0.8"):
+        assert f"mu {mu}:" in legend, legend
+    # the road's pixels: those that change when it is switched off, bluish (the lanes of
+    # mu 0.002-0.05 are pale to mid blue; shading changes their exact colour)
+    road = np.abs(on - off).max(axis=2) > 0.1
+    assert road.mean() > 0.02, road.mean()
+    bluish = on[road][:, 2] > on[road][:, 0] + 0.1
+    assert bluish.mean() > 0.3, bluish.mean()
