@@ -290,7 +290,7 @@ def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | 
     data, source = _read_data(path, overrides)
     lib = library_of(data)
     schemas = _library_schemas()
-    if lib not in schemas:
+    if not isinstance(lib, str) or lib not in schemas:
         raise ModelFileError(f"{source}: model.library = {lib!r}: expected one of "
                              f"{', '.join(schemas)}")
     try:
@@ -329,7 +329,9 @@ def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str
 
 def _schema_of(data: dict) -> type[BaseModel]:
     lib = library_of(data)
-    return S.ModelFile if lib is None else _library_schemas().get(lib, S.ModelFile)
+    if not isinstance(lib, str):  # none (a plain file), or not a name: refused when read
+        return S.ModelFile
+    return _library_schemas().get(lib, S.ModelFile)
 
 
 def validate_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None
