@@ -155,14 +155,18 @@ def check_outcome(out: Outcome, source: str, key: str) -> None:
 VEHICLE = ["vehicle", "--t-end", "0.002", "--set", "run.window=[0, 0.002]"]
 
 
-def run_differential(tmp_path: Path, model: str, key: str, value: str, simulate: bool) -> None:
-    """``tdr --analytic-only`` and, if the file is accepted and ``simulate``, ``run``."""
+def run_differential(tmp_path: Path, model: str, key: str, value: str, simulate: bool,
+                     bench: bool = False) -> None:
+    """``tdr --analytic-only`` and, if the file is accepted and ``simulate``, ``run`` (of
+    the file's vehicle scenario, or with ``bench`` of its bench scenario)."""
     st_ = f"{key}={value}"
     out = cli(["tdr", model, "--analytic-only", "--set", st_])
     check_outcome(out, model, key)
     if out.exit_code == 2 or not simulate:
         return
-    out = cli(["run", model, "--t-end", "0.002", "--out", str(tmp_path / "r.nc"), "--set", st_])
+    scenario = ["--set", "scenario.kind=bench"] if bench else []
+    out = cli(["run", model, "--t-end", "0.002", "--out", str(tmp_path / "r.nc"), *scenario,
+               "--set", st_])
     check_outcome(out, model, key)
 
 
@@ -252,6 +256,12 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
      "torsen-b", "bench.speed_diff"),
     (["tdr", "torsen-b", "--analytic-only", "--set", "gears.helix_angle=0"],
      "torsen-b", "gears.helix_angle"),
+    (["tdr", "torsen-c", "--analytic-only", "--set", "experiment.tdr={ a = 1 }"],
+     "torsen-c", "experiment.tdr"),
+    (["tdr", "torsen-c", "--analytic-only", "--set", "solver.newton.strategy=0"],
+     "torsen-c", "solver.newton.strategy"),
+    (["run", "torsen-c", "--t-end", "0.002", "--set", "scenario.kind=bench", "--set",
+      'scenario.modes="abc"'], "torsen-c", "scenario.modes"),
     ([*VEHICLE, "--set", "road.mu.fl=inf"], "vehicle-4wd", "road.mu.fl"),
     ([*VEHICLE, "--set", "wheels.low_speed_damping=nan"], "vehicle-4wd",
      "wheels.low_speed_damping"),
@@ -259,6 +269,12 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
      "vehicle-4wd", "differentials.bevel.profile_shift"),
     (["vehicle", "--t-end", "0.002", "--set", "run.window=[0.001, 0.002]"],
      "vehicle-4wd", "run.window"),
+    ([*VEHICLE, "--set", "final_drive.pressure_angle=0"], "vehicle-4wd",
+     "final_drive.pressure_angle"),
+    ([*VEHICLE, "--set", "differentials.bevel.profile_shift=0", "--compare", "open"],
+     "vehicle-4wd", "differentials.bevel.profile_shift"),
+    ([*VEHICLE, "--set", "differentials.bevel.clutch.stiffness=0", "--compare", "clutch"],
+     "vehicle-4wd", "differentials.bevel.clutch.stiffness"),
 ]
 
 
@@ -290,9 +306,10 @@ def test_road_friction_zero_and_analytic_failure_run(tmp_path: Path) -> None:
 @long(600)
 @given(model=st.sampled_from(["torsen-c", "torsen-b"]), data=st.data())
 def test_differential_files_long(tmp_path: Path, model: str, data: st.DataObject) -> None:
-    """Long profile of the differential tests (every accepted value also simulated)."""
+    """Long profile of the differential tests (every accepted value also simulated, in the
+    vehicle or the bench scenario)."""
     key, value = data.draw(overrides(model))
-    run_differential(tmp_path, model, key, value, simulate=True)
+    run_differential(tmp_path, model, key, value, simulate=True, bench=data.draw(st.booleans()))
 
 
 @pytest.mark.fuzz_long
@@ -321,7 +338,8 @@ def test_vehicle_file_runs_long(data: st.DataObject) -> None:
 def test_differential_files_run_long(tmp_path: Path, model: str, data: st.DataObject) -> None:
     """Long profile of :func:`test_differential_files_run_or_fail_cleanly`."""
     key, value = data.draw(accepted_overrides(model))
-    run_differential(tmp_path, model, key, value, simulate=True)
+    run_differential(tmp_path, model, key, value, simulate=True,
+                     bench=data.draw(st.booleans()))
 
 
 def _vehicle_problem(key: str, value: str) -> str | None:

@@ -492,10 +492,13 @@ def _load_library_model(path: str | Path, overrides) -> Model:
         model.meta["layout"] = layout
     else:
         diff = differentials.of(params)
+        side = params.scenario.modes or diff.sides[0]
+        if params.scenario.kind == "bench" and side not in diff.sides:
+            raise ModelFileError(f"{source}: scenario.modes = {side!r}: expected the output "
+                                 f"the bench loads, one of {', '.join(diff.sides)}")
         try:
             if params.scenario.kind == "bench":
-                spec, _ = scenarios.bench_spec(diff, params,
-                                              params.scenario.modes or diff.sides[0])
+                spec, _ = scenarios.bench_spec(diff, params, side)
                 t_end = params.bench.t_end
                 settings = params.solver.settings()
             else:
