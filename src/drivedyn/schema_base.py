@@ -9,14 +9,7 @@ import typing
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import (
-    BaseModel,
-    BeforeValidator,
-    ConfigDict,
-    Field,
-    field_validator,
-    model_validator,
-)
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
 
@@ -121,7 +114,8 @@ def _bool_as_text(v: Any) -> Any:
 class Strict(BaseModel):
     """A section of a model file: unknown keys are errors; numbers are finite (NaN and the
     infinities are refused, also inside lists and tables) and never ``true``/``false``; a
-    table that gives some keys of a section with a default takes the others from it."""
+    partial table of a section with a default takes the keys it cannot do without (a body's
+    mass and inertia, an adaptive step's mode) from that default."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
 

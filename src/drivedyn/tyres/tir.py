@@ -10,9 +10,12 @@ file, the section and the key. Keys the file omits take MF-Tyre's defaults (scal
 coefficients 0, :data:`~drivedyn.tyres.magic_formula.DEFAULTS`).
 
 Values are then checked against what the formula can evaluate: lengths, loads, stiffnesses,
-the peak and shape factors > 0, scaling factors >= 0, the divisors PKY2 and PTY2 not 0, and
-the whole formula finite over a grid of operating points (:data:`GRID`): a coefficient that
-overflows it (``PKX3 = 1e30``) is named with the operating point where it does.
+the peak and shape factors > 0, scaling factors >= 0, the divisors PKY2 and PTY2 not 0 (PTY1-2
+required where the lateral relaxation length comes from them), and the whole formula finite
+over a grid of operating points (:data:`GRID`): a coefficient that overflows it
+(``PKX3 = 1e30``) is named with the operating point where it does. ``[MODEL] TYRESIDE`` must
+be ``LEFT``, ``RIGHT`` or ``SYMMETRIC``; the coefficients are used as the file gives them on
+every wheel (no mirroring for the other side of the vehicle).
 """
 
 from __future__ import annotations
@@ -263,8 +266,9 @@ def _first_failure(P: np.ndarray, points: list[tuple[float, ...]] | None = None
 
 def _check_grid(tf: TirFile, values: dict[str, float], P: np.ndarray) -> None:
     """Refuse coefficients that make the formula overflow or divide by zero somewhere on
-    :data:`GRID`, naming the key that does it: the first key of the file whose default
-    (:data:`~drivedyn.tyres.magic_formula.DEFAULTS`, else 0) makes that point finite."""
+    :data:`GRID`, naming the key that does it: of the keys whose default
+    (:data:`~drivedyn.tyres.magic_formula.DEFAULTS`, else 0) makes that point finite, the
+    one farthest from its usual magnitude (:data:`SCALE`)."""
     bad = _first_failure(P)
     if bad is None:
         return
