@@ -275,6 +275,7 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
      "vehicle-4wd", "differentials.bevel.profile_shift"),
     ([*VEHICLE, "--set", "differentials.bevel.clutch.stiffness=0", "--compare", "clutch"],
      "vehicle-4wd", "differentials.bevel.clutch.stiffness"),
+    ([*VEHICLE, "--set", 'wheels.tyre="simple-mud"'], "vehicle-4wd", "wheels.tyre"),
 ]
 
 
@@ -298,6 +299,24 @@ def test_road_friction_zero_and_analytic_failure_run(tmp_path: Path) -> None:
     out = cli(["tdr", "torsen-b", "--analytic-only", "--set", "pockets.mu=1"])
     assert_clean(out)
     assert out.exit_code == 1 and "analytic model failed" in out.text, out.show()
+
+
+def test_vehicle_names_its_key_for_an_impossible_torsen_file(tmp_path: Path) -> None:
+    """A vehicle whose ``differentials.torsen_b`` file has an impossible geometry is refused
+    before the build, naming the vehicle file, its key and the TORSEN file's key (fails if
+    the TORSEN file is only checked inside the build, whose message names neither)."""
+    from drivedyn.config.loader import shipped_models
+
+    text = shipped_models()["torsen-b"].read_text()
+    assert "teeth_element = 12" in text
+    bad = tmp_path / "torsen-b-bad.toml"
+    bad.write_text(text.replace("teeth_element = 12", "teeth_element = 40"))
+    for args in ([*VEHICLE, "--set", f'differentials.torsen_b="{bad}"'],
+                 ["run", "vehicle-4wd", "--t-end", "0.002", "--out", str(tmp_path / "v.nc"),
+                  "--set", f'differentials.torsen_b="{bad}"']):
+        out = cli(args)
+        check_outcome(out, "vehicle-4wd", "differentials.torsen_b")
+        assert out.exit_code == 2 and "gears.teeth_element = 40" in out.text, out.show()
 
 
 # -- long profile -----------------------------------------------------------------------------

@@ -309,8 +309,11 @@ def _sibling(name: str, base: Path) -> str | Path:
 
 
 def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str, Any]:
-    """The validated TORSEN parameter files a vehicle's positions use (``differentials.
-    torsen_c``, ``differentials.torsen_b``), errors naming the vehicle's key."""
+    """The validated and checked TORSEN parameter files a vehicle's positions use
+    (``differentials.torsen_c``, ``differentials.torsen_b``), errors naming the vehicle's
+    key."""
+    from drivedyn.library import differentials
+
     out: dict[str, Any] = {}
     d = params.differentials
     for kind in sorted({d.central, d.front, d.rear} & {"torsen-c", "torsen-b"}):
@@ -324,6 +327,10 @@ def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str
         if lib != key:
             raise ModelFileError(f"{source}: differentials.{key} = {name!r}: expected a "
                                  f"{key} model file, got model.library = {lib!r}")
+        try:
+            differentials.get(kind).check(out[kind])
+        except ModelError as exc:
+            raise ModelFileError(f"{source}: differentials.{key} = {name!r}: {exc}") from None
     return out
 
 

@@ -111,14 +111,17 @@ def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".") -> Tyre:
     """The tyre of ``wheels.tyre`` (shipped name, ``simple-<surface>`` with
     ``wheels.simple_radius``, or a path relative to ``base_dir``)."""
     name = p.wheels.tyre
-    if name.startswith("simple-"):
-        return simple_tyre(name.removeprefix("simple-"), unloaded_radius=p.wheels.simple_radius)
     path = Path(base_dir) / name
     try:
+        if name.startswith("simple-"):
+            return simple_tyre(name.removeprefix("simple-"),
+                               unloaded_radius=p.wheels.simple_radius)
         return resolve_tyre(str(path) if path.exists() and not Path(name).is_absolute()
                             else name)
-    except ModelError as exc:
-        raise ModelError(f"wheels.{exc}") from None
+    except ModelError as exc:  # "tyre ...", "simple tyre: ..."
+        text = str(exc)
+        raise ModelError(f"wheels.{text}" if text.startswith("tyre") else
+                         f"wheels.tyre = {name!r}: {text}") from None
 
 
 def check_parameters(p: Vehicle4WDFile) -> None:
