@@ -333,6 +333,29 @@ def test_differential_files_long(tmp_path: Path, model: str, data: st.DataObject
 
 @pytest.mark.fuzz_long
 @long(300)
+@given(model=st.sampled_from(sorted(MODELS)), data=st.data())
+def test_several_keys_at_once_long(tmp_path: Path, model: str, data: st.DataObject) -> None:
+    """Two or three keys at edge values together (interactions: a window and an end time, a
+    module and a clearance...): clean outcome; a refusal names the file and one of the
+    keys."""
+    sets = [data.draw(overrides(model)) for _ in range(data.draw(st.integers(2, 3)))]
+    args = [a for k, v in sets for a in ("--set", f"{k}={v}")]
+    if model == "vehicle-4wd":
+        out = cli([*VEHICLE, *args])
+    else:
+        out = cli(["tdr", model, "--analytic-only", *args])
+        if out.exit_code != 2:
+            out = cli(["run", model, "--t-end", "0.002", "--out", str(tmp_path / "r.nc"),
+                       *args])
+    assert_clean(out)
+    if out.exit_code == 2:
+        msg = out.text[out.text.index("error: "):]
+        assert model in msg, out.show()
+        assert any(_names_key(msg, k) for k, _ in sets), out.show()
+
+
+@pytest.mark.fuzz_long
+@long(300)
 @given(data=st.data())
 def test_vehicle_file_long(data: st.DataObject) -> None:
     """Long profile of :func:`test_vehicle_file_refuses_or_runs`."""

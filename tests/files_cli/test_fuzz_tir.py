@@ -195,6 +195,13 @@ def _subset(draw: Any, keys: dict[str, str], required: tuple[str, ...]) -> dict[
     return {k: v for k, v in keys.items() if k in required or k in chosen}
 
 
+SCALES = (0.5, 0.8, 1.0, 1.25, 2.0)
+
+
+def _scaled(value: str, factor: float) -> str:
+    return value if factor == 1.0 else f"{float(value) * factor:.6g}"
+
+
 @st.composite
 def valid_tir(draw: Any) -> TirCase:
     """A property file the reader must accept."""
@@ -218,6 +225,11 @@ def valid_tir(draw: Any) -> TirCase:
         lat = dict(next(keys for sec, keys in sections if sec == "LATERAL_COEFFICIENTS"))
         lat.update(PTY1=LATERAL["PTY1"], PTY2=LATERAL["PTY2"])
         sections = [(s, lat if s == "LATERAL_COEFFICIENTS" else k) for s, k in sections]
+    # coefficients off their base values by up to a factor 2 (a different, plausible tyre)
+    if draw(st.booleans()):
+        sections = [(s, {k: _scaled(v, draw(st.sampled_from(SCALES)))
+                         if k in SECTION_OF and k != "FITTYP" else v
+                         for k, v in keys.items()}) for s, keys in sections]
     order = draw(st.permutations(range(len(sections))))
     sections = [sections[i] for i in order]
     tables = draw(st.lists(st.sampled_from(sorted(TABLES)), unique=True, max_size=4))
