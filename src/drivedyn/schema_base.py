@@ -5,6 +5,7 @@ model's own schema section (which sits below ``config`` in the layers)."""
 
 from __future__ import annotations
 
+import typing
 from typing import Annotated, Any, Literal
 
 import numpy as np
@@ -86,8 +87,66 @@ def inertia_value(v: Any) -> list:
 Inertia = Annotated[list, BeforeValidator(inertia_value)]
 
 
+def _numeric(annotation: Any) -> bool:
+    """Does a field's annotation take numbers and not true/false (``int``, ``float``,
+    ``list[float]``, ``float | None`` ...)?"""
+    if annotation is bool or annotation is Any:
+        return False
+    if annotation in (int, float):
+        return True
+    args = typing.get_args(annotation)
+    if typing.get_origin(annotation) is Annotated:
+        return _numeric(args[0])
+    if any(a is bool or a is Any for a in args):
+        return False
+    return any(_numeric(a) for a in args)
+
+
+def _bool_as_text(v: Any) -> Any:
+    """``v`` with ``true``/``false`` (also inside lists and tables) as the strings
+    ``"true"``/``"false"``."""
+    if isinstance(v, bool):
+        return str(v).lower()
+    if isinstance(v, (list, tuple)):
+        return [_bool_as_text(x) for x in v]
+    if isinstance(v, dict):
+        return {k: _bool_as_text(x) for k, x in v.items()}
+    return v
+
+
 class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    """A section of a model file: unknown keys are errors; numbers are finite (NaN and the
+    infinities are refused, also inside lists and tables) and never ``true``/``false``; a
+    partial table of a section with a default takes the keys it cannot do without (a body's
+    mass and inertia, an adaptive step's mode) from that default."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _prepare(cls, data: Any) -> Any:
+        if not isinstance(data, dict):
+            return data
+        fields = cls.model_fields
+        out = {}
+        for k, v in data.items():
+            f = fields.get(k)
+            if f is not None and _numeric(f.annotation):
+                # pydantic reads true/false as 1/0 where a number is expected: given to the
+                # field as text instead, they fail its own validation, reported at the key
+                v = _bool_as_text(v)
+            elif f is not None and isinstance(v, dict) and f.default_factory is not None:
+                # a partial table (``--set section.body.mass=2`` where the file leaves the
+                # body at its default) takes the keys it lacks and cannot do without from
+                # the section's default (the others keep their own defaults, as before)
+                default = f.default_factory()  # type: ignore[call-arg]
+                if isinstance(default, BaseModel):
+                    dump = default.model_dump(warnings=False)
+                    required = {n: dump[n] for n, g in type(default).model_fields.items()
+                                if g.is_required()}
+                    v = {**required, **v}
+            out[k] = v
+        return out
 
 
 class Rotation(Strict):

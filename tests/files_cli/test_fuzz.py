@@ -15,60 +15,20 @@ profile (several hundred).
 from __future__ import annotations
 
 import copy
-import json
 import math
 from pathlib import Path
 from typing import Any
 
 import pytest
 from click.testing import CliRunner
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from drivedyn.cli import main
-
-SHORT = settings(max_examples=12, deadline=None, derandomize=True,
-                 suppress_health_check=[HealthCheck.too_slow,
-                                        HealthCheck.function_scoped_fixture])
-LONG = settings(max_examples=300, deadline=None,
-                suppress_health_check=[HealthCheck.too_slow,
-                                       HealthCheck.function_scoped_fixture])
+from fuzz_common import LONG, SHORT, to_toml
 
 AXES = {"x": [1, 0, 0], "y": [0, 1, 0], "z": [0, 0, 1]}
 JOINTS = ["Hinge", "Spherical", "Cylindrical", "Prismatic", "Fixed"]
-
-
-# -- a small TOML writer (values: str, bool, int, float, lists, inline tables) ------------------
-
-def _value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, float):
-        return "nan" if math.isnan(v) else ("inf" if v == math.inf else
-                                             "-inf" if v == -math.inf else repr(v))
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(v)
-
-
-def to_toml(model: dict) -> str:
-    lines: list[str] = []
-    for key, val in model.items():
-        if isinstance(val, dict):
-            lines.append(f"[{key}]")
-            lines += [f"{k} = {_value(x)}" for k, x in val.items()]
-        else:
-            for item in val:
-                lines.append(f"[[{key}]]")
-                lines += [f"{k} = {_value(x)}" for k, x in item.items()]
-        lines.append("")
-    return "\n".join(lines)
 
 
 # -- valid models ---------------------------------------------------------------------------

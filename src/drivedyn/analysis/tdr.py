@@ -313,10 +313,16 @@ def evaluate(p, modes: list[int], torque: float | None = None,
                "newton_iterations": 0}
     ana: dict[int, float] = {}
 
+    analytic_failed: list[str] = []
+
     def analytic() -> None:
         for m in modes:
             if m not in ana:
-                ana[m] = diff.analytic_bench(p, m, T0, dw, friction_scale)
+                try:
+                    ana[m] = diff.analytic_bench(p, m, T0, dw, friction_scale)
+                except RuntimeError as exc:  # no sliding equilibrium (e.g. self-locking)
+                    ana[m] = float("nan")
+                    analytic_failed.append(f"analytic model failed for mode {m}: {exc}")
 
     if not analytic_only:
         metrics["dissipated_energy"] = 0.0
@@ -341,6 +347,8 @@ def evaluate(p, modes: list[int], torque: float | None = None,
                 failed = f"{side} bench run failed: {run.message}"
                 break
     analytic()
+    if analytic_failed and not failed:
+        failed = "; ".join(analytic_failed)
     rows = []
     for m in modes:
         val = sim.get(m, float("nan")) if not analytic_only else ana[m]

@@ -21,6 +21,7 @@ Checks (:func:`checks`, the issue's acceptance criteria):
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -103,8 +104,12 @@ def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
     return p.model_copy(update={"differentials": d})
 
 
+#: recording interval [s] of :func:`run` (the window means need at least 3 samples)
+OUTPUT_DT = 1e-3
+
+
 def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: float | None = None,
-        output_dt: float = 1e-3, progress=None, source: str = "",
+        output_dt: float = OUTPUT_DT, progress=None, source: str = "",
         overrides: list[str] | tuple = ()):
     """Build, compile and simulate the vehicle: (results, layout). The results record the
     parameters of the run, its ``source`` file, ``overrides`` and configuration
@@ -171,7 +176,7 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
     outputs = {"central": prop["front"] + prop["rear"], "front": front, "rear": rear}
     for pos in ("central", "front", "rear"):
         dh = (_axial_momentum(res, lay, pos, i1) - _axial_momentum(res, lay, pos, i0)) / dt
-        tb[pos] = abs(inputs[pos] - outputs[pos] - dh) / abs(inputs[pos])
+        tb[pos] = _div(abs(inputs[pos] - outputs[pos] - dh), abs(inputs[pos]))
     # power balance of the driveline over the window
     w_eng = _integral(res, f"{lay.engine}.power", i0, i1) + \
         _integral(res, f"{lay.engine}_reaction.power", i0, i1)
@@ -188,16 +193,16 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
             d = res.values(n)
             d_dl += float(d[i1] - d[i0])
     dk = _driveline_kinetic(res, lay, i1) - _driveline_kinetic(res, lay, i0)
-    pb = abs(w_eng - w_wheels - d_dl - dk) / abs(w_eng)
+    pb = _div(abs(w_eng - w_wheels - d_dl - dk), abs(w_eng))
     wi = res.values("energy.work_in")[i1]
     ee = abs(res.values("energy.balance_error")[i1]) / max(abs(wi), 1e-12)
     return Summary(
         types=dict(lay.types), wheels=wheels, speed=float(v[i1]),
         acceleration=float((v[i1] - v[i0]) / dt), engine=eng,
-        front_share=front / (front + rear),
-        left_share={"front": T["fl"] / front, "rear": T["rl"] / rear},
+        front_share=_div(front, front + rear),
+        left_share={"front": _div(T["fl"], front), "rear": _div(T["rl"], rear)},
         axle_ratio={"front": _ratio(T["fl"], T["fr"]), "rear": _ratio(T["rl"], T["rr"])},
-        central_ratio=rear / front, traction=sum(wh.fx for wh in wheels.values()),
+        central_ratio=_div(rear, front), traction=sum(wh.fx for wh in wheels.values()),
         torque_balance=tb, power_balance=pb, energy_error=ee,
         wall=res.stats.wall_s, steps=res.stats.steps, rejected=res.stats.rejected,
         newton=res.stats.newton_iterations, tdr=dict(lay.tdr))
@@ -205,7 +210,16 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
 
 def _ratio(a: float, b: float) -> float:
     """Larger over smaller magnitude of two torques (drive or coast)."""
-    return max(abs(a), abs(b)) / min(abs(a), abs(b))
+    return _div(max(abs(a), abs(b)), min(abs(a), abs(b)))
+
+
+def _div(a: float, b: float) -> float:
+    """``a / b`` with IEEE semantics: +-inf for a non-zero ``a`` over 0, NaN for 0 / 0 (a
+    run without engine torque, a wheel on a road without friction: the ratio is undefined
+    and the check that reads it fails, instead of the analysis)."""
+    if b != 0.0:
+        return a / b
+    return math.copysign(math.inf, a) if a != 0.0 else math.nan
 
 
 def time_histories(res, wheels=WHEELS) -> dict[str, np.ndarray]:
@@ -284,13 +298,13 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
     kind = s.name
     if kind == "open":
         T = np.array([W[w].torque for w in WHEELS])
-        dev = float(np.max(np.abs(T - T.mean())) / T.mean())
+        dev = _div(float(np.max(np.abs(T - T.mean()))), float(T.mean()))
         out.append(("open: wheel torques equal (max deviation)", dev, tol, dev <= tol))
         low = min(WHEELS, key=lambda w: W[w].mu_road)
         out.append((f"open: lowest-friction wheel {low} slips (|slip|)", abs(W[low].kappa),
                     0.05, abs(W[low].kappa) > 0.05))
     if kind == "locked":
-        worst = max(abs(W[w].fx) / W[w].limit for w in WHEELS)
+        worst = max(_div(abs(W[w].fx), W[w].limit) for w in WHEELS)
         out.append(("locked: tyre force / friction limit (largest)", worst, 1 + tol,
                     worst <= 1 + tol))
     for axle in ("front", "rear"):
@@ -298,7 +312,8 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
         if abs(l_.mu_road - r_.mu_road) > 1e-12 and kind in ("locked", "torsen", "clutch"):
             hi, lo = (l_, r_) if l_.mu_road > r_.mu_road else (r_, l_)
             out.append((f"{kind}: {axle} higher-friction wheel gets more torque",
-                        abs(hi.torque) / abs(lo.torque), 1.0, abs(hi.torque) > abs(lo.torque)))
+                        _div(abs(hi.torque), abs(lo.torque)), 1.0,
+                        abs(hi.torque) > abs(lo.torque)))
         tdr = s.tdr.get(axle)
         if kind == "torsen" and tdr:
             lim = tdr[1] * (1 + tol)

@@ -35,6 +35,7 @@ def _params(model_file: str, sets: tuple[str, ...]):
     from drivedyn.library import differentials
     from drivedyn.model.spec import ModelError
 
+    source = model_file
     try:
         p, _, source = read_library_file(model_file, list(sets))
         if p.model.library not in differentials.TYPES:
@@ -42,8 +43,10 @@ def _params(model_file: str, sets: tuple[str, ...]):
                       f"(differentials: {', '.join(differentials.TYPES)}); vehicles run with "
                       "`drivedyn vehicle` or `drivedyn run`")
         differentials.of(p).check(p)
-    except (ModelFileError, ModelError) as exc:
+    except ModelFileError as exc:  # names the file already
         bad_input(str(exc))
+    except ModelError as exc:
+        bad_input(f"{source}: {exc}")
     return p, source
 
 

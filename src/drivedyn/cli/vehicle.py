@@ -8,6 +8,7 @@ input (file, key, value, configuration name).
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -59,6 +60,7 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
     from drivedyn.results.results import write_netcdf_atomic
 
     check_output_path(out, "--out", directory=True)
+    source = model_file
     try:
         p, _, source = read_library_file(model_file, list(sets))
         if p.model.library not in vehicles.TYPES:
@@ -77,12 +79,19 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
             mod = vehicles.get(q.model.library)
             mod.check_parameters(q)
             mod.load_tyre(q, base)
-    except (ModelFileError, ModelError, UnitError) as exc:
+    except ModelFileError as exc:  # names the file already
         bad_input(str(exc))
+    except (ModelError, UnitError) as exc:
+        bad_input(f"{source}: {exc}")
     t_final = p.run.t_end if t_end is None else t_end
     if p.run.window[1] > t_final + 1e-12:
-        bad_input(f"run.window = {list(p.run.window)} s ends after the final time "
+        bad_input(f"{source}: run.window = {list(p.run.window)} s ends after the final time "
                   f"{t_final:g} s; set --t-end or run.window")
+    a, b = (x / V.OUTPUT_DT for x in p.run.window)
+    if math.floor(b + 1e-9) - math.ceil(a - 1e-9) + 1 < 3:
+        bad_input(f"{source}: run.window = {list(p.run.window)} s holds fewer than 3 of the "
+                  f"samples recorded every {V.OUTPUT_DT * 1e3:g} ms (the window means need "
+                  "3); widen it")
     summaries, runs, failed = [], [], False
     outputs = OutputFiles()  # a folder that refuses the results now: they go to a fallback
     for q in variants:

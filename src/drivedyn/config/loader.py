@@ -290,7 +290,7 @@ def read_library_file(path: str | Path, overrides: list[str] | dict[str, Any] | 
     data, source = _read_data(path, overrides)
     lib = library_of(data)
     schemas = _library_schemas()
-    if lib not in schemas:
+    if not isinstance(lib, str) or lib not in schemas:
         raise ModelFileError(f"{source}: model.library = {lib!r}: expected one of "
                              f"{', '.join(schemas)}")
     try:
@@ -309,8 +309,11 @@ def _sibling(name: str, base: Path) -> str | Path:
 
 
 def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str, Any]:
-    """The validated TORSEN parameter files a vehicle's positions use (``differentials.
-    torsen_c``, ``differentials.torsen_b``), errors naming the vehicle's key."""
+    """The validated and checked TORSEN parameter files a vehicle's positions use
+    (``differentials.torsen_c``, ``differentials.torsen_b``), errors naming the vehicle's
+    key."""
+    from drivedyn.library import differentials
+
     out: dict[str, Any] = {}
     d = params.differentials
     for kind in sorted({d.central, d.front, d.rear} & {"torsen-c", "torsen-b"}):
@@ -324,12 +327,18 @@ def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str
         if lib != key:
             raise ModelFileError(f"{source}: differentials.{key} = {name!r}: expected a "
                                  f"{key} model file, got model.library = {lib!r}")
+        try:
+            differentials.get(kind).check(out[kind])
+        except ModelError as exc:
+            raise ModelFileError(f"{source}: differentials.{key} = {name!r}: {exc}") from None
     return out
 
 
 def _schema_of(data: dict) -> type[BaseModel]:
     lib = library_of(data)
-    return S.ModelFile if lib is None else _library_schemas().get(lib, S.ModelFile)
+    if not isinstance(lib, str):  # none (a plain file), or not a name: refused when read
+        return S.ModelFile
+    return _library_schemas().get(lib, S.ModelFile)
 
 
 def validate_file(path: str | Path, overrides: list[str] | dict[str, Any] | None = None
@@ -490,10 +499,13 @@ def _load_library_model(path: str | Path, overrides) -> Model:
         model.meta["layout"] = layout
     else:
         diff = differentials.of(params)
+        side = params.scenario.modes or diff.sides[0]
+        if params.scenario.kind == "bench" and side not in diff.sides:
+            raise ModelFileError(f"{source}: scenario.modes = {side!r}: expected the output "
+                                 f"the bench loads, one of {', '.join(diff.sides)}")
         try:
             if params.scenario.kind == "bench":
-                spec, _ = scenarios.bench_spec(diff, params,
-                                              params.scenario.modes or diff.sides[0])
+                spec, _ = scenarios.bench_spec(diff, params, side)
                 t_end = params.bench.t_end
                 settings = params.solver.settings()
             else:

@@ -64,6 +64,16 @@ def _models_in(annotation: Any) -> list[Any]:
     return out
 
 
+#: location parts pydantic adds for the members of a union
+_UNION_TAGS = ("float", "str", "none", "int", "bool", "Rotation", "FixedStepFile",
+               "AdaptiveStepFile")
+
+
+def _union_tag(part: str) -> bool:
+    return part in _UNION_TAGS or part.startswith(("tuple[", "list[", "dict[",
+                                                   "function-", "nullable["))
+
+
 def format_validation_error(source: str, data: dict, exc: ValidationError,
                             schema: type[BaseModel] | None = None,
                             element_labels: list[str] | None = None) -> str:
@@ -76,10 +86,9 @@ def format_validation_error(source: str, data: dict, exc: ValidationError,
         # discriminated unions (solver.step) add their tag ("fixed", "adaptive") to the path
         loc = tuple(p for i, p in enumerate(loc)
                     if not (i and loc[i - 1] == "step" and p in ("fixed", "adaptive")))
-        # union members appear as extra location parts; keep the user's keys only
-        loc = tuple(p for p in loc if isinstance(p, int) or not str(p).startswith(
-            ("tuple[", "list[", "Rotation", "FixedStepFile", "AdaptiveStepFile", "dict[",
-             "float", "str", "none")))
+        # union members appear as extra location parts ("float", "tuple[...]"); keep the
+        # user's keys only (a key may start like one: "strategy")
+        loc = tuple(p for p in loc if isinstance(p, int) or not _union_tag(str(p)))
         msg = err["msg"]
         for prefix in ("Value error, ", "Assertion failed, "):
             if msg.startswith(prefix):

@@ -158,15 +158,18 @@ def _relaxation(P, v6, fz, dfz, gy, kxk, kya):
     PTX1-3 and PTY1-2; MF 6.x the slip stiffness over the carcass stiffness when
     ``[STRUCTURAL]`` gives it."""
     r0, fz0, cxs, cys = P[_R0], P[_FNOMIN] * P[_LFZO], P[_CX], P[_CY]
-    ptx1, ptx2, ptx3 = P[_PTX1:_PTX1 + 3]
-    pty1, pty2 = P[_PTY1:_PTY1 + 2]
-    sig_k = fz * (ptx1 + ptx2 * dfz) * math.exp(-ptx3 * dfz) * (r0 / fz0) * P[_LSGKP]
-    sig_a = pty1 * math.sin(2.0 * math.atan(fz / (pty2 * fz0))) * (
-        1.0 - P[_PKY3] * abs(gy)) * r0 * P[_LFZO] * P[_LSGAL]
     if v6 and cxs > 0.0:
         sig_k = kxk / cxs
+    else:
+        ptx1, ptx2, ptx3 = P[_PTX1:_PTX1 + 3]
+        sig_k = fz * (ptx1 + ptx2 * dfz) * math.exp(-ptx3 * dfz) * (r0 / fz0) * P[_LSGKP]
     if v6 and cys > 0.0:
         sig_a = kya / cys
+    else:
+        pty1, pty2 = P[_PTY1:_PTY1 + 2]
+        # PTY2 = 0 (a file without PTY1-2; the reader refuses it) leaves the floor below
+        peak = math.sin(2.0 * math.atan(fz / (pty2 * fz0))) if pty2 != 0.0 else 0.0
+        sig_a = pty1 * peak * (1.0 - P[_PKY3] * abs(gy)) * r0 * P[_LFZO] * P[_LSGAL]
     return max(sig_k, 1e-4), max(abs(sig_a), 1e-4)
 
 
@@ -319,7 +322,10 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
         bt = (qbz1 + qbz2 * dfz + qbz3 * dfz * dfz) * (1.0 + qbz5 * abs(gz) + qbz6 * gz * gz)
     else:
         bt = (qbz1 + qbz2 * dfz + qbz3 * dfz * dfz) * (1.0 + qbz4 * gz + qbz5 * abs(gz))
-    bt *= lky / lmuy_s
+    # B_t and B_r grow as 1/LMUY*: floored at EPS so that a road without friction (or
+    # LMUY = 0) gives Mz = 0 (no side force, no residual moment) instead of 0/0
+    lmuy_t = max(lmuy_s, EPS)
+    bt *= lky / lmuy_t
     ct = qcz1
     dt0 = fz * (r0 / fz0) * (qdz1 + qdz2 * dfz) * (1.0 - ppz1 * dpi) * ltr * sv
     if v6:
@@ -331,7 +337,7 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     kya_p = kya + EPS
     shf = shy + svy / kya_p
     ar = ta + shf
-    br = qbz9 * lky / lmuy_s + qbz10 * by * cy
+    br = qbz9 * lky / lmuy_t + qbz10 * by * cy
     if v6:
         dr = fz * r0 * ((qdz6 + qdz7 * dfz) * lres
                         + ((qdz8 + qdz9 * dfz) * (1.0 + ppz2 * dpi)

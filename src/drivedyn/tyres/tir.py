@@ -8,10 +8,19 @@ Magic Formula are read strictly: a line that is not ``KEY = value``, a value tha
 number, a key given twice or a key the formula needs but the file lacks is an error naming the
 file, the section and the key. Keys the file omits take MF-Tyre's defaults (scaling factors 1,
 coefficients 0, :data:`~drivedyn.tyres.magic_formula.DEFAULTS`).
+
+Values are then checked against what the formula can evaluate: lengths, loads, stiffnesses,
+the peak and shape factors > 0, scaling factors >= 0, the divisors PKY2 and PTY2 not 0 (PTY1-2
+required where the lateral relaxation length comes from them), and the whole formula finite
+over a grid of operating points (:data:`GRID`): a coefficient that overflows it
+(``PKX3 = 1e30``) is named with the operating point where it does. ``[MODEL] TYRESIDE`` must
+be ``LEFT``, ``RIGHT`` or ``SYMMETRIC``; the coefficients are used as the file gives them on
+every wheel (no mirroring for the other side of the vehicle).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
 from dataclasses import dataclass, field
@@ -20,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from drivedyn.errors import ModelError
-from drivedyn.tyres.magic_formula import GROUPS, INDEX, pack
+from drivedyn.tyres.magic_formula import DEFAULTS, GROUPS, INDEX, NOUT, OUT_NAMES, evaluate, pack
 
 #: section of each key the formula reads
 SECTION_OF: dict[str, str] = {
@@ -42,8 +51,29 @@ REQUIRED = ("FITTYP", "UNLOADED_RADIUS", "FNOMIN", "VERTICAL_STIFFNESS", "PCX1",
 #: keys that must be > 0
 POSITIVE = ("UNLOADED_RADIUS", "FNOMIN", "VERTICAL_STIFFNESS", "PCX1", "PDX1", "PCY1", "PDY1",
             "LONGVL", "LFZO")
+#: keys the formula divides by (a file may not set them to 0)
+NONZERO = ("PKY2",)
 #: FITTYP values and the version they stand for
 VERSIONS = {6: "5.2", 21: "5.2", 52: "5.2", 61: "6.1", 62: "6.2"}
+#: values of [MODEL] TYRESIDE (the side of the vehicle the file's tyre was measured on)
+SIDES = ("LEFT", "RIGHT", "SYMMETRIC")
+#: usual magnitude of the dimensional keys (the coefficients' is 1), to find the key that
+#: makes the formula overflow
+SCALE = {"LONGVL": 20.0, "VXLOW": 1.0, "FNOMIN": 4e3,
+         "UNLOADED_RADIUS": 0.3, "WIDTH": 0.2, "VERTICAL_STIFFNESS": 2e5,
+         "VERTICAL_DAMPING": 500.0, "NOMPRES": 2e5, "INFLPRES": 2e5,
+         "LONGITUDINAL_STIFFNESS": 3e5, "LATERAL_STIFFNESS": 1.5e5}
+#: operating points the formula must be finite at (``coefficients`` refuses a file that is
+#: not): vertical load [FNOMIN], longitudinal slip [-], slip angle [rad], camber [rad], forward
+#: speed [m/s], road friction factor [-]
+GRID: dict[str, tuple[float, ...]] = {
+    "fz": (0.05, 0.5, 1.0, 2.5, 4.0),
+    "kappa": (-1.0, -0.2, 0.0, 0.03, 0.5, 1.0),
+    "alpha": (-0.6, 0.0, 0.1, 0.6),
+    "gamma": (-0.1, 0.0, 0.08, 0.1),
+    "vx": (-30.0, -5.0, 0.0, 0.3, 20.0),
+    "mu": (0.0, 0.002, 1.0),
+}
 #: sections read strictly (the others may hold tables or vendor data)
 STRICT = {"UNITS", "MODEL", "DIMENSION", "OPERATING_CONDITIONS", "VERTICAL", "STRUCTURAL",
           "SCALING_COEFFICIENTS", "LONGITUDINAL_COEFFICIENTS", "LATERAL_COEFFICIENTS",
@@ -69,9 +99,11 @@ class TirFile:
     lines: dict[tuple[str, str], int] = field(default_factory=dict)
 
     def where(self, section: str, key: str) -> str:
-        """``"file.tir [SECTION] KEY (line N)"`` for messages."""
+        """``"tyre file file.tir [SECTION] KEY (line N)"`` for messages (every message of
+        the reader starts with ``tyre file``: a caller prefixes the key that named the file,
+        ``wheels.`` + ``tyre file ...``)."""
         n = self.lines.get((section, key))
-        return f"{self.path} [{section}] {key}" + (f" (line {n})" if n else "")
+        return f"tyre file {self.path} [{section}] {key}" + (f" (line {n})" if n else "")
 
 
 def _strip_comment(line: str) -> str:
@@ -170,12 +202,87 @@ def coefficients(tf: TirFile) -> tuple[np.ndarray, int]:
         raise ModelError(f"{tf.where('MODEL', 'FITTYP')}: expected one of "
                          f"{', '.join(map(str, VERSIONS))} (MF 5.2, 6.1, 6.2), got "
                          f"{values['FITTYP']!r}")
+    side = tf.sections.get("MODEL", {}).get("TYRESIDE")
+    if side is not None and (not isinstance(side, str) or side.strip().upper() not in SIDES):
+        raise ModelError(f"{tf.where('MODEL', 'TYRESIDE')}: expected "
+                         f"{', '.join(repr(x) for x in SIDES)}, got {side!r}")
+    _check_relaxation_keys(tf, values, fittyp)
     P = pack(values)
     for key in POSITIVE:
         if P[INDEX[key]] <= 0.0:
             raise ModelError(f"{tf.where(SECTION_OF[key], key)}: must be > 0, got "
-                             f"{P[INDEX[key]]!r}")
+                             f"{float(P[INDEX[key]])!r}")
     if P[INDEX["VERTICAL_DAMPING"]] < 0.0:
         raise ModelError(f"{tf.where('VERTICAL', 'VERTICAL_DAMPING')}: must be >= 0, got "
-                         f"{P[INDEX['VERTICAL_DAMPING']]!r}")
+                         f"{float(P[INDEX['VERTICAL_DAMPING']])!r}")
+    for key in GROUPS["scaling"]:
+        if P[INDEX[key]] < 0.0:
+            raise ModelError(f"{tf.where('SCALING_COEFFICIENTS', key)}: must be >= 0 (a "
+                             f"scaling factor), got {float(P[INDEX[key]])!r}")
+    for key in NONZERO:
+        if P[INDEX[key]] == 0.0:
+            raise ModelError(f"{tf.where(SECTION_OF[key], key)}: must not be 0 (the formula "
+                             "divides by it)")
+    _check_grid(tf, values, P)
     return P, fittyp
+
+
+def _check_relaxation_keys(tf: TirFile, values: dict[str, float], fittyp: int) -> None:
+    """PTY1 and PTY2 (PTY2 not 0) where the lateral relaxation length comes from them: MF
+    5.2, and MF 6.x without the carcass's ``[STRUCTURAL] LATERAL_STIFFNESS``."""
+    if fittyp >= 60 and values.get("LATERAL_STIFFNESS", 0.0) > 0.0:
+        return
+    why = ("the lateral relaxation length needs it" if fittyp < 60 else
+           "the lateral relaxation length needs it without [STRUCTURAL] LATERAL_STIFFNESS")
+    for key in ("PTY1", "PTY2"):
+        if key not in values:
+            raise ModelError(f"tyre file {tf.path} [LATERAL_COEFFICIENTS] {key}: missing; "
+                             f"{why}")
+    if values["PTY2"] == 0.0:
+        raise ModelError(f"{tf.where('LATERAL_COEFFICIENTS', 'PTY2')}: must not be 0 ({why}, "
+                         "and divides by it)")
+
+
+def _first_failure(P: np.ndarray, points: list[tuple[float, ...]] | None = None
+                   ) -> tuple[tuple[float, ...], str] | None:
+    """The first operating point of ``points`` (default the whole :data:`GRID`) where the
+    formula raises or gives a non-finite output, with what went wrong; None if none."""
+    fz0 = P[INDEX["FNOMIN"]] * P[INDEX["LFZO"]]
+    if points is None:
+        points = [(f * fz0, *rest) for f in GRID["fz"] for rest in itertools.product(
+            GRID["kappa"], GRID["alpha"], GRID["gamma"], GRID["vx"], GRID["mu"])]
+    out = np.zeros((len(points), NOUT))
+    for n, (fz, kappa, alpha, gamma, vx, mu) in enumerate(points):
+        try:
+            evaluate(P, fz, kappa, alpha, gamma, vx, 0.0, mu, 1.0, out[n])
+        except (ArithmeticError, ValueError) as exc:  # numba's float division by zero
+            return points[n], f"raises {type(exc).__name__} ({exc})"
+    finite = np.isfinite(out)
+    if finite.all():
+        return None
+    n, i = (int(j[0]) for j in np.nonzero(~finite))
+    return points[n], f"gives {OUT_NAMES[i]} = {float(out[n, i])!r}"
+
+
+def _check_grid(tf: TirFile, values: dict[str, float], P: np.ndarray) -> None:
+    """Refuse coefficients that make the formula overflow or divide by zero somewhere on
+    :data:`GRID`, naming the key that does it: of the keys whose default
+    (:data:`~drivedyn.tyres.magic_formula.DEFAULTS`, else 0) makes that point finite, the
+    one farthest from its usual magnitude (:data:`SCALE`)."""
+    bad = _first_failure(P)
+    if bad is None:
+        return
+    pt, what = bad
+    fz, kappa, alpha, gamma, vx, mu = pt
+    at = (f"at Fz = {fz:g} N, kappa = {kappa:g}, alpha = {alpha:g} rad, gamma = {gamma:g} "
+          f"rad, Vx = {vx:g} m/s, road friction {mu:g}")
+    # the most unusual values first: |value| over the key's usual magnitude
+    for key in sorted(values, key=lambda k: -abs(values[k]) / SCALE.get(k, 1.0)):
+        trial = P.copy()
+        trial[INDEX[key]] = DEFAULTS.get(key, 0.0)
+        if key != "FITTYP" and _first_failure(trial, [pt]) is None:
+            raise ModelError(f"{tf.where(SECTION_OF[key], key)}: the Magic Formula {what} "
+                             f"{at} with this value ({values[key]!r}); expected a coefficient "
+                             "of usual size")
+    raise ModelError(f"tyre file {tf.path}: the Magic Formula {what} {at}; check the "
+                     "coefficients")

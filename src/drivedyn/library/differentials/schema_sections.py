@@ -7,10 +7,11 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, ValidationInfo, field_validator, model_validator
+from pydantic import ConfigDict, Field, ValidationInfo, field_validator, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
 from drivedyn.elements.contact import NormalLaw
+from drivedyn.elements.contact.impact_laws import LAW_NAMES
 from drivedyn.elements.framework.checks import declared_unit
 from drivedyn.schema_base import (
     AdaptiveStepFile,
@@ -25,7 +26,9 @@ from drivedyn.schema_base import (
 )
 
 AngularVelocity = Annotated[float, scalar(U.ANGULAR_VELOCITY)]
+PositiveAngularVelocity = Annotated[float, scalar(U.ANGULAR_VELOCITY, positive=True)]
 TorqueValue = Annotated[float, scalar(U.TORQUE)]
+PositiveTorque = Annotated[float, scalar(U.TORQUE, positive=True)]
 PositiveVelocity = Annotated[float, scalar(U.VELOCITY, positive=True)]
 PositiveTime = Time
 Coefficient = Annotated[float, Field(ge=0.0, le=1.0)]
@@ -73,7 +76,8 @@ class Contact(Strict):
     exponent: float = Field(default=1.5, ge=1.0, le=3.0)  # first: the stiffness's unit uses it
     stiffness: float = 1e10  # [N/m^exponent]
     law: str = "hunt-crossley"
-    restitution: float = Field(default=0.5, gt=0.0, le=1.0)
+    # (0, 1): the continuous-impact laws' range (the penalty law does not use it)
+    restitution: float = Field(default=0.5, gt=0.0, lt=1.0)
     eps_v: PositiveVelocity = 1e-3
     elastic_washers: ElasticWashers = Field(default_factory=ElasticWashers)
 
@@ -93,6 +97,13 @@ class Contact(Strict):
         if not x > 0.0:
             raise ValueError(f"must be > 0 {U.unit_label(dim)}")
         return x
+
+    @field_validator("law")
+    @classmethod
+    def _known_law(cls, v: str) -> str:
+        if v not in LAW_NAMES:
+            raise ValueError(f"unknown law {v!r} (known: {', '.join(LAW_NAMES)})")
+        return v
 
     def law_of(self, stiffness: float | None = None) -> NormalLaw:
         """The normal law with this file's exponent and damping, ``stiffness`` [N/m^n] or
@@ -132,8 +143,8 @@ class Body(Strict):
 class Bench(Strict):
     """Test-bench protocol (seed 003): drive then coast in one run, steady windows."""
 
-    torque: TorqueValue = 125.0
-    speed_diff: AngularVelocity = 2.0943951023931953
+    torque: PositiveTorque = 125.0
+    speed_diff: PositiveAngularVelocity = 2.0943951023931953
     ramp: PositiveTime = 0.3
     transition: tuple[Time, Time] = (1.2, 2.0)
     t_end: PositiveTime = 3.0
@@ -222,7 +233,9 @@ class Calibration(Strict):
     ``fitted`` lists the dotted keys whose values were fitted; ``tied`` groups keys that
     share one fitted value (one group per fitted number); ``cross_validation`` gives the
     leave-one-out error [%] of each mode (the error of its prediction by a fit to the other
-    modes)."""
+    modes). A record, not an input: a number the fit could not compute is kept as NaN."""
+
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=True)
 
     fitted: list[str] = Field(default_factory=list)
     tied: list[list[str]] = Field(default_factory=list)
@@ -235,11 +248,26 @@ class Calibration(Strict):
 
 
 class Experiment(Strict):
-    """Measured TDR of the four modes and the seeds' simulated values (seed 003, Table 1)."""
+    """Measured TDR of the four modes and the seeds' simulated values (seed 003, Table 1):
+    ``{mode1 = 4.02, ...}``, keys ``mode1`` to ``mode4``, ratios > 0."""
 
     tdr: dict[str, float] = Field(default_factory=dict)
     seeds: dict[str, float] = Field(default_factory=dict)
     source: str = ""
+
+    @field_validator("tdr", "seeds")
+    @classmethod
+    def _modes(cls, v: dict[str, float]) -> dict[str, float]:
+        for key, ratio in v.items():
+            if key not in MODE_KEYS:
+                raise ValueError(f"{key!r}: expected one of {', '.join(MODE_KEYS)}")
+            if not ratio > 0.0:
+                raise ValueError(f"{key} = {ratio!r}: a torque ratio, expected > 0")
+        return v
+
+
+#: keys of the per-mode tables
+MODE_KEYS = ("mode1", "mode2", "mode3", "mode4")
 
 
 class Scenario(Strict):

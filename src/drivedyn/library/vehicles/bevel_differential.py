@@ -25,6 +25,7 @@ turning on a hinge to the ground (``housing_bearing``), two side gears (``a`` at
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
@@ -39,6 +40,7 @@ from drivedyn.elements import (
     SpringDamper,
     ThrustWasherContact,
 )
+from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.errors import ModelError
 from drivedyn.model.spec import Spec
 
@@ -93,6 +95,56 @@ def clutch_split(p, torque: float, ramp_on_fast: bool = True) -> tuple[float, fl
     # T_f + T_s is affine in T_m: solve T_f + T_s = torque
     t0, t1 = sum(split(0.0)), sum(split(1.0))
     return split((torque - t0) / (t1 - t0))
+
+
+def check_mesh(pair: GearPair, section: str, keys: dict[str, str], values: object) -> None:
+    """Refuse what the gear element refuses in a mesh built from a file's ``section``,
+    naming the key of that section its parameter comes from (``keys``: element parameter
+    -> key; ``values``: the section, for the key's value)."""
+    try:
+        pair.validate()
+    except ModelError as exc:
+        m = re.match(r"GearPair '[^']*'\.(\w+): (.*)$", str(exc), re.S)
+        key = keys.get(m.group(1)) if m else None
+        if m is None or key is None:
+            raise ModelError(f"{section}: {exc}") from None
+        raise ModelError(f"{section}.{key} = {getattr(values, key)!r}: "
+                         f"{m.group(2)}") from None
+
+
+def check_bevel(p, section: str = "differentials.bevel") -> None:
+    """Refuse a bevel differential section ``p`` whose meshes cannot be built: spiders or
+    side gears that undercut at its ``profile_shift`` (DIN 3960 practical limit, as
+    :class:`~drivedyn.elements.GearPair` checks it), then anything else the gear element
+    refuses; :class:`ModelError` naming ``section`` and the key."""
+    if not 0.0 < p.pressure_angle < math.radians(45.0):
+        raise ModelError(f"{section}.pressure_angle = {p.pressure_angle!r}: expected 0 < "
+                         "angle < 45 deg")
+    geo = bevel_geometry(p.teeth_side, p.teeth_spider, p.module)
+    # the spider takes +x, the side gear -x: the shift is bounded on both sides
+    for key, z, cone, sign in (("teeth_spider", p.teeth_spider, geo["cone_spider"], 1.0),
+                               ("teeth_side", p.teeth_side, geo["cone_side"], -1.0)):
+        z_v = z / math.cos(cone)  # Tredgold's virtual spur gear
+        x_min = undercut_limits(z_v, p.pressure_angle)[2]
+        if sign * p.profile_shift < x_min - 1e-12:
+            bound = (f">= {x_min:.3f}" if sign > 0 else f"<= {-x_min:.3f}")
+            raise ModelError(f"{section}.profile_shift = {p.profile_shift!r}: the "
+                             f"{key.removeprefix('teeth_')} gears ({section}.{key} = {z}) "
+                             f"undercut; expected profile_shift {bound} at this pressure "
+                             "angle (DIN 3960 practical limit)")
+    pair = GearPair("check", "spider", "side", p.teeth_spider, p.teeth_side,
+                    cone_angle_a=geo["cone_spider"], cone_angle_b=geo["cone_side"],
+                    profile_shift_a=p.profile_shift, profile_shift_b=-p.profile_shift,
+                    module=p.module, face_width=p.face_width, pressure_angle=p.pressure_angle,
+                    kind="bevel", damping_ratio=p.damping_ratio)
+    check_mesh(pair, section, MESH_KEYS, p)
+
+
+#: the parameters of a spider/side-gear mesh and the keys of the section they come from
+MESH_KEYS = {"teeth_a": "teeth_spider", "teeth_b": "teeth_side",
+             "profile_shift_a": "profile_shift", "profile_shift_b": "profile_shift",
+             "module": "module", "face_width": "face_width",
+             "pressure_angle": "pressure_angle", "damping_ratio": "damping_ratio"}
 
 
 def build_bevel(p, kind: str, omega: float = 0.0) -> Spec:

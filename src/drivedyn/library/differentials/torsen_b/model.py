@@ -139,28 +139,32 @@ def check_parameters(p: TorsenBFile) -> Geometry:
     """Refuse inconsistent or impossible parameter sets (:class:`ModelError` naming the key,
     the value and what is expected); returns the geometry."""
     g = p.gears
-    geo = geometry(p)
 
     def fail(key: str, value: Any, msg: str) -> None:
         raise ModelError(f"torsen_b: {key} = {value!r}: {msg}")
 
+    # the angles first: the geometry (involutes of the pressure angle) needs them in range
     if not 0 < abs(g.helix_angle) < math.radians(45):
         fail("gears.helix_angle", g.helix_angle, "expected 0 < |beta| < 45 deg (helical gears "
              "make the thrusts that lock the differential)")
     if not math.radians(14) <= g.pressure_angle <= math.radians(30):
         fail("gears.pressure_angle", g.pressure_angle, "expected 14..30 deg")
+    geo = geometry(p)
     z_lim = undercut_limits(g.teeth_element, g.pressure_angle, abs(g.helix_angle))[0]
     if g.teeth_element < 5 / 6 * z_lim:
         fail("gears.teeth_element", g.teeth_element, f"undercut: at least "
-             f"{math.ceil(5 / 6 * z_lim)} teeth at this pressure and helix angle without "
-             "profile shift (DIN 3960 practical limit 5/6 z_g)")
+             f"{math.ceil(5 / 6 * z_lim)} teeth at gears.pressure_angle = "
+             f"{g.pressure_angle:.4g} rad and gears.helix_angle = {g.helix_angle:.4g} rad "
+             "without profile shift (DIN 3960 practical limit 5/6 z_g)")
     if g.teeth_element >= g.teeth_side:
         fail("gears.teeth_element", g.teeth_element, f"expected fewer teeth than the side gears "
-             f"({g.teeth_side}): the pairs must fit around them")
+             f"(gears.teeth_side = {g.teeth_side}): the pairs must fit around them")
     for key, eps in (("side", geo.eps_side), ("end", geo.eps_end)):
         if eps < 1.1:
             fail("gears.teeth_element", g.teeth_element, f"transverse contact ratio of the "
-                 f"{key} meshes {eps:.2f} < 1.1")
+                 f"{key} meshes {eps:.2f} < 1.1 (with gears.teeth_side = {g.teeth_side}, "
+                 f"gears.pressure_angle = {g.pressure_angle:.4g} rad, gears.helix_angle = "
+                 f"{g.helix_angle:.4g} rad)")
     # the relieved middle of an element gear must clear the other side gear's tips
     clear = geo.centre - (geo.r_side + g.module) - geo.r_root_element
     if clear <= 0:
@@ -171,7 +175,8 @@ def check_parameters(p: TorsenBFile) -> Geometry:
     gap = 2 * geo.centre * math.sin(gap_angle / 2) - 2 * (geo.r_tip_element + p.pockets.clearance)
     if gap_angle <= 0 or gap <= 0:
         fail("gears.pairs", g.pairs, f"the pockets of neighbouring pairs overlap "
-             f"({gap * 1e3:.2f} mm); fewer pairs or smaller element gears")
+             f"({gap * 1e3:.2f} mm with pockets.clearance = {p.pockets.clearance!r}); fewer "
+             "pairs or smaller element gears")
     # the two pockets of a pair are joined where the element gears mesh; the housing webs
     # between the pairs carry the load
     w = p.washers
@@ -181,7 +186,8 @@ def check_parameters(p: TorsenBFile) -> Geometry:
             fail(f"washers.{name}.r_int", f.r_int, f"must be < r_ext = {f.r_ext!r}")
         if f.r_ext > geo.r_side - 1.25 * g.module:
             fail(f"washers.{name}.r_ext", f.r_ext, "outside the side gear's root circle "
-                 f"{(geo.r_side - 1.25 * g.module) * 1e3:.2f} mm (the face would cut the teeth)")
+                 f"{(geo.r_side - 1.25 * g.module) * 1e3:.2f} mm (gears.teeth_side = "
+                 f"{g.teeth_side}, gears.module = {g.module!r}: the face would cut the teeth)")
     if w.middle.gap >= g.side_gap:
         fail("washers.middle.gap", w.middle.gap, f"must be < gears.side_gap = {g.side_gap!r} "
              "(the middle washer fills the space between the side gears)")
@@ -190,12 +196,13 @@ def check_parameters(p: TorsenBFile) -> Geometry:
         fail("pockets.end_r_int", pk.end_r_int, f"must be < end_r_ext = {pk.end_r_ext!r}")
     if pk.end_r_ext > geo.r_root_element:
         fail("pockets.end_r_ext", pk.end_r_ext, "outside the element gear's root radius "
-             f"{geo.r_root_element * 1e3:.2f} mm")
+             f"{geo.r_root_element * 1e3:.2f} mm (gears.teeth_element = {g.teeth_element}, "
+             f"gears.module = {g.module!r})")
     if pk.clearance > 0.2 * g.module:
         fail("pockets.clearance", pk.clearance, "expected a small radial clearance "
-             f"(< 0.2 module = {0.2 * g.module * 1e3:.3f} mm)")
+             f"(< 0.2 gears.module = {0.2 * g.module * 1e3:.3f} mm)")
     if g.backlash > 0.1 * g.module:
-        fail("gears.backlash", g.backlash, f"expected < 0.1 module = {0.1 * g.module:.2e} m")
+        fail("gears.backlash", g.backlash, f"expected < 0.1 gears.module = {0.1 * g.module:.2e} m")
     return geo
 
 

@@ -142,7 +142,8 @@ def check_parameters(p: TorsenCFile) -> Geometry:
         geo.r_tip_planet + p.pockets.clearance)
     if gap <= 0:
         fail("gears.planets", g.planets, f"the pockets overlap ({gap * 1e3:.2f} mm between "
-             "neighbouring pockets); fewer or smaller planets")
+             f"neighbouring pockets, with gears.module = {g.module!r} and pockets.clearance = "
+             f"{p.pockets.clearance!r}); fewer or smaller planets")
     if p.spline.helix_angle != 0 and math.copysign(1, p.spline.helix_angle) != geo.hand:
         fail("spline.helix_angle", p.spline.helix_angle,
              "must have the hand (sign) of gears.helix_angle so that the spline pushes the "
@@ -151,7 +152,8 @@ def check_parameters(p: TorsenCFile) -> Geometry:
         fail("spline.helix_angle", p.spline.helix_angle, "expected |angle| < 60 deg")
     if p.spline.radius <= geo.r_ring:
         fail("spline.radius", p.spline.radius, f"must exceed the ring pitch radius "
-             f"{geo.r_ring * 1e3:.2f} mm (the spline is on the outside of the internal gear)")
+             f"{geo.r_ring * 1e3:.2f} mm (gears.teeth_ring = {g.teeth_ring}, gears.module = "
+             f"{g.module!r}; the spline is on the outside of the internal gear)")
     for name in WASHERS:
         w = getattr(p.washers, name)
         if w.r_int >= w.r_ext:
@@ -160,20 +162,22 @@ def check_parameters(p: TorsenCFile) -> Geometry:
         w = getattr(p.washers, name)
         if w.r_ext > geo.r_sun + g.module:
             fail(f"washers.{name}.r_ext", w.r_ext, "larger than the sun gear's tip radius "
-                 f"{(geo.r_sun + g.module) * 1e3:.2f} mm")
+                 f"{(geo.r_sun + g.module) * 1e3:.2f} mm (gears.teeth_sun = {g.teeth_sun}, "
+                 f"gears.module = {g.module!r})")
     for name in ("ring_housing", "ring_case"):
         w = getattr(p.washers, name)
         if w.r_int < geo.r_ring - g.module:
             fail(f"washers.{name}.r_int", w.r_int, "inside the ring's tip circle "
-                 f"{(geo.r_ring - g.module) * 1e3:.2f} mm (the face would cut the teeth)")
+                 f"{(geo.r_ring - g.module) * 1e3:.2f} mm (gears.teeth_ring = {g.teeth_ring}, "
+                 f"gears.module = {g.module!r}: the face would cut the teeth)")
         if w.r_ext > p.spline.radius:
             fail(f"washers.{name}.r_ext", w.r_ext, "outside the internal gear, whose outer "
                  f"radius is the spline radius {p.spline.radius * 1e3:.2f} mm")
     if g.backlash > 0.1 * g.module:
-        fail("gears.backlash", g.backlash, f"expected < 0.1 module = {0.1 * g.module:.2e} m")
+        fail("gears.backlash", g.backlash, f"expected < 0.1 gears.module = {0.1 * g.module:.2e} m")
     if p.pockets.clearance > 0.2 * g.module:
         fail("pockets.clearance", p.pockets.clearance, "expected a small radial clearance "
-             f"(< 0.2 module = {0.2 * g.module * 1e3:.3f} mm)")
+             f"(< 0.2 gears.module = {0.2 * g.module * 1e3:.3f} mm)")
     return geo
 
 

@@ -45,7 +45,7 @@ from drivedyn.elements import (
 from drivedyn.elements.framework.visuals import box, link
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
-from drivedyn.library.vehicles.bevel_differential import build_bevel
+from drivedyn.library.vehicles.bevel_differential import build_bevel, check_bevel, check_mesh
 from drivedyn.library.vehicles.vehicle_4wd.schema import WHEELS, Vehicle4WDFile
 from drivedyn.model.spec import Spec
 from drivedyn.model.subassembly import include
@@ -111,14 +111,17 @@ def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".") -> Tyre:
     """The tyre of ``wheels.tyre`` (shipped name, ``simple-<surface>`` with
     ``wheels.simple_radius``, or a path relative to ``base_dir``)."""
     name = p.wheels.tyre
-    if name.startswith("simple-"):
-        return simple_tyre(name.removeprefix("simple-"), unloaded_radius=p.wheels.simple_radius)
     path = Path(base_dir) / name
     try:
+        if name.startswith("simple-"):
+            return simple_tyre(name.removeprefix("simple-"),
+                               unloaded_radius=p.wheels.simple_radius)
         return resolve_tyre(str(path) if path.exists() and not Path(name).is_absolute()
                             else name)
-    except ModelError as exc:
-        raise ModelError(f"wheels.{exc}") from None
+    except ModelError as exc:  # "tyre ...", "simple tyre: ..."
+        text = str(exc)
+        raise ModelError(f"wheels.{text}" if text.startswith("tyre") else
+                         f"wheels.tyre = {name!r}: {text}") from None
 
 
 def check_parameters(p: Vehicle4WDFile) -> None:
@@ -134,6 +137,22 @@ def check_parameters(p: Vehicle4WDFile) -> None:
         if pos != "central" and t == "torsen-c":
             raise ModelError(f"differentials.{pos}: torsen-c is the central (epicyclic, "
                              f"asymmetric) differential; use torsen-b, open, locked or clutch")
+    if {getattr(p.differentials, pos) for pos in POSITIONS} & {"open", "locked", "clutch"}:
+        check_bevel(p.differentials.bevel)
+    fd = p.final_drive
+    geo = _final_drive_geometry(fd)
+    check_mesh(GearPair("check", "pinion", "ring", fd.teeth_pinion, fd.teeth_ring,
+                        module=fd.module, face_width=fd.face_width,
+                        pressure_angle=fd.pressure_angle, kind="bevel",
+                        cone_angle_a=geo["cone_pinion"], cone_angle_b=geo["cone_ring"],
+                        damping_ratio=fd.damping_ratio),
+               "final_drive", FINAL_DRIVE_KEYS, fd)
+
+
+#: the parameters of the final-drive mesh and the keys of [final_drive] they come from
+FINAL_DRIVE_KEYS = {"teeth_a": "teeth_pinion", "teeth_b": "teeth_ring", "module": "module",
+                    "face_width": "face_width", "pressure_angle": "pressure_angle",
+                    "damping_ratio": "damping_ratio"}
 
 
 def _differential(p: Vehicle4WDFile, pos: str, torsen: dict, omega: float
@@ -150,7 +169,12 @@ def _differential(p: Vehicle4WDFile, pos: str, torsen: dict, omega: float
     z1 = spec.bodies[first].position[2]
     z2 = spec.bodies[second].position[2]
     lo, hi = (first, second) if z1 <= z2 else (second, first)
-    tdrs = diff_analytic(kind).all_modes(params)
+    try:
+        tdrs = diff_analytic(kind).all_modes(params)
+    except RuntimeError as exc:  # no sliding equilibrium: the checks would have no bound
+        key = kind.replace("-", "_")
+        raise ModelError(f"differentials.{key} = {getattr(p.differentials, key)!r}: the "
+                         f"analytic model of the {kind} finds no TDR ({exc})") from None
     return spec, "housing", lo, hi, (min(tdrs), max(tdrs))
 
 

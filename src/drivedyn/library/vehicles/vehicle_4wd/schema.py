@@ -8,9 +8,10 @@ the tyre file, the differential files) is checked when the model is built
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
 from drivedyn.library.differentials.schema_sections import (
@@ -28,14 +29,22 @@ from drivedyn.schema_base import (
     Length,
     Mass,
     PositiveLength,
-    Stiffness,
     Strict,
     TorsionalDamping,
     TorsionalStiffness,
     scalar,
 )
 
+
+def _pressure_angle(v: float) -> float:
+    if not 0.0 < v < math.radians(45.0):
+        raise ValueError(f"expected 0 < angle < 45 deg, got {v!r} rad")
+    return v
+
+
 Velocity = Annotated[float, scalar(U.VELOCITY)]  # signed (initial speed)
+#: normal pressure angle of a gear mesh [rad], in (0, 45 deg) as the gear element needs
+PressureAngle = Annotated[float, scalar(U.ANGLE), AfterValidator(_pressure_angle)]
 ForceValue = Annotated[float, scalar(U.FORCE, nonneg=True)]
 Time = Annotated[float, scalar(U.TIME, nonneg=True)]  # may be 0 (a start time)
 
@@ -136,7 +145,7 @@ class FinalDrive(Strict):
     teeth_ring: int = Field(default=17, gt=4)
     module: PositiveLength = 0.005
     face_width: PositiveLength = 0.02
-    pressure_angle: Angle = 0.3490658503988659
+    pressure_angle: PressureAngle = 0.3490658503988659
     damping_ratio: float = Field(default=0.05, ge=0.0)
     stiffness_variation: bool = False
 
@@ -158,7 +167,7 @@ class ClutchPack(Strict):
     faces: int = Field(default=4, ge=1)
     r_int: PositiveLength = 0.025
     r_ext: PositiveLength = 0.04
-    stiffness: Stiffness = 5.0e8
+    stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] = 5.0e8
     damping: Damping = 2.0e4
     eps_v: PositiveVelocity = 1e-3
     back_offset: PositiveLength = 0.01
@@ -184,7 +193,7 @@ class BevelDifferential(Strict):
     profile_shift: float = 0.35  # spider +x, side gears -x (long-addendum spiders)
     module: PositiveLength = 0.0045
     face_width: PositiveLength = 0.012
-    pressure_angle: Angle = 0.3490658503988659
+    pressure_angle: PressureAngle = 0.3490658503988659
     damping_ratio: float = Field(default=0.05, ge=0.0)
     bodies: BevelBodies = Field(default_factory=BevelBodies)
     clutch: ClutchPack = Field(default_factory=ClutchPack)
