@@ -319,3 +319,62 @@ def test_relaxation_lengths_alone_equal_the_full_evaluation(tmp_path):
             r = tyre.evaluate(fz, 0.07, 0.05, gamma, pressure=2.1e5)
             sk, sa = relaxation_lengths(tyre.params, fz, gamma, 2.1e5)
             assert (sk, sa) == (r["sigma_kappa"], r["sigma_alpha"])
+
+
+# --- sides: a file measured on one side, used on the other ---------------------------------
+def test_a_tyre_on_the_other_side_is_the_mirror_image_of_its_file() -> None:
+    """``read_tir(path, side="right")`` of a file measured on the left is the mirror image of
+    the left tyre in the wheel's x-z plane: at (kappa, -alpha, -gamma) it gives the left
+    tyre's Fx, My, slip stiffnesses, relaxation lengths and friction, and minus its Fy and
+    Mz, over a grid of loads, slips and cambers; the ply-steer force at zero slip changes
+    side. The side the file was measured on is read as it is.
+
+    Deliberate mutations that fail it: mirroring alpha but not gamma (the camber terms);
+    negating Mz but not Fy; mirroring the file's own side."""
+    from drivedyn.tyres.magic_formula import INDEX
+
+    path = shipped("pac2002_235_60R16")  # TYRESIDE = 'LEFT'
+    left, right, plain = read_tir(path, side="left"), read_tir(path, side="right"), \
+        read_tir(path)
+    assert left.params[INDEX["MIRROR"]] == 0.0 and np.array_equal(left.params, plain.params)
+    assert right.params[INDEX["MIRROR"]] == 1.0 and "mirrored" in right.name
+    same = ("fx", "my", "kxk", "kya", "sigma_kappa", "sigma_alpha", "mu_x", "mu_y")
+    for fz in (2000.0, 4000.0, 7000.0):
+        for kappa in (-0.1, 0.0, 0.05):
+            for alpha in (-0.08, 0.0, 0.03):
+                for gamma in (-0.05, 0.0, 0.04):
+                    a = left.evaluate(fz, kappa, alpha, gamma, 10.0)
+                    b = right.evaluate(fz, kappa, -alpha, -gamma, 10.0)
+                    for k in same:
+                        assert b[k] == pytest.approx(a[k], rel=1e-12, abs=1e-9), k
+                    for k in ("fy", "mz"):
+                        assert b[k] == pytest.approx(-a[k], rel=1e-12, abs=1e-9), k
+    fy0 = left.evaluate(4000.0, 0.0, 0.0, 0.0, 10.0)["fy"]
+    assert abs(fy0) > 1.0  # the file's ply-steer/conicity force
+    assert right.evaluate(4000.0, 0.0, 0.0, 0.0, 10.0)["fy"] == pytest.approx(-fy0)
+
+
+def test_symmetric_files_and_bad_sides(tmp_path) -> None:
+    """A ``SYMMETRIC`` file and a file without ``TYRESIDE`` are used as they are on both
+    sides; a side other than left/right is refused naming it, by the reader and by the tyre
+    element (``side`` key).
+
+    Deliberate mutations that fail it: mirroring a file without TYRESIDE (taken as LEFT);
+    accepting ``side = "centre"``."""
+    from drivedyn.elements.tyre import TyreContact
+    from drivedyn.tyres.magic_formula import INDEX
+
+    text = shipped("pac2002_235_60R16").read_text()
+    sym = tmp_path / "sym.tir"
+    sym.write_text(text.replace("'LEFT'", "'SYMMETRIC'"))
+    none = tmp_path / "none.tir"
+    none.write_text("\n".join(line for line in text.splitlines()
+                              if not line.strip().startswith("TYRESIDE")))
+    for f in (sym, none):
+        assert read_tir(f, side="right").params[INDEX["MIRROR"]] == 0.0
+    with pytest.raises(ModelError, match="side: expected 'left' or 'right', got 'centre'"):
+        read_tir(sym, side="centre")
+    with pytest.raises(ModelError, match="side: expected 'left' or 'right', got 'centre'"):
+        TyreContact("t", "m", "pac2002_235_60R16", side="centre").validate()
+    right = TyreContact("t", "m", "pac2002_235_60R16", side="right").resolved()[0]
+    assert right.params[INDEX["MIRROR"]] == 1.0

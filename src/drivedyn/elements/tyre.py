@@ -100,6 +100,10 @@ class TyreContact(ElementSpec):
         relaxation: first-order transient slips (True) or steady slips.
         low_speed_damping: ``d`` [-] >= 0 of the low-speed damping.
         vertical_damping: Kz [N s/m]; None = the file's VERTICAL_DAMPING.
+        side: ``"left"`` or ``"right"``: the side of the vehicle the wheel is on; a tyre
+            given by name or path whose file was measured on the other side
+            (``[MODEL] TYRESIDE``) is mirrored (:func:`drivedyn.tyres.read_tir`). None: the
+            file as it is. A :class:`~drivedyn.tyres.Tyre` object is used as it is.
     """
 
     name: str
@@ -113,6 +117,7 @@ class TyreContact(ElementSpec):
     relaxation: bool = True
     low_speed_damping: float = 0.2
     vertical_damping: float | None = None
+    side: str | None = None
     family: ClassVar[str] = "tyre"
     units: ClassVar[dict[str, str]] = {"mu": "1", "transition": "m", "road_height": "m",
                                        "pressure": "Pa", "low_speed_damping": "1",
@@ -125,7 +130,9 @@ class TyreContact(ElementSpec):
         """The tyre and the patches as objects (strings and tables of model files read)."""
         what = what_of(self)
         try:
-            tyre = resolve_tyre(self.tyre)
+            if self.side is not None and self.side not in ("left", "right"):
+                raise ModelError(f"side: expected 'left' or 'right', got {self.side!r}")
+            tyre = resolve_tyre(self.tyre, self.side)
         except ModelError as exc:
             raise ModelError(f"{what}.{exc}") from None
         patches = []

@@ -22,7 +22,7 @@ import numpy as np
 from drivedyn.errors import ModelError
 from drivedyn.tyres.magic_formula import INDEX, KIND_SIMPLE, NOUT, OUT_NAMES, evaluate, pack
 from drivedyn.tyres.magic_formula import effective_radius as _effective_radius
-from drivedyn.tyres.tir import VERSIONS, coefficients, parse_tir
+from drivedyn.tyres.tir import VERSIONS, coefficients, file_side, parse_tir
 
 __all__ = ["SURFACES", "Tyre", "read_tir", "resolve_tyre", "shipped", "shipped_files",
            "simple_tyre"]
@@ -121,12 +121,25 @@ class Tyre:
         return Tyre(self.name, P, self.version, self.source)
 
 
-def read_tir(path: str | Path) -> Tyre:
+def read_tir(path: str | Path, side: str | None = None) -> Tyre:
     """Read a Magic Formula 5.2 / 6.1 / 6.2 property file; :class:`ModelError` naming the
-    section and key for a malformed or incomplete file."""
+    section and key for a malformed or incomplete file.
+
+    ``side`` (``"left"`` or ``"right"``): the side of the vehicle the tyre is mounted on. A
+    file measured on the other side (``[MODEL] TYRESIDE``) is mirrored
+    (:mod:`drivedyn.tyres.magic_formula`, "Sides"); a ``SYMMETRIC`` file, or one without
+    ``TYRESIDE``, is used as it is on both sides. None: as the file gives it."""
+    if side is not None and side not in ("left", "right"):
+        raise ModelError(f"tyre file {path}: side: expected 'left' or 'right', got {side!r}")
     tf = parse_tir(path)
     P, fittyp = coefficients(tf)
-    return Tyre(Path(path).stem, P, VERSIONS[fittyp], str(path))
+    name = Path(path).stem
+    measured = file_side(tf)
+    if side is not None and measured in ("left", "right") and measured != side:
+        P = P.copy()
+        P[INDEX["MIRROR"]] = 1.0
+        name += f" (mirrored to the {side})"
+    return Tyre(name, P, VERSIONS[fittyp], str(path))
 
 
 def simple_tyre(surface: str = "dry", unloaded_radius: float = 0.3,
@@ -172,9 +185,12 @@ def shipped(name: str) -> Path:
     return p
 
 
-def resolve_tyre(value: Tyre | str) -> Tyre:
+def resolve_tyre(value: Tyre | str, side: str | None = None) -> Tyre:
     """A :class:`Tyre` as given, or from a string: ``simple-<dry|wet|snow|ice>``, the name of
-    a shipped property file, or the path of a ``.tir`` file."""
+    a shipped property file, or the path of a ``.tir`` file, read for a wheel on ``side``
+    (``"left"``/``"right"``: a file measured on the other side is mirrored, :func:`read_tir`;
+    None: as the file gives it). A :class:`Tyre` object is used as it is (read it with
+    ``read_tir(path, side=...)``)."""
     if isinstance(value, Tyre):
         return value
     if not isinstance(value, str):
@@ -183,9 +199,9 @@ def resolve_tyre(value: Tyre | str) -> Tyre:
     if value.startswith("simple-"):
         return simple_tyre(value.removeprefix("simple-"))
     if value in shipped_files():
-        return read_tir(shipped(value))
+        return read_tir(shipped(value), side)
     if not Path(value).exists():
         known = ", ".join(shipped_files())
         raise ModelError(f"tyre: {value!r} is neither a shipped tyre ({known}), "
                          "simple-<dry|wet|snow|ice> nor an existing .tir file")
-    return read_tir(value)
+    return read_tir(value, side)

@@ -19,6 +19,13 @@ pressure terms (``PPX*``, ``PPY*``, ``PPZ*``, ``QSY7-8``), the camber stiffness 
 lateral shift (``PKY6-7``), the digressive friction factor ``LMU' = 10 LMU/(1 + 9 LMU)`` in the
 vertical shifts, and relaxation lengths from the carcass stiffnesses (``[STRUCTURAL]``) when
 given.
+
+Sides: a property file describes the tyre mounted on the side of the vehicle it was measured
+on (``[MODEL] TYRESIDE``). On the other side the same tyre is its mirror image in the wheel's
+x-z plane: with ``P[MIRROR] = 1`` the formula is evaluated at ``(-alpha, -gamma)`` and ``Fy``
+and ``Mz`` change sign (``Fx``, ``My``, the slip stiffnesses and the relaxation lengths do not),
+so that every asymmetry of the file (ply-steer and conicity shifts, camber terms) moves to
+the other side as it does on a real vehicle.
 """
 
 from __future__ import annotations
@@ -47,6 +54,8 @@ GROUPS: dict[str, tuple[str, ...]] = {
                  "SSZ1 SSZ2 SSZ3 SSZ4").split(),
     "rolling": "QSY1 QSY2 QSY3 QSY4 QSY5 QSY6 QSY7 QSY8".split(),
     "simple": "KIND SIMPLE_B SIMPLE_C SIMPLE_D SIMPLE_E SIMPLE_SIGMA SIMPLE_RR".split(),
+    # 1: the tyre is used on the other side of the vehicle than its file was measured on
+    "side": ("MIRROR",),
 }
 KEYS: tuple[str, ...] = tuple(k for g in GROUPS.values() for k in g)
 INDEX: dict[str, int] = {k: i for i, k in enumerate(KEYS)}
@@ -62,6 +71,7 @@ _LFZO, _LKX, _LMUY = INDEX["LFZO"], INDEX["LKX"], INDEX["LMUY"]
 _LSGKP, _LSGAL = INDEX["LSGKP"], INDEX["LSGAL"]
 _PKX1, _PPX1, _PKY3 = INDEX["PKX1"], INDEX["PPX1"], INDEX["PKY3"]
 _PTX1, _PTY1, _SIGMA = INDEX["PTX1"], INDEX["PTY1"], INDEX["SIMPLE_SIGMA"]
+_MIRROR = INDEX["MIRROR"]
 
 #: values of keys a file may omit (the others default to 0, as in MF-Tyre and Adams)
 DEFAULTS: dict[str, float] = {
@@ -180,6 +190,8 @@ def relaxation_lengths(P, fz, gamma, pressure):
     forces (the tyre element needs them before it knows the slips)."""
     if P[KIND] == KIND_SIMPLE:
         return P[_SIGMA], P[_SIGMA]
+    if P[_MIRROR] != 0.0:
+        gamma = -gamma
     v6 = P[_FITTYP] >= 60.0
     fz0 = P[_FNOMIN] * P[_LFZO]
     dfz = (fz - fz0) / fz0
@@ -242,6 +254,10 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     if P[KIND] == KIND_SIMPLE:
         _simple(P, fz, kappa, alpha, vx, mu_scale, out)
         return
+    mirror = P[_MIRROR] != 0.0
+    if mirror:  # the file's tyre seen in a mirror (module doc): evaluated at -alpha, -gamma
+        alpha = -alpha
+        gamma = -gamma
     (fittyp, longvl, vxlow, fnomin, r0, width, cz, kz, breff, dreff, freff, nompres,
      inflpres, cxs, cys) = P[0:15]
     (lfzo, lcx, lmux, lex, lkx, lhx, lvx, lgax, lcy, lmuy, ley, lky, lhy, lvy, lgay, ltr,
@@ -369,6 +385,9 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     else:
         my = -r0 * fz * lmy * base * sv
     sig_k, sig_a = _relaxation(P, v6, fz, dfz, gy, kxk, kya)
+    if mirror:  # ... and its lateral force and aligning moment mirrored back
+        fy = -fy
+        mz = -mz
     out[0] = fx
     out[1] = fy
     out[2] = mz

@@ -14,8 +14,8 @@ the peak and shape factors > 0, scaling factors >= 0, the divisors PKY2 and PTY2
 required where the lateral relaxation length comes from them), and the whole formula finite
 over a grid of operating points (:data:`GRID`): a coefficient that overflows it
 (``PKX3 = 1e30``) is named with the operating point where it does. ``[MODEL] TYRESIDE`` must
-be ``LEFT``, ``RIGHT`` or ``SYMMETRIC``; the coefficients are used as the file gives them on
-every wheel (no mirroring for the other side of the vehicle).
+be ``LEFT``, ``RIGHT`` or ``SYMMETRIC`` (:func:`file_side`); ``read_tir(path, side=...)``
+mirrors a file measured on the other side of the vehicle.
 """
 
 from __future__ import annotations
@@ -286,3 +286,11 @@ def _check_grid(tf: TirFile, values: dict[str, float], P: np.ndarray) -> None:
                              "of usual size")
     raise ModelError(f"tyre file {tf.path}: the Magic Formula {what} {at}; check the "
                      "coefficients")
+
+
+def file_side(tf: TirFile) -> str | None:
+    """The side of the vehicle the file's tyre was measured on: ``"left"``, ``"right"``,
+    ``"symmetric"``, or None when the file has no ``[MODEL] TYRESIDE`` (checked by
+    :func:`coefficients`)."""
+    side = tf.sections.get("MODEL", {}).get("TYRESIDE")
+    return side.strip().lower() if isinstance(side, str) else None

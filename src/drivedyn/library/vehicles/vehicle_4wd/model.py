@@ -107,9 +107,10 @@ class Layout:
     driveline: dict[str, float] = field(default_factory=dict)
 
 
-def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".") -> Tyre:
+def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".", side: str | None = None) -> Tyre:
     """The tyre of ``wheels.tyre`` (shipped name, ``simple-<surface>`` with
-    ``wheels.simple_radius``, or a path relative to ``base_dir``)."""
+    ``wheels.simple_radius``, or a path relative to ``base_dir``) for a wheel on ``side``
+    (``"left"``/``"right"``: a property file measured on the other side is mirrored)."""
     name = p.wheels.tyre
     path = Path(base_dir) / name
     try:
@@ -117,7 +118,7 @@ def load_tyre(p: Vehicle4WDFile, base_dir: str | Path = ".") -> Tyre:
             return simple_tyre(name.removeprefix("simple-"),
                                unloaded_radius=p.wheels.simple_radius)
         return resolve_tyre(str(path) if path.exists() and not Path(name).is_absolute()
-                            else name)
+                            else name, side)
     except ModelError as exc:  # "tyre ...", "simple tyre: ..."
         text = str(exc)
         raise ModelError(f"wheels.{text}" if text.startswith("tyre") else
@@ -203,12 +204,15 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         torsen: ``"torsen-c"``/``"torsen-b"`` -> validated parameters of that differential
             (those the positions use).
         base_dir: directory a relative tyre path is read from.
-        tyre: the tyre (default: :func:`load_tyre`).
+        tyre: the tyre of every wheel (default: :func:`load_tyre` for each side, a property
+            file mirrored on the side it was not measured on).
     Returns:
         (spec, layout).
     """
     check_parameters(p)
-    tyre = tyre or load_tyre(p, base_dir)
+    tyres = ({"l": tyre, "r": tyre} if tyre is not None else
+             {w: load_tyre(p, base_dir, side) for w, side in (("l", "left"), ("r", "right"))})
+    tyre = tyres["l"]  # the sides differ in lateral terms only: one radius and stiffness
     b, sh, fd = p.body, p.shafts, p.final_drive
     L, T = b.wheelbase, b.track
     x_front, x_rear = L / 2, -L / 2
@@ -336,7 +340,7 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
                                      stiffness=sh.halfshaft_stiffness,
                                      damping=sh.halfshaft_damping))
         sp.add_visual(link(f"hub_{w}", out, 0.015, label=f"halfshaft_{w}"))  # 30 mm shaft
-        sp.add(TyreContact(f"tyre_{w}", f"hub_{w}", tyre, mu=getattr(p.road.mu, w),
+        sp.add(TyreContact(f"tyre_{w}", f"hub_{w}", tyres[w[1]], mu=getattr(p.road.mu, w),
                            patches=patches[w], transition=p.road.transition,
                            relaxation=p.wheels.relaxation,
                            low_speed_damping=p.wheels.low_speed_damping,
