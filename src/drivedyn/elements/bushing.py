@@ -286,6 +286,15 @@ class Bushing(TwoMarkerSpec):
                 where = f"{what}.{label}[{i}]"
                 j = off + _axis(rec, where)
                 xl, yl = cls.table
+                for lab in (xl, yl):
+                    vals = getattr(rec, lab)
+                    unit = unit_of(rec, lab)
+                    if isinstance(vals, (str, bytes)) \
+                            or not isinstance(vals, (Sequence, np.ndarray)):
+                        raise ModelError(f"{where}.{lab}: expected a list of numbers [{unit}], "
+                                         f"got {vals!r}")
+                    for n, val in enumerate(vals):
+                        check_number(where, f"{lab}[{n}]", val, unit=unit)
                 try:
                     xa, ya = check_table(getattr(rec, xl), getattr(rec, yl), where)
                 except (TypeError, ValueError) as exc:
@@ -297,7 +306,8 @@ class Bushing(TwoMarkerSpec):
                 if k[j] != 0.0:
                     kl = "stiffness" if off == 0 else "rotational_stiffness"
                     raise ModelError(f"{what}.{kl}[{j - off}]: must be 0 on axis {rec.axis!r}, "
-                                     f"which has a curve ({label}[{i}]), got {k[j]!r}")
+                                     f"which has a curve ({label}[{i}]), got "
+                                     f"{getattr(self, kl)[j - off]!r}")
                 curves.append((j, xa, ya))
         branches: list[tuple[int, float, float]] = []
         for label, cls, off in (("branches", MaxwellBranch, 0),
