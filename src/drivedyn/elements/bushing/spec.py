@@ -5,7 +5,7 @@ of rotation) that the kernel takes."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, ClassVar
 
 import numpy as np
@@ -99,7 +99,7 @@ def _records(values: Any, cls: type, where: str) -> tuple[Any, ...]:
             try:
                 v = cls(**v)
             except TypeError:
-                keys = ", ".join(f for f in cls.__dataclass_fields__)
+                keys = ", ".join(f.name for f in fields(cls))
                 raise ModelError(f"{where}[{i}]: expected the keys {keys}, got "
                                  f"{sorted(v)}") from None
         elif not isinstance(v, cls):
