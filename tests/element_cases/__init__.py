@@ -8,9 +8,10 @@ forgotten.
 
 The tables themselves: :mod:`element_cases.basic` (bodies, joints, drivers, springs, loads),
 :mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film),
-:mod:`element_cases.gears` (gear pairs), :mod:`element_cases.beams` (beams) and
-:mod:`element_cases.flexible` (reduced flexible bodies). Tests in every tier import this
-package as a top-level module (``pythonpath`` in pyproject.toml puts ``tests/`` on
+:mod:`element_cases.gears` (gear pairs), :mod:`element_cases.beams` (beams),
+:mod:`element_cases.flexible` (reduced flexible bodies), :mod:`element_cases.tyres` (tyres)
+and :mod:`element_cases.bushings` (bushings). Tests in every tier import this package as a
+top-level module (``pythonpath`` in pyproject.toml puts ``tests/`` on
 ``sys.path``, as for ``fdcheck``).
 """
 
@@ -21,7 +22,7 @@ from functools import partial
 
 from drivedyn.elements.joints import JOINT_TYPES
 from drivedyn.model.spec import Spec
-from element_cases import basic, beams, contact, flexible, gears, tyres
+from element_cases import basic, beams, bushings, contact, flexible, gears, tyres
 
 TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "rigid_body": [basic.spinning_body],
@@ -46,4 +47,5 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "flexible_washer_contact": [flexible.washer_case],
     "flexible_interface": [flexible.free_case, flexible.tie_case, flexible.average_tie_case],
     "tyre": list(tyres.CASES),
+    "bushing": list(bushings.CASES),
 }

@@ -92,4 +92,5 @@ def test_bad_tables_are_refused_naming_the_table(x, y, message) -> None:
     with pytest.raises(ValueError, match=message) as exc:
         check_table(x, y, "spring.force_curve")
     assert str(exc.value).startswith("spring.force_curve: ")
+    assert "np." not in str(exc.value)  # values as plain numbers, not numpy reprs
     check_table([0.0, 1.0], [2.0, 1.0], "damper", monotone=False)  # allowed when asked

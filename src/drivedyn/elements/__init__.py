@@ -2,6 +2,13 @@
 
 from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
 from drivedyn.elements.beams import GeometricallyExactBeam
+from drivedyn.elements.bushing import (
+    Bushing,
+    BushingCurve,
+    BushingRotationalCurve,
+    MaxwellBranch,
+    RotationalMaxwellBranch,
+)
 from drivedyn.elements.contact import (
     FrictionLaw,
     JournalContact,
@@ -34,6 +41,9 @@ from drivedyn.elements.tyre import RoadPatch, TyreContact
 
 __all__ = [
     "REGISTRY",
+    "Bushing",
+    "BushingCurve",
+    "BushingRotationalCurve",
     "Cylindrical",
     "ElementSpec",
     "Family",
@@ -48,12 +58,14 @@ __all__ = [
     "JointDriver",
     "JournalContact",
     "JournalFilm",
+    "MaxwellBranch",
     "NormalLaw",
     "ParallelAxes",
     "Planar",
     "PlaneContact",
     "Prismatic",
     "RoadPatch",
+    "RotationalMaxwellBranch",
     "Screw",
     "SpeedDifferenceDriver",
     "Spherical",

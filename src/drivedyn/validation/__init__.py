@@ -4,7 +4,8 @@ exact or published reference. One module per subject registers its cases:
 :mod:`~drivedyn.validation.integrator` (convergence order, energy account),
 :mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears`,
 :mod:`~drivedyn.validation.beams`, :mod:`~drivedyn.validation.fe`,
-:mod:`~drivedyn.validation.torsen` and :mod:`~drivedyn.validation.torsen_b`."""
+:mod:`~drivedyn.validation.torsen`, :mod:`~drivedyn.validation.torsen_b`,
+:mod:`~drivedyn.validation.vehicles` and :mod:`~drivedyn.validation.bushings`."""
 
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ from drivedyn.validation import fe  # noqa: F401
 from drivedyn.validation import torsen  # noqa: F401
 from drivedyn.validation import torsen_b  # noqa: F401
 from drivedyn.validation import vehicles  # noqa: F401
+from drivedyn.validation import bushings  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case
 
