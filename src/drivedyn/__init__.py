@@ -15,6 +15,7 @@ from typing import Any
 # the command line stay fast (`drivedyn --help` must not load numba and the kernels)
 _EXPORTS: dict[str, str] = {
     "AdaptiveStep": "drivedyn.solver",
+    "BumpStop": "drivedyn.elements",
     "Constant": "drivedyn.timefunctions",
     "configure": "drivedyn.settings",
     "Cylindrical": "drivedyn.elements",
@@ -40,6 +41,7 @@ _EXPORTS: dict[str, str] = {
     "ModelError": "drivedyn.model",
     "ModelFileError": "drivedyn.config",
     "Newton": "drivedyn.solver",
+    "NonlinearSpringDamper": "drivedyn.elements",
     "NormalLaw": "drivedyn.elements",
     "ParallelAxes": "drivedyn.elements",
     "Planar": "drivedyn.elements",
@@ -89,6 +91,7 @@ __all__ = [
     "GROUND",
     "STEEL",
     "AdaptiveStep",
+    "BumpStop",
     "Constant",
     "Cylindrical",
     "Fixed",
@@ -112,6 +115,7 @@ __all__ = [
     "ModelError",
     "ModelFileError",
     "Newton",
+    "NonlinearSpringDamper",
     "NormalLaw",
     "ParallelAxes",
     "Planar",
