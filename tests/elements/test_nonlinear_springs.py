@@ -424,12 +424,14 @@ def test_bad_parameters_are_refused_naming_key_and_value(make, words) -> None:
 
     Deliberate mutations that fail it: ``check_table`` called with ``monotone=False`` for
     the spring; the damper tables' abscissae not checked for sign (a negative speed read
-    as a magnitude); the table start not checked (a damper force jump at zero speed)."""
+    as a magnitude); the table start not checked (a damper force jump at zero speed);
+    numpy scalars printed with their repr (``np.float64(500.0)``)."""
     with pytest.raises(ModelError) as exc:
         make().validate()
     msg = str(exc.value)
     for w in words:
         assert w in msg, msg
+    assert "np.float64" not in msg, msg  # values as written, not numpy reprs
 
 
 @pytest.mark.parametrize("element", ["NonlinearSpringDamper", "BumpStop"])

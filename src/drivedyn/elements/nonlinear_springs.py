@@ -301,7 +301,7 @@ def table_arrays(spec: Any, key: str, dims: tuple[U.Dim, U.Dim], columns: str,
         raise ModelError(str(exc)) from None
     if origin is not None and (xa[0] != 0.0 or ya[0] != 0.0):
         raise ModelError(f"{what}: the table must start at (0, 0) (no force at zero), got "
-                         f"({xa[0]!r}, {ya[0]!r}) first")
+                         f"({float(xa[0])!r}, {float(ya[0])!r}) first")
     return xa, ya
 
 

@@ -71,12 +71,14 @@ def check_table(x: Sequence[float], y: Sequence[float], what: str,
         raise ValueError(f"{what}: values must be finite")
     if np.any(np.diff(xa) <= 0.0):
         i = int(np.argmax(np.diff(xa) <= 0.0))
-        raise ValueError(f"{what}: abscissae must increase strictly, got {xa[i]!r} then "
-                         f"{xa[i + 1]!r}")
+        raise ValueError(f"{what}: abscissae must increase strictly, got {float(xa[i])!r} "
+                         f"then {float(xa[i + 1])!r}")
     if monotone and np.any(np.diff(ya) < 0.0):
         i = int(np.argmax(np.diff(ya) < 0.0))
+        # plain floats: numpy scalars print as np.float64(...)
+        a, b, c, d = (float(v) for v in (ya[i], xa[i], ya[i + 1], xa[i + 1]))
         raise ValueError(f"{what}: values must not decrease (a monotone curve), got "
-                         f"{ya[i]!r} at {xa[i]!r} then {ya[i + 1]!r} at {xa[i + 1]!r}")
+                         f"{a!r} at {b!r} then {c!r} at {d!r}")
     return xa, ya
 
 
