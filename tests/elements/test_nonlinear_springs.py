@@ -545,6 +545,25 @@ def test_model_file_tables_with_units(tmp_path: Path) -> None:
     assert res.success
 
 
+def test_python_tables_as_arrays_and_the_plot_category() -> None:
+    """From Python a table may be an (n, 2) array (stored as a tuple of float pairs, so the
+    spec stays hashable); bump stops are drawn with the springs by ``drivedyn plot``.
+
+    Deliberate mutations that fail it: arrays refused as "not a table"; the plot category of
+    ``bump_stop`` left to its own figure."""
+    from drivedyn.plots.quantities import category
+
+    arr = np.array(SPRING)
+    s = NonlinearSpringDamper("s", "a", "b", spring_curve=arr,
+                              damper_curve_rebound=[np.array(p) for p in REBOUND])
+    s.validate()
+    assert s.spring_curve == SPRING and s.damper_curve_rebound == REBOUND
+    assert all(type(v) is float for p in s.spring_curve for v in p)
+    hash(s)
+    assert category("bump_stop", {"force", "deflection"}) == "springs"
+    assert category("nonlinear_spring_damper", {"force", "deflection"}) == "springs"
+
+
 @pytest.mark.parametrize(("old", "new", "words"), [
     ("[-0.05, -1500.0], [0.0, 0.0]", "[-0.05, -1500.0], [0.0, -2000.0]",
      ["elements[1] (coil).spring_curve", "must not decrease", "-1500.0", "-2000.0"]),

@@ -243,13 +243,18 @@ def bump_stop_kernel(
 
 
 def _pairs(value: Any, dims: tuple[U.Dim, U.Dim]) -> CurveTable:
-    """``value`` as a table of (x, y) pairs in SI: each entry a number (SI) or a
-    ``"<number> <unit>"`` string of its column's dimension; ``ValueError`` (a
+    """``value`` (a sequence of pairs or an (n, 2) array) as a table of (x, y) pairs in SI:
+    each entry a number (SI) or a ``"<number> <unit>"`` string of its column's dimension;
+    ``ValueError`` (a
     :class:`~drivedyn.units.UnitError` for units) otherwise."""
+    if isinstance(value, np.ndarray):  # Python numbers, as model files give them
+        value = value.tolist()
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
         raise ValueError("not a list")
     out = []
     for row in value:
+        if isinstance(row, np.ndarray):
+            row = row.tolist()
         if isinstance(row, (str, bytes)) or not isinstance(row, Sequence) or len(row) != 2:
             raise ValueError(f"each point is a pair [x, y], got {row!r}")
         xy = (U.to_si(row[0], dims[0]), U.to_si(row[1], dims[1]))
