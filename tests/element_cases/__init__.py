@@ -7,6 +7,7 @@ them and fails for a registered family that has no entry here, so a new family c
 forgotten.
 
 The tables themselves: :mod:`element_cases.basic` (bodies, joints, drivers, springs, loads),
+:mod:`element_cases.nonlinear_springs` (tabulated springs, dampers, bump stops),
 :mod:`element_cases.contact` (force-type and unilateral contacts, squeeze film),
 :mod:`element_cases.gears` (gear pairs), :mod:`element_cases.beams` (beams),
 :mod:`element_cases.flexible` (reduced flexible bodies), :mod:`element_cases.tyres` (tyres)
@@ -22,7 +23,16 @@ from functools import partial
 
 from drivedyn.elements.joints import JOINT_TYPES
 from drivedyn.model.spec import Spec
-from element_cases import basic, beams, bushings, contact, flexible, gears, tyres
+from element_cases import (
+    basic,
+    beams,
+    bushings,
+    contact,
+    flexible,
+    gears,
+    nonlinear_springs,
+    tyres,
+)
 
 TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "rigid_body": [basic.spinning_body],
@@ -32,6 +42,8 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "speed_difference_driver": [basic.speed_difference_case],
     "spring_damper": [basic.spring_case],
     "torsional_spring_damper": [basic.torsion_case],
+    "nonlinear_spring_damper": list(nonlinear_springs.SPRING_CASES),
+    "bump_stop": list(nonlinear_springs.STOP_CASES),
     "force": [partial(basic.load_case, False, "global"), partial(basic.load_case, False, "marker")],
     "torque": [partial(basic.load_case, True, "global"), partial(basic.load_case, True, "marker")],
     "plane_contact": [contact.plane_case, contact.sphere_case, contact.plane_ground_case],

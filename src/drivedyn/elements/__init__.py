@@ -1,6 +1,13 @@
 """Element families. Importing this package registers every family in ``REGISTRY``."""
 
-from drivedyn.elements import bodies, drivers, joints, loads, springs  # noqa: F401
+from drivedyn.elements import (  # noqa: F401
+    bodies,
+    drivers,
+    joints,
+    loads,
+    nonlinear_springs,
+    springs,
+)
 from drivedyn.elements.beams import GeometricallyExactBeam
 from drivedyn.elements.bushing import (
     Bushing,
@@ -36,11 +43,13 @@ from drivedyn.elements.joints import (
     Universal,
 )
 from drivedyn.elements.loads import Force, Torque
+from drivedyn.elements.nonlinear_springs import BumpStop, NonlinearSpringDamper
 from drivedyn.elements.springs import SpringDamper, TorsionalSpringDamper
 from drivedyn.elements.tyre import RoadPatch, TyreContact
 
 __all__ = [
     "REGISTRY",
+    "BumpStop",
     "Bushing",
     "BushingCurve",
     "BushingRotationalCurve",
@@ -59,6 +68,7 @@ __all__ = [
     "JournalContact",
     "JournalFilm",
     "MaxwellBranch",
+    "NonlinearSpringDamper",
     "NormalLaw",
     "ParallelAxes",
     "Planar",

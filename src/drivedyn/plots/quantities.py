@@ -159,7 +159,7 @@ def category(family: str, quantities: set[str]) -> str:
         return "joints"
     if "driver" in family or family in ("torque", "force"):
         return "drivers and loads"
-    if "spring" in family:
+    if "spring" in family or family == "bump_stop":
         return "springs"
     if family == "gear_pair" or "torque_a" in quantities:
         return "gear meshes"

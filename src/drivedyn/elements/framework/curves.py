@@ -75,9 +75,10 @@ def check_table(x: Sequence[float], y: Sequence[float], what: str,
                          f"then {float(xa[i + 1])!r}")
     if monotone and np.any(np.diff(ya) < 0.0):
         i = int(np.argmax(np.diff(ya) < 0.0))
+        # plain floats: numpy scalars print as np.float64(...)
+        a, b, c, d = (float(v) for v in (ya[i], xa[i], ya[i + 1], xa[i + 1]))
         raise ValueError(f"{what}: values must not decrease (a monotone curve), got "
-                         f"{float(ya[i])!r} at {float(xa[i])!r} then {float(ya[i + 1])!r} at "
-                         f"{float(xa[i + 1])!r}")
+                         f"{a!r} at {b!r} then {c!r} at {d!r}")
     return xa, ya
 
 
