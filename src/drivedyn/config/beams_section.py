@@ -14,6 +14,7 @@ from drivedyn.elements.beams import (
     GeneralSection,
     GeometricallyExactBeam,
     HollowCircular,
+    HollowRectangular,
     Material,
     Rectangular,
     SolidCircular,
@@ -57,6 +58,8 @@ def _sections(mf: Any, materials: dict[str, Material]) -> dict[str, tuple[Any, A
                 sec = HollowCircular(s.outer_diameter, s.inner_diameter)
             elif s.shape == "rectangular":
                 sec = Rectangular(s.width_y, s.height_z)
+            elif s.shape == "hollow_rectangular":
+                sec = HollowRectangular(s.width_y, s.height_z, s.thickness)
             else:
                 sec = GeneralSection(s.EA, s.GAy, s.GAz, s.GJ, s.EIy, s.EIz, s.mass_per_length,
                                      s.rotary_inertia, s.E, s.y_max, s.z_max,

@@ -12,7 +12,8 @@ File layout (every section optional except what the model needs)::
     [[markers]]            # frames on bodies, nodes or "ground"
     [[materials]]          # beam materials: E, nu or G, density
     [[sections]]           # beam sections: solid_circular | hollow_circular | rectangular |
-                           #                general (EA ... EIz, mass_per_length)
+                           #                hollow_rectangular | general (EA ... EIz,
+                           #                mass_per_length)
     [[beams]]              # geometrically exact beams: a straight shaft of N elements from
                            # start to end, or a chain through existing nodes
     [[parts]]              # meshed flexible parts (Craig-Bampton, floating frame): mesh
@@ -135,13 +136,15 @@ class SectionFile(Strict):
     """A beam section; the keys needed depend on ``shape``."""
 
     name: str
-    shape: Literal["solid_circular", "hollow_circular", "rectangular", "general"]
+    shape: Literal["solid_circular", "hollow_circular", "rectangular", "hollow_rectangular",
+                   "general"]
     material: str | None = None
     diameter: PositiveLen | None = None
     outer_diameter: PositiveLen | None = None
     inner_diameter: NonNegLength | None = None
     width_y: PositiveLen | None = None
     height_z: PositiveLen | None = None
+    thickness: PositiveLen | None = None
     EA: AxialStiffness | None = None
     GAy: AxialStiffness | None = None
     GAz: AxialStiffness | None = None
@@ -160,11 +163,13 @@ class SectionFile(Strict):
         need = {"solid_circular": ("diameter", "material"),
                 "hollow_circular": ("outer_diameter", "inner_diameter", "material"),
                 "rectangular": ("width_y", "height_z", "material"),
+                "hollow_rectangular": ("width_y", "height_z", "thickness", "material"),
                 "general": ("EA", "GAy", "GAz", "GJ", "EIy", "EIz", "mass_per_length")}
         missing = [k for k in need[self.shape] if getattr(self, k) is None]
         if missing:
             raise ValueError(f"a {self.shape} section needs {', '.join(missing)}")
-        geometric = {"diameter", "outer_diameter", "inner_diameter", "width_y", "height_z"}
+        geometric = {"diameter", "outer_diameter", "inner_diameter", "width_y", "height_z",
+                     "thickness"}
         general = {"EA", "GAy", "GAz", "GJ", "EIy", "EIz", "mass_per_length",
                    "rotary_inertia", "E", "y_max", "z_max", "torsion_modulus"}
         allowed = set(need[self.shape]) | ({"material"} if self.shape != "general" else

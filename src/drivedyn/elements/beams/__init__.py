@@ -11,10 +11,11 @@ from drivedyn.elements.beams.section import (
     STEEL,
     GeneralSection,
     HollowCircular,
+    HollowRectangular,
     Material,
     Rectangular,
     SolidCircular,
 )
 
-__all__ = ["STEEL", "GeneralSection", "GeometricallyExactBeam", "HollowCircular", "Material",
-           "Rectangular", "SolidCircular"]
+__all__ = ["STEEL", "GeneralSection", "GeometricallyExactBeam", "HollowCircular",
+           "HollowRectangular", "Material", "Rectangular", "SolidCircular"]

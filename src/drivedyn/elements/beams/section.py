@@ -7,7 +7,7 @@ stretches the fibres at ``z > 0`` and a positive ``M_z`` those at ``y < 0``::
     sigma_x(y, z) = N / A + M_y z / I_y - M_z y / I_z
 
 Shear areas use Cowper's (1966) coefficients; torsion is Saint-Venant's (no warping
-restraint). Every value is SI: m, Pa, kg/m^3.
+restraint; Bredt's thin-walled formula for the box). Every value is SI: m, Pa, kg/m^3.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from drivedyn.errors import ModelError
 KIND_CIRCULAR = 0
 KIND_RECTANGULAR = 1
 KIND_GENERAL = 2
+KIND_BOX = 3
 
 _NPTS = 32  # points sampled on the outer circle
 _COS = np.cos(2.0 * np.pi * np.arange(_NPTS) / _NPTS)  # tables: the kernels call the stress
@@ -217,6 +218,60 @@ class Rectangular:
 
 
 @dataclass(frozen=True)
+class HollowRectangular:
+    """Box (hollow rectangle) ``width_y`` (along section y) x ``height_z`` (along z) [m],
+    outer dimensions, uniform wall ``thickness`` [m] (``2 thickness < min(width, height)``).
+
+    Area and second moments are exact for the sharp-cornered box; the torsion constant is
+    Bredt's thin-walled value ``J = 4 A_m^2 t / p_m`` on the wall's mid-line (``A_m =
+    (b - t)(h - t)`` the enclosed area, ``p_m = 2 (b + h - 2 t)`` its perimeter); the shear
+    coefficients are Cowper's (1966) for the thin-walled box, for shear along z
+    ``k = 10 (1 + nu)(1 + 3 m)^2 / (12 + 72 m + 150 m^2 + 90 m^3 + nu (11 + 66 m + 135 m^2
+    + 90 m^3) + 10 n^2 ((3 + nu) m + 3 m^2))`` with ``m = n = b / h`` (``b <-> h`` for y).
+    """
+
+    width_y: float
+    height_z: float
+    thickness: float
+
+    def __post_init__(self) -> None:
+        b = _positive("section.width_y", self.width_y, "m")
+        h = _positive("section.height_z", self.height_z, "m")
+        t = _positive("section.thickness", self.thickness, "m")
+        if not 2.0 * t < min(b, h):
+            raise ModelError(f"section.thickness: must be < half the smaller outer dimension "
+                             f"({0.5 * min(b, h):g} m), got {self.thickness!r}")
+
+    def properties(self, material: Material | None) -> SectionProperties:
+        mat = _need(material, "section")
+        b = float(self.width_y)
+        h = float(self.height_z)
+        t = float(self.thickness)
+        bi, hi = b - 2.0 * t, h - 2.0 * t
+        A = b * h - bi * hi
+        Iy = (b * h**3 - bi * hi**3) / 12.0
+        Iz = (h * b**3 - hi * bi**3) / 12.0
+        Am = (b - t) * (h - t)
+        J = 4.0 * Am**2 * t / (2.0 * (b + h - 2.0 * t))
+        nu = mat.nu
+
+        def cowper(m: float) -> float:  # thin-walled box, equal walls: m = n
+            return (10 * (1 + nu) * (1 + 3 * m) ** 2
+                    / (12 + 72 * m + 150 * m**2 + 90 * m**3
+                       + nu * (11 + 66 * m + 135 * m**2 + 90 * m**3)
+                       + 10 * m**2 * ((3 + nu) * m + 3 * m**2)))
+
+        ky = cowper(h / b)  # shear along y: the walls along y (width b) are the webs
+        kz = cowper(b / h)  # shear along z: the walls along z (height h) are the webs
+        rho = mat.density
+        return SectionProperties(
+            np.array([mat.E * A, ky * mat.G * A, kz * mat.G * A, mat.G * J, mat.E * Iy,
+                      mat.E * Iz]),
+            rho * A, np.array([rho * (Iy + Iz), rho * Iy, rho * Iz]), KIND_BOX,
+            np.array([A, Iy, Iz, b, h, t, Am, 0.0]), A)
+
+
+@dataclass(frozen=True)
 class GeneralSection:
     """A section given by its stiffnesses [N, N m^2] and mass per length [kg/m].
 
@@ -300,6 +355,12 @@ def outer_fibre_stresses(kind, p, N, Vy, Vz, T, My, Mz):
       there) and the 4 mid-edges (torsion ``T / W_t`` on the long sides, ``k_short`` times
       it on the short ones, plus ``1.5 V / A`` of the shear force along that edge, whose
       neutral axis ends there);
+    * box ``[A, I_y, I_z, b, h, t, A_m, -]`` (thin-walled shear flows): the 4 mid-edges
+      as the rectangle, with Bredt's torsional shear ``T / (2 A_m t)`` on every wall and the
+      transverse shear at the neutral axis ``V Q / (2 t I)`` (``Q`` the first moment of
+      half the section); the 4 corners with the normal stress and the bound
+      ``|T| / (2 A_m t) + (|V_y| / I_z + |V_z| / I_y) A_m / 4`` of the shear there (the
+      transverse shear flow at a corner of the thin box is ``V A_m / (4 I)``);
     * general ``[A, I_y, I_z, y_max, z_max, W_t, -, -]``: the bound
       ``|N|/A + |M_y| z_max / I_y + |M_z| y_max / I_z`` and ``|T| / W_t`` (NaN if missing).
     """
@@ -340,6 +401,29 @@ def outer_fibre_stresses(kind, p, N, Vy, Vz, T, My, Mz):
             # mid of the edge y = sgn b/2: shear along z (torsion sign +sgn)
             sig = N / A - Mz * sgn * 0.5 * b / Iz
             tau = sgn * tz + 1.5 * Vz / A
+            smax = max(smax, abs(sig))
+            tmax = max(tmax, abs(tau))
+            vm = max(vm, _vm(sig, tau))
+    elif kind == KIND_BOX:
+        A, Iy, Iz, b, h, t, Am = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
+        tl = T / (2.0 * Am * t)  # Bredt: the same shear on every wall
+        fy = (h * b * b - (h - 2 * t) * (b - 2 * t) ** 2) / (16.0 * t * Iz)  # Q_z / (2 t I_z)
+        fz = (b * h * h - (b - 2 * t) * (h - 2 * t) ** 2) / (16.0 * t * Iy)  # Q_y / (2 t I_y)
+        tc = abs(tl) + 0.25 * Am * (abs(Vy) / Iz + abs(Vz) / Iy)
+        for sy in (-1.0, 1.0):
+            for sz in (-1.0, 1.0):
+                sig = N / A + My * sz * 0.5 * h / Iy - Mz * sy * 0.5 * b / Iz
+                smax = max(smax, abs(sig))
+                vm = max(vm, _vm(sig, tc))
+        tmax = tc
+        for sgn in (-1.0, 1.0):
+            sig = N / A + My * sgn * 0.5 * h / Iy
+            tau = -sgn * tl + fy * Vy
+            smax = max(smax, abs(sig))
+            tmax = max(tmax, abs(tau))
+            vm = max(vm, _vm(sig, tau))
+            sig = N / A - Mz * sgn * 0.5 * b / Iz
+            tau = sgn * tl + fz * Vz
             smax = max(smax, abs(sig))
             tmax = max(tmax, abs(tau))
             vm = max(vm, _vm(sig, tau))
