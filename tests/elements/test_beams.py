@@ -217,6 +217,19 @@ def test_beam_file_matches_python_model(tmp_path):
         ref.x[dd.compile_model(spec).node_index[nodes[-1]], 2], rel=1e-12)
 
 
+def test_box_section_in_a_beam_file(tmp_path):
+    """``shape = "hollow_rectangular"`` with ``thickness`` builds the box of the Python API;
+    a missing thickness is named."""
+    box = BEAM_FILE.replace('shape = "solid_circular"\ndiameter = "20 mm"',
+                            'shape = "hollow_rectangular"\nwidth_y = "30 mm"\n'
+                            'height_z = "50 mm"\nthickness = "2 mm"')
+    model = dd.load_model(_write(tmp_path, box))
+    sec = model.spec.element("rod.e0").section
+    assert sec == dd.HollowRectangular(0.03, 0.05, 0.002)
+    with pytest.raises((dd.ModelFileError, dd.ModelError), match="needs thickness"):
+        dd.load_model(_write(tmp_path, box.replace('thickness = "2 mm"\n', "")))
+
+
 @pytest.mark.parametrize(("edit", "message"), [
     (('E = "210 GPa"', 'E = "-210 GPa"'), r"materials\[0\] \(steel\).E: must be > 0 Pa"),
     (('nu = 0.3', 'nu = 0.7'), r"materials\[0\] \(steel\).nu"),
@@ -350,6 +363,49 @@ def test_section_properties_against_hand_formulas():
     assert r.stiffness[4] == pytest.approx(210e9 * 0.02 * 0.04**3 / 12, rel=1e-14)
 
 
+def test_box_section_against_hand_formulas():
+    """Box 60 x 140 x 3.5 mm: area and second moments of the sharp-cornered box, Bredt's
+    ``J = 4 A_m^2 t / p_m``; a thin square box tends to Cowper's ``20 (1 + nu) / (48 + 39 nu)``
+    (his thin-walled box with m = n = 1)."""
+    mat = dd.STEEL
+    b, h, t = 0.06, 0.14, 0.0035
+    p = dd.HollowRectangular(b, h, t).properties(mat)
+    A = b * h - (b - 2 * t) * (h - 2 * t)
+    Iy = (b * h**3 - (b - 2 * t) * (h - 2 * t) ** 3) / 12
+    Iz = (h * b**3 - (h - 2 * t) * (b - 2 * t) ** 3) / 12
+    J = 4 * ((b - t) * (h - t)) ** 2 * t / (2 * (b + h - 2 * t))
+    np.testing.assert_allclose(p.stiffness[[0, 3, 4, 5]], [mat.E * A, mat.G * J, mat.E * Iy,
+                                                           mat.E * Iz], rtol=1e-14)
+    assert p.mass_per_length == pytest.approx(7850 * A, rel=1e-14)
+    # shear along the deep side (z) is carried by the two 140 mm walls: k near their share
+    assert 0.5 < p.stiffness[2] / (mat.G * A) < 2 * h * t / A
+    sq = dd.HollowRectangular(0.1, 0.1, 1e-4).properties(mat)
+    nu = mat.nu
+    assert sq.stiffness[1] / (mat.G * sq.area) == pytest.approx(
+        20 * (1 + nu) / (48 + 39 * nu), rel=1e-3)
+
+
+def test_box_section_stresses_thin_walled():
+    """Box stresses: Bredt's uniform torsional shear ``T / (2 A_m t)``; under a vertical
+    shear force the webs' neutral-axis value ``V Q / (2 t I_y)``; bending at the corners."""
+    from drivedyn.elements.beams.section import outer_fibre_stresses
+
+    b, h, t = 0.06, 0.14, 0.0035
+    p = dd.HollowRectangular(b, h, t).properties(dd.STEEL)
+    A, Iy = p.stress_params[0], p.stress_params[1]
+    T = 300.0
+    s, tau, vm = outer_fibre_stresses(p.stress_kind, p.stress_params, 0, 0, 0, T, 0, 0)
+    assert tau == pytest.approx(T / (2 * (b - t) * (h - t) * t), rel=1e-12)
+    assert s == 0.0 and vm == pytest.approx(np.sqrt(3) * tau, rel=1e-12)
+    V = 5e3
+    Q = (b * h**2 - (b - 2 * t) * (h - 2 * t) ** 2) / 8
+    _, tau, _ = outer_fibre_stresses(p.stress_kind, p.stress_params, 0, 0, V, 0, 0, 0)
+    assert tau == pytest.approx(V * Q / (2 * t * Iy), rel=1e-12)
+    M = 2e3
+    s, _, vm = outer_fibre_stresses(p.stress_kind, p.stress_params, 1e4, 0, 0, 0, M, 0)
+    assert s == pytest.approx(1e4 / A + M * 0.5 * h / Iy, rel=1e-12) and vm == s
+
+
 @pytest.mark.parametrize(("ratio", "beta", "alpha"), [(1, 0.141, 0.208), (2, 0.229, 0.246),
                                                       (10, 0.312, 0.312)])
 def test_rectangle_torsion_matches_timoshenko_goodier(ratio, beta, alpha):
@@ -384,6 +440,8 @@ def test_outer_fibre_stresses_of_a_solid_shaft_in_torsion_and_bending():
     (lambda: dd.SolidCircular(0.0), r"section.diameter: must be > 0 m, got 0.0"),
     (lambda: dd.SolidCircular(0.02).properties(None), r"material .* is required"),
     (lambda: dd.GeneralSection(1.0, 1.0, 1.0, -1.0, 1.0, 1.0, 1.0), r"section.GJ"),
+    (lambda: dd.HollowRectangular(0.05, 0.1, 0.025), r"section.thickness: must be < half"),
+    (lambda: dd.HollowRectangular(0.0, 0.1, 0.002), r"section.width_y: must be > 0 m"),
 ])
 def test_section_and_material_refusals(build, message):
     with pytest.raises(dd.ModelError, match=message):

@@ -39,9 +39,9 @@ MassPerLength = Annotated[float, scalar(U.MASS_PER_LENGTH, positive=True)]
 class FrameMaterial(Strict):
     """Linear elastic isotropic material of every member of the frame."""
 
-    E: Pressure = 210e9  # literature: structural steel, 200-210 GPa (EN 1993-1-1: 210 GPa)
-    nu: float = Field(default=0.3, gt=-1.0, lt=0.5)  # literature: steel (EN 1993-1-1)
-    density: Density = 7850.0  # literature: steel (EN 1993-1-1)
+    E: Pressure = 210e9  # literature: structural steel, EN 1993-1-1 sec. 3.2.6
+    nu: float = Field(default=0.3, gt=-1.0, lt=0.5)  # literature: EN 1993-1-1 sec. 3.2.6
+    density: Density = 7850.0  # literature: steel, EN 1991-1-1 table A.4
 
     def material(self) -> Material:
         """The beam :class:`~drivedyn.elements.beams.section.Material`."""
@@ -114,8 +114,8 @@ FrameSection = Annotated[
 
 
 def _rail_section() -> BoxSection:
-    # chosen: a boxed light-truck rail, 140 mm deep x 60 mm wide x 3.5 mm wall (boxed pickup
-    # rails are roughly 120-250 mm deep with 3-5 mm walls; no single vehicle)
+    # chosen: a boxed rail 140 mm deep x 60 mm wide x 3.5 mm wall for a mid-size frame (an
+    # estimate, not taken from a vehicle or a source)
     return BoxSection(width=0.06, height=0.14, wall=0.0035)
 
 
@@ -129,7 +129,7 @@ class Rails(Strict):
 
     length: PositiveLength = 4.4  # chosen: 2.8 m wheelbase plus overhangs of a mid-size frame
     # distance between the rails' centre lines (the frame's track, not the wheels'); chosen:
-    # 0.9 m, inside the 0.86-1.1 m of light-truck frames (SAE frame width 34 in = 0.864 m)
+    # 0.9 m, the order of the 34 in (0.864 m) outside width common to heavy-truck frames
     track: PositiveLength = 0.9
     section: FrameSection = Field(default_factory=_rail_section)
 

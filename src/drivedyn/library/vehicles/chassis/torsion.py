@@ -51,7 +51,7 @@ from drivedyn.model.spec import GROUND, Spec
 from drivedyn.solver.statics import solve_static
 from drivedyn.solver.system import element_outputs
 
-DEFAULT_TORQUE = 1000.0  # [N m]: a fraction of a degree on a frame, linear response
+DEFAULT_TORQUE = 100.0  # [N m]: hundredths of a degree on a frame, a linear response
 
 
 @dataclass(frozen=True)
