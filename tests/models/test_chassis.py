@@ -17,6 +17,7 @@ from drivedyn.errors import ModelError
 from drivedyn.library.vehicles.chassis import (
     DeclaredSection,
     LadderFrameFile,
+    StiffnessSection,
     add_ladder_frame,
     mass_properties,
     rectangle_frame,
@@ -166,20 +167,54 @@ def test_torsional_stiffness_converges_with_the_mesh():
     assert 1000.0 < k[-1] < 3000.0  # the defaults' ladder frame: about 1.6 kN m/deg
 
 
-def test_declared_section_is_the_box_it_declares():
-    """A ``declared`` section holding a box's stiffnesses and mass gives the same frame
-    stiffness as the box. Fails if the declared vertical and lateral values were mapped to
-    the wrong section axes (EI_vertical on the lateral axis, GA swapped)."""
+def test_declared_and_stiffness_sections_are_the_box_they_declare():
+    """A ``declared`` section holding the box rail's area, second moments, torsion constant
+    and shear areas, and a ``stiffness`` section holding its stiffnesses, give the frame the
+    box's torsional stiffness, and the ``declared`` one its mass too. Fails if the vertical
+    and lateral values were mapped to the wrong section axes (I_vertical on the lateral
+    axis, the shear areas swapped) or the declared section took E where G belongs."""
     p = LadderFrameFile()
     mat = p.material.material()
     box = p.rails.section
-    k = box.beam_section(mat).properties(mat).stiffness  # EA, GA_y, GA_z, GJ, EI_y, EI_z
-    declared = DeclaredSection(shape="declared", EA=k[0], GA_lateral=k[1], GA_vertical=k[2],
-                               GJ=k[3], EI_vertical=k[4], EI_lateral=k[5],
-                               mass_per_length=box.beam_section(mat).properties(mat)
-                               .mass_per_length, width=box.width, height=box.height)
+    props = box.beam_section(mat).properties(mat)
+    k = props.stiffness  # EA, GA_y, GA_z, GJ, EI_y, EI_z (z vertical)
+    declared = DeclaredSection(
+        shape="declared", area=k[0] / mat.E, I_vertical=k[4] / mat.E, I_lateral=k[5] / mat.E,
+        J=k[3] / mat.G, shear_area_vertical=k[2] / mat.G, shear_area_lateral=k[1] / mat.G,
+        width=box.width, height=box.height)
+    stiff = StiffnessSection(shape="stiffness", EA=k[0], GA_lateral=k[1], GA_vertical=k[2],
+                             GJ=k[3], EI_vertical=k[4], EI_lateral=k[5],
+                             mass_per_length=props.mass_per_length)
+    ref = torsional_stiffness(p)
+    for sec in (declared, stiff):
+        q = p.model_copy(update={"rails": p.rails.model_copy(update={"section": sec})})
+        assert torsional_stiffness(q) == pytest.approx(ref, rel=1e-9)
     q = p.model_copy(update={"rails": p.rails.model_copy(update={"section": declared})})
-    assert torsional_stiffness(q) == pytest.approx(torsional_stiffness(p), rel=1e-9)
+    _, a = _props(p, carry_body=False)
+    _, b = _props(q, carry_body=False)
+    assert b.mass == pytest.approx(a.mass, rel=1e-12)
+    np.testing.assert_allclose(b.inertia, a.inertia, rtol=1e-12, atol=1e-12)
+
+
+def test_sections_from_tables_with_units():
+    """Model-file tables: a ``declared`` rail section in cm^2 / cm^4, a cross member's partial
+    box table (only its wall) completed from the default box. Fails if the default box's
+    keys were merged into a table of another shape (``wall`` refused as an extra key of the
+    declared section) or a partial box table were refused."""
+    declared = {"shape": "declared", "area": "14 cm^2", "I_vertical": "200 cm^4",
+                "I_lateral": "50 cm^4", "J": "60 cm^4", "shear_area_vertical": "9 cm^2",
+                "shear_area_lateral": "3 cm^2", "width": "60 mm", "height": "140 mm"}
+    p = LadderFrameFile.model_validate({
+        "rails": {"length": "4 m", "section": declared},
+        "cross_members": [{"x": 0}, {"x": "2 m", "section": {"wall": "2 mm"}}, {"x": "4 m"}],
+        "body": {"mounts": ["1 m", "3 m"]}})
+    sec = p.rails.section
+    assert isinstance(sec, DeclaredSection)
+    assert (sec.area, sec.I_vertical, sec.J) == pytest.approx((14e-4, 200e-8, 60e-8))
+    box = p.cross_members[1].section
+    assert (box.shape, box.width, box.height, box.wall) == ("box", 0.07, 0.07, 0.002)
+    assert p.cross_members[0].section.wall == 0.003
+    assert torsional_stiffness(p) > 0.0
 
 
 def test_cantilevered_rail_tip_deflection_matches_timoshenko():
@@ -271,13 +306,17 @@ def _with(path: str, value) -> dict:
 @pytest.mark.parametrize(("path", "value", "message"), [
     ("rails.section.width", 0.0, r"rails\.section\.box\.width\n.*must be > 0 m.*input_value=0\.0"),
     ("rails.section.wall", 0.04, r"wall = 0\.04 m: must be less than half"),
-    ("rails.section.shape", "channel", r"expected shape 'box' or 'declared'"),
+    ("rails.section.shape", "channel", r"expected shape 'box', 'declared' or 'stiffness'"),
     ("cross_members.1.x", 5.0, r"cross_members\[1\]\.x = 5 m lies outside the rails"),
     ("cross_members.1.x", -0.2, r"cross_members\[1\]\.x = -0\.2 m lies outside the rails"),
     ("mesh.elements_per_segment", 0, r"mesh\.elements_per_segment\n.*greater than or equal "
                                      r"to 1.*input_value=0"),
     ("body.mounts", [1.0], r"body\.mounts = \[1\.0\]: expected at least two"),
     ("material.E", "-210 GPa", r"material\.E\n.*must be > 0 Pa"),
+    ("rails.section", {"shape": "declared", "area": "14 cm^2", "I_vertical": "-1 cm^4",
+                       "I_lateral": "50 cm^4", "J": "60 cm^4", "shear_area_vertical": "9 cm^2",
+                       "shear_area_lateral": "3 cm^2"},
+     r"rails\.section\.declared\.I_vertical\n.*must be > 0 m\^4"),
 ])
 def test_bad_input_is_refused_naming_the_key_and_value(path, value, message):
     """Non-positive or inconsistent section dimensions, a cross member off the rails, a mesh

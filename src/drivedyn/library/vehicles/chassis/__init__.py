@@ -21,6 +21,7 @@ from drivedyn.library.vehicles.chassis.schema import (
     LadderFrameFile,
     Mesh,
     Rails,
+    StiffnessSection,
 )
 from drivedyn.library.vehicles.chassis.torsion import (
     TorsionTest,
@@ -43,6 +44,7 @@ __all__ = [
     "MassProperties",
     "Mesh",
     "Rails",
+    "StiffnessSection",
     "TorsionTest",
     "add_ladder_frame",
     "carriers",

@@ -34,6 +34,8 @@ Density = Annotated[float, scalar(U.DENSITY, positive=True)]
 AxialStiffness = Annotated[float, scalar(U.FORCE, positive=True)]
 BendingStiffness = Annotated[float, scalar(U.BENDING_STIFFNESS, positive=True)]
 MassPerLength = Annotated[float, scalar(U.MASS_PER_LENGTH, positive=True)]
+Area = Annotated[float, scalar((2, 0, 0, 0), positive=True)]  # [m^2]
+SecondMoment = Annotated[float, scalar((4, 0, 0, 0), positive=True)]  # [m^4]
 
 
 class FrameMaterial(Strict):
@@ -70,15 +72,49 @@ class BoxSection(Strict):
         return HollowRectangular(self.width, self.height, self.wall)
 
 
+def _sized(width: float | None, height: float | None) -> dict[str, float | None]:
+    """Fibre distances of a general section from an optional outer size."""
+    return {"y_max": None if width is None else 0.5 * width,
+            "z_max": None if height is None else 0.5 * height}
+
+
 class DeclaredSection(Strict):
-    """A section given by its stiffnesses (an open channel, a boxed channel, a measured
-    member): axial ``EA``, shear ``GA_vertical`` / ``GA_lateral`` (shear areas times G),
-    torsion ``GJ``, bending ``EI_vertical`` (bending in the vertical plane: the member sags)
-    and ``EI_lateral``, ``mass_per_length``; ``width`` / ``height`` (optional outer size) set
-    the fibre distances of the normal stress (with the frame material's E) and the drawn
+    """A section given by its properties, of the frame's material: ``area``, second moments
+    ``I_vertical`` (bending in the vertical plane: the member sags) and ``I_lateral``,
+    torsion constant ``J``, shear areas ``shear_area_vertical`` / ``shear_area_lateral``
+    (an open channel, a pressed member from a handbook table); ``width`` / ``height``
+    (optional outer size) set the fibre distances of the normal stress and the drawn
     radius."""
 
     shape: Literal["declared"]
+    area: Area
+    I_vertical: SecondMoment
+    I_lateral: SecondMoment
+    J: SecondMoment
+    shear_area_vertical: Area
+    shear_area_lateral: Area
+    width: PositiveLength | None = None
+    height: PositiveLength | None = None
+
+    def beam_section(self, material: Material) -> GeneralSection:
+        """The beam section, section y horizontal across the member and z vertical."""
+        E, G, rho = material.E, material.G, material.density
+        return GeneralSection(
+            E * self.area, G * self.shear_area_lateral, G * self.shear_area_vertical,
+            G * self.J, E * self.I_vertical, E * self.I_lateral, rho * self.area,
+            rotary_inertia=(rho * (self.I_vertical + self.I_lateral), rho * self.I_vertical,
+                            rho * self.I_lateral),
+            E=E, **_sized(self.width, self.height))
+
+
+class StiffnessSection(Strict):
+    """A section given by its stiffnesses (a measured or composite member): axial ``EA``,
+    shear ``GA_vertical`` / ``GA_lateral``, torsion ``GJ``, bending ``EI_vertical`` (the
+    member sags) and ``EI_lateral``, ``mass_per_length``; ``width`` / ``height`` (optional
+    outer size) set the drawn radius and, with the frame material's E, the normal-stress
+    fibres."""
+
+    shape: Literal["stiffness"]
     EA: AxialStiffness
     GA_vertical: AxialStiffness
     GA_lateral: AxialStiffness
@@ -91,12 +127,10 @@ class DeclaredSection(Strict):
 
     def beam_section(self, material: Material) -> GeneralSection:
         """The beam section, section y horizontal across the member and z vertical."""
-        sized = self.width is not None and self.height is not None
         return GeneralSection(
             self.EA, self.GA_lateral, self.GA_vertical, self.GJ, self.EI_vertical,
-            self.EI_lateral, self.mass_per_length, E=material.E if sized else None,
-            y_max=None if self.width is None else 0.5 * self.width,
-            z_max=None if self.height is None else 0.5 * self.height)
+            self.EI_lateral, self.mass_per_length, E=material.E,
+            **_sized(self.width, self.height))
 
 
 def _shape_of(v: Any) -> str:
@@ -105,23 +139,30 @@ def _shape_of(v: Any) -> str:
     return str(getattr(v, "shape", "box"))
 
 
-#: a member's section: ``shape = "box"`` (the default) or ``"declared"``
+#: a member's section: ``shape = "box"`` (the default), ``"declared"`` or ``"stiffness"``
 FrameSection = Annotated[
-    Annotated[BoxSection, Tag("box")] | Annotated[DeclaredSection, Tag("declared")],
+    Annotated[BoxSection, Tag("box")] | Annotated[DeclaredSection, Tag("declared")]
+    | Annotated[StiffnessSection, Tag("stiffness")],
     Discriminator(_shape_of, custom_error_type="shape",
-                  custom_error_message="expected shape 'box' or 'declared'"),
+                  custom_error_message="expected shape 'box', 'declared' or 'stiffness'"),
 ]
 
 
-def _rail_section() -> BoxSection:
-    # chosen: a boxed rail 140 mm deep x 60 mm wide x 3.5 mm wall for a mid-size frame (an
-    # estimate, not taken from a vehicle or a source)
-    return BoxSection(width=0.06, height=0.14, wall=0.0035)
+# chosen: a boxed rail 140 mm deep x 60 mm wide x 3.5 mm wall for a mid-size frame (an
+# estimate, not taken from a vehicle or a source)
+RAIL_SECTION = BoxSection(width=0.06, height=0.14, wall=0.0035)
+# chosen: a square 70 mm x 3 mm welded cross-member tube (no single vehicle)
+CROSS_SECTION = BoxSection(width=0.07, height=0.07, wall=0.003)
 
 
-def _cross_section() -> BoxSection:
-    # chosen: a square 70 mm x 3 mm welded cross-member tube (no single vehicle)
-    return BoxSection(width=0.07, height=0.07, wall=0.003)
+def _box_keys(data: Any, default: BoxSection) -> Any:
+    """``data`` with a partial box table under ``section`` completed from ``default`` (a
+    table of another shape is left whole: the default box's keys do not apply to it)."""
+    if isinstance(data, dict) and isinstance(data.get("section"), dict):
+        sec = data["section"]
+        if _shape_of(sec) == "box":
+            data = {**data, "section": {**default.model_dump(), **sec}}
+    return data
 
 
 class Rails(Strict):
@@ -131,7 +172,12 @@ class Rails(Strict):
     # distance between the rails' centre lines (the frame's track, not the wheels'); chosen:
     # 0.9 m, the order of the 34 in (0.864 m) outside width common to heavy-truck frames
     track: PositiveLength = 0.9
-    section: FrameSection = Field(default_factory=_rail_section)
+    section: FrameSection = RAIL_SECTION
+
+    @model_validator(mode="before")
+    @classmethod
+    def _partial_box(cls, data: Any) -> Any:
+        return _box_keys(data, RAIL_SECTION)
 
 
 class CrossMember(Strict):
@@ -139,7 +185,12 @@ class CrossMember(Strict):
     the rails' nodes there, a rigid joint); it gets a node on the centre line."""
 
     x: Length
-    section: FrameSection = Field(default_factory=_cross_section)
+    section: FrameSection = CROSS_SECTION
+
+    @model_validator(mode="before")
+    @classmethod
+    def _partial_box(cls, data: Any) -> Any:
+        return _box_keys(data, CROSS_SECTION)
 
 
 def _cross_members() -> list[CrossMember]:
