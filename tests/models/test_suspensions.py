@@ -325,3 +325,33 @@ def test_bad_input_names_the_key_and_value(tmp_path):
         with pytest.raises(ModelError, match=re.escape(key)) as err:
             load_suspensions(f)
         assert new.split("=")[1].strip().strip('"') in str(err.value)
+
+
+def test_anti_roll_bar_resists_roll_only():
+    """Opposite vertical loads of 2 kN on the wheel centres (rigid pivots, springs free at
+    the design position): with the bar the wheels' height difference is smaller than
+    without it, the bar's torque is its rate times the halves' relative rotation about the
+    bar's axis, of the sign of the roll (the left wheel pushed up lifts the left lever's
+    front end: the left half turns by a negative angle about +y relative to the right one).
+    Fails if a half's torsion marker is turned to -y (the spring then sees heave, not roll)
+    or the torsion spring acts about another axis than the bar's."""
+    p = without_preload(HMMWV.front)
+    heights = {}
+    for with_bar in (False, True):
+        sp, c, _ = two_corners(p, rigid=True, arb=with_bar)
+        for s, f in (("left", 2.0e3), ("right", -2.0e3)):
+            sp.add(Force(f"load_{s}", c[s].hub, vector=(0.0, 0.0, f), frame="global"))
+        model = compile_model(sp)
+        st = solve_static(model)
+        z = {s: marker_global(model, st, c[s].hub)[0][2] for s in ("left", "right")}
+        heights[with_bar] = z["left"] - z["right"]
+    assert heights[False] > 0.0
+    assert 0.0 < heights[True] < 0.9 * heights[False]
+    out = element_outputs(model, st)
+    Rl = st.R[model.node_index["arb_left_half"]]
+    Rr = st.R[model.node_index["arb_right_half"]]
+    rel = Rr.T @ Rl  # both halves start with the vehicle's axes
+    angle = np.arctan2(rel[0, 2] - rel[2, 0], rel[0, 0] + rel[2, 2])  # about y
+    assert out["arb_torsion"]["torque"] == pytest.approx(
+        p.anti_roll_bar.rate * angle, rel=1e-9)
+    assert angle < -1e-3
