@@ -21,11 +21,16 @@ from drivedyn.library.vehicles.suspensions import (
     wheel_angles,
 )
 from drivedyn.library.vehicles.suspensions.geometry import MIRROR
+from drivedyn.library.vehicles.suspensions.rig import (
+    corner_rig,
+    design_point,
+    free_length_for_load,
+)
 from drivedyn.library.vehicles.suspensions.schema import Spring
 from drivedyn.model import Spec, compile_model
 from drivedyn.solver import element_outputs, solve_static
 from drivedyn.timefunctions import Ramp, SmoothStep, Table
-from drivedyn.validation.suspensions import marker_global, rig, simulated_sweep
+from drivedyn.validation.suspensions import marker_global, simulated_sweep
 
 HMMWV = load_suspensions("hmmwv")
 
@@ -167,7 +172,7 @@ def test_static_wheel_rate_is_spring_rate_times_installation_ratio_squared():
         lengths.append(loop.solve(dz)["spring"])
     ir = -(lengths[0] - lengths[1]) / (2 * d)  # the spring shortens in bump
     assert 0.4 < ir < 0.5
-    model, _ = rig(p, Table((0.0, 1.0, 2.0), (0.0, d, -d)))
+    model, _ = corner_rig(p, Table((0.0, 1.0, 2.0), (0.0, d, -d)))
     forces = []
     st = model.initial_state()
     for t in (1.0, 2.0):
@@ -176,6 +181,24 @@ def test_static_wheel_rate_is_spring_rate_times_installation_ratio_squared():
     rate = (forces[0] - forces[1]) / (2 * d)
     # central differences of both: O(d^2) relative to the curvature, about 1e-8 here
     assert rate == pytest.approx(k * ir**2, rel=1e-6)
+
+
+def test_free_length_sets_the_wheel_load_at_the_design_position():
+    """The shipped front corner carries 19.9 kN at its design position (the spring's force
+    times the installation ratio: the virtual work of a massless linkage); with the free
+    length :func:`free_length_for_load` gives for 10 kN it carries 10 kN there, with the
+    tabulated spring and with a linear one. Fails if the spring's deflection is taken with
+    the wrong sign or the installation ratio is not applied."""
+    p = HMMWV.front
+    dp = design_point(p)
+    # the installation ratio by central differences: O(STEP^2), 1e-8 here
+    assert dp.wheel_load == pytest.approx(-dp.spring_force * dp.installation_ratio, rel=1e-7)
+    assert dp.wheel_load == pytest.approx(19914.0, rel=1e-4)
+    for q in (p, without_preload(p)):
+        free = free_length_for_load(q, 1.0e4)
+        spring = q.spring.model_copy(update={"free_length": free})
+        loaded = design_point(q.model_copy(update={"spring": spring}))
+        assert loaded.wheel_load == pytest.approx(1.0e4, rel=1e-7)  # (the same ratio)
 
 
 def two_corners(p: DoubleWishboneFile, function=0.0, rigid: bool = False,

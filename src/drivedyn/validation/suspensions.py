@@ -3,10 +3,10 @@
 * ``suspension_kinematics``: the HMMWV front left corner of the shipped data set
   (:mod:`drivedyn.library.vehicles.suspensions`) on a fixed chassis (the ground), its pivots
   rigid (hinges instead of the pickup bushings), the tie rod's inner joint on the chassis
-  (the rack held). A suspension rig moves the wheel centre vertically over +-60 mm: a wheel
-  pad on a vertical prismatic joint driven by a :class:`~drivedyn.elements.TravelDriver`,
-  carrying two cross slides (x, then y) and a ball joint at the wheel centre, so that the
-  wheel centre's height is imposed and it moves freely across and along. At each travel a
+  (the rack held). The suspension rig of :mod:`drivedyn.library.vehicles.suspensions.rig`
+  moves the wheel centre vertically over +-60 mm (a wheel pad on a driven vertical slide,
+  two cross slides and a ball joint at the wheel centre: its height imposed, free to move
+  across and along). At each travel a
   static equilibrium (:func:`~drivedyn.solver.solve_static`, the driver holding its value)
   gives the camber, the toe and the wheel centre's lateral position (half the track change).
 
@@ -26,14 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from drivedyn.elements import Prismatic, Spherical, TravelDriver
-from drivedyn.library.vehicles.suspensions import (
-    Corner,
-    DoubleWishboneFile,
-    add_double_wishbone,
-    load_suspensions,
-)
-from drivedyn.model import Model, Spec, compile_model
+from drivedyn.library.vehicles.suspensions import DoubleWishboneFile, load_suspensions
+from drivedyn.library.vehicles.suspensions.rig import corner_rig
+from drivedyn.model import Model
 from drivedyn.solver import solve_static
 from drivedyn.solver.statics import StaticsError
 from drivedyn.timefunctions import Table
@@ -42,8 +37,6 @@ from drivedyn.validation.common import failed_check, finish_case, save_figure
 
 #: wheel travel of the sweep [m] (bump positive)
 TRAVEL = 0.06
-#: rig bodies' mass [kg] and inertia [kg m^2] (only their constraints matter in statics)
-RIG_MASS, RIG_INERTIA = 1.0, (1e-3, 1e-3, 1e-3)
 
 
 @dataclass
@@ -53,32 +46,6 @@ class Sweep:
 
     wheel_center: np.ndarray
     axis: np.ndarray
-
-
-def rig(p: DoubleWishboneFile, travel: Table, side: str = "left") -> tuple[Model, Corner]:
-    """A corner of ``p`` on the ground with rigid pivots and the wheel pad rig, the pad's
-    vertical travel [m] from the design position given by ``travel(t)``."""
-    sp = Spec()
-
-    def mount(name: str, point: np.ndarray) -> str:
-        return sp.add_marker(name, "ground", position=point)
-
-    c = add_double_wishbone(sp, "corner", side, p, mount, rigid_bushings=True)
-    w = c.wheel_center
-    axes = {"z": (0.0, 0.0, 1.0), "x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0)}
-    carrier = "ground"
-    for body, ax in (("pad", "z"), ("slide_x", "x"), ("slide_y", "y")):
-        sp.add_rigid_body(body, RIG_MASS, RIG_INERTIA, position=w)
-        guide = sp.add_marker(f"{body}_guide", carrier,
-                              position=w if carrier == "ground" else (0.0, 0.0, 0.0),
-                              axis=axes[ax])
-        sp.add(Prismatic(f"{body}_rail", guide, sp.add_marker(f"{body}_slider", body,
-                                                              axis=axes[ax])))
-        carrier = body
-    sp.add(TravelDriver("actuator", "pad_rail", travel))
-    sp.add_marker("rig_ball", "slide_y")
-    sp.add(Spherical("wheel_ball", "rig_ball", c.hub))
-    return compile_model(sp), c
 
 
 def marker_global(model: Model, st, name: str) -> tuple[np.ndarray, np.ndarray]:
@@ -91,7 +58,7 @@ def simulated_sweep(p: DoubleWishboneFile, n: int) -> tuple[np.ndarray, Sweep]:
     """Static equilibria over the travel table 0 -> -TRAVEL -> +TRAVEL in ``3 n`` steps;
     the imposed travels [m] (3 n + 1,) and the corner's :class:`Sweep`."""
     travel = Table((0.0, 1.0, 3.0), (0.0, -TRAVEL, TRAVEL))
-    model, c = rig(p, travel)
+    model, c = corner_rig(p, travel)
     times = np.concatenate([np.linspace(0.0, 1.0, n + 1), np.linspace(1.0, 3.0, 2 * n + 1)[1:]])
     st = model.initial_state()
     wc, ax = [], []

@@ -7,6 +7,10 @@
   driven by a steering function and returns a :class:`Rack` (whose markers the front
   corners' tie rods attach to);
 * :func:`add_anti_roll_bar` builds a suspension's anti-roll bar between its two corners;
+* :func:`corner_rig` puts a corner on a wheel-pad rig (kinematics and wheel rate by
+  statics), :func:`design_point` gives its wheel load, installation ratio and wheel rate at
+  the design position and :func:`free_length_for_load` the spring's free length for a
+  wanted wheel load there (the ride height);
 * :func:`load_suspensions` reads a :class:`SuspensionSet` (front, rear, steering) from a
   TOML file or a shipped name (:data:`SHIPPED`: ``"hmmwv"``, the data set of Project
   Chrono's HMMWV with the provenance of each number in the file).
@@ -31,6 +35,12 @@ from drivedyn.library.vehicles.suspensions.double_wishbone import (
     check_geometry,
 )
 from drivedyn.library.vehicles.suspensions.geometry import Mount, wheel_angles
+from drivedyn.library.vehicles.suspensions.rig import (
+    DesignPoint,
+    corner_rig,
+    design_point,
+    free_length_for_load,
+)
 from drivedyn.library.vehicles.suspensions.schema import (
     AntiRollBarFile,
     DoubleWishboneFile,
@@ -68,6 +78,7 @@ __all__ = [
     "AntiRollBar",
     "AntiRollBarFile",
     "Corner",
+    "DesignPoint",
     "DoubleWishboneFile",
     "Mount",
     "Rack",
@@ -77,6 +88,9 @@ __all__ = [
     "add_double_wishbone",
     "add_rack_steering",
     "check_geometry",
+    "corner_rig",
+    "design_point",
+    "free_length_for_load",
     "load_suspensions",
     "wheel_angles",
 ]
