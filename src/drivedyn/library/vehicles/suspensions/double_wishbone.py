@@ -146,11 +146,14 @@ def check_geometry(p: DoubleWishboneFile) -> None:
     about its kingpin axis). Messages name the keys and their values."""
     h = {n: p.point(n) for n in HARDPOINTS}
 
+    def given(key: str) -> list[float]:
+        return [float(v) for v in getattr(p.hardpoints, key)]
+
     def length(a: str, b: str, what: str) -> None:
         d = float(np.linalg.norm(h[a] - h[b]))
         if d < MIN_LINK:
-            raise ModelError(f"hardpoints.{a} = {h[a].tolist()} m and hardpoints.{b} = "
-                             f"{h[b].tolist()} m: {what} of length {d:.6g} m (below "
+            raise ModelError(f"hardpoints.{a} = {given(a)} m and hardpoints.{b} = "
+                             f"{given(b)} m: {what} of length {d:.6g} m (below "
                              f"{MIN_LINK:g} m)")
 
     length("upper_arm_front", "upper_arm_rear", "upper arm pivot axis")
@@ -161,12 +164,12 @@ def check_geometry(p: DoubleWishboneFile) -> None:
     length("damper_chassis", "damper_arm", "damper")
     for arm in ("upper", "lower"):
         arm_frame(h[f"{arm}_arm_front"], h[f"{arm}_arm_rear"], h[f"{arm}_ball_joint"],
-                  f"hardpoints.{arm}_ball_joint = {h[f'{arm}_ball_joint'].tolist()} m")
+                  f"hardpoints.{arm}_ball_joint = {given(f'{arm}_ball_joint')} m")
     kp = unit(h["upper_ball_joint"] - h["lower_ball_joint"], "knuckle")
     r = h["tie_rod_outer"] - h["lower_ball_joint"]
     lever = float(np.linalg.norm(r - (r @ kp) * kp))
     if lever < MIN_LINK:
-        raise ModelError(f"hardpoints.tie_rod_outer = {h['tie_rod_outer'].tolist()} m: on the "
+        raise ModelError(f"hardpoints.tie_rod_outer = {given('tie_rod_outer')} m: on the "
                          f"kingpin axis (steering lever {lever:.3g} m): the upright would turn "
                          "freely about it")
 
@@ -268,9 +271,11 @@ def add_double_wishbone(sp: Spec, prefix: str, side: Literal["left", "right"],
         pos, _ = marker_pose(sp, steer)
         gap = float(np.linalg.norm(pos - pts["tie_rod_inner"]))
         if gap > ASSEMBLY_TOLERANCE:
-            raise ModelError(f"hardpoints.tie_rod_inner = {pts['tie_rod_inner'].tolist()} m "
-                             f"({side}): the rack's joint {steer!r} is at {pos.tolist()} m, "
-                             f"{gap:.6g} m away: the tie rod does not assemble")
+            raise ModelError(f"hardpoints.tie_rod_inner = {list(p.hardpoints.tie_rod_inner)} "
+                             f"m (the {side} one at {pts['tie_rod_inner'].tolist()} m in the "
+                             f"vehicle frame): the rack's joint {steer!r} is at "
+                             f"{pos.tolist()} m, {gap:.6g} m away: the tie rod does not "
+                             "assemble")
         inner = marker_at(sp, f"{steer}_{prefix}_axis", sp.markers[steer].body,
                           pts["tie_rod_inner"], R_tr)
     t_in = on(tie_rod, "tie_rod_in", "tie_rod_inner", R_tr)
