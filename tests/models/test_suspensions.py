@@ -378,3 +378,16 @@ def test_anti_roll_bar_resists_roll_only():
     assert out["arb_torsion"]["torque"] == pytest.approx(
         p.anti_roll_bar.rate * angle, rel=1e-9)
     assert angle < -1e-3
+
+
+def test_validation_case_passes():
+    """``drivedyn validate --case suspension_kinematics --quick``: every check passes, each
+    with its reference stated. Fails if the case's rig or its loop closure drifts from the
+    corner (a hub frame or a pivot built differently from the hardpoints)."""
+    from drivedyn.validation import CASES
+
+    results = CASES["suspension_kinematics"](quick=True)
+    assert len(results) == 5
+    for r in results:
+        assert r.passed, f"{r.quantity}: error {r.error:.3g} > {r.tolerance:.3g}"
+        assert r.source
