@@ -39,6 +39,7 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "joint": [*(partial(basic.joint_case, j, ground_a=g) for j in JOINT_TYPES
                 for g in (False, True)), basic.mixed_joints_case],
     "joint_driver": [basic.driver_case, basic.speed_driver_case],
+    "travel_driver": [basic.travel_driver_case, basic.travel_speed_driver_case],
     "speed_difference_driver": [basic.speed_difference_case],
     "spring_damper": [basic.spring_case],
     "torsional_spring_damper": [basic.torsion_case],

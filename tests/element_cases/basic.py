@@ -87,6 +87,31 @@ def speed_driver_case() -> Spec:
     return spec
 
 
+def travel_driver_case() -> Spec:
+    from drivedyn.elements.drivers import TravelDriver
+    from drivedyn.elements.joints import Prismatic
+    from drivedyn.timefunctions import Ramp
+
+    spec = Spec()
+    a, b = _two_bodies(spec)
+    spec.add(Prismatic("j", a, b))
+    spec.add(TravelDriver("d_travel", "j", Ramp(0.0, 1.0, 0.0, 0.2), k=5.0))
+    return spec
+
+
+def travel_speed_driver_case() -> Spec:
+    from drivedyn.elements.drivers import TravelDriver
+    from drivedyn.elements.joints import Cylindrical
+    from drivedyn.timefunctions import SmoothStep
+
+    spec = Spec()
+    a, b = _two_bodies(spec, ground_a=True)
+    spec.add(Cylindrical("j", a, b))
+    spec.add(TravelDriver("d_speed", "j", SmoothStep(0.0, 1.0, 0.1, 0.3), quantity="speed",
+                          k=7.0, p=2.0))
+    return spec
+
+
 def speed_difference_case() -> Spec:
     from drivedyn.elements.drivers import SpeedDifferenceDriver
     from drivedyn.elements.joints import Hinge

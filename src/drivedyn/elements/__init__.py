@@ -26,7 +26,7 @@ from drivedyn.elements.contact import (
     ThrustWasherContact,
     UnilateralContact,
 )
-from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver
+from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver, TravelDriver
 from drivedyn.elements.flexible import FlexibleBody
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import REGISTRY, ElementSpec, Family, register
@@ -84,6 +84,7 @@ __all__ = [
     "ThrustWasherContact",
     "Torque",
     "TorsionalSpringDamper",
+    "TravelDriver",
     "TyreContact",
     "UnilateralContact",
     "Universal",

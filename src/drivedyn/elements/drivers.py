@@ -3,14 +3,19 @@
 * :class:`JointDriver` prescribes the relative angle of a hinge, cylindrical or screw joint,
   ``theta - theta0 = f(t)`` (``quantity="angle"``), or its speed, ``theta - theta0 =
   integral_0^t f`` (``quantity="speed"``, integrated exactly so there is no drift).
+* :class:`TravelDriver` prescribes the slide of a prismatic, cylindrical or screw joint along
+  its axis, ``s - s0 = f(t)`` (``quantity="travel"``) or ``s - s0 = integral_0^t f``
+  (``quantity="speed"``), with ``s = d . a3`` the position of marker B's origin along the
+  z axis of marker A: a steering rack, a wheel-pad actuator of a suspension rig.
 * :class:`SpeedDifferenceDriver` prescribes the difference of the speeds of two joints,
   ``(theta_1 - theta_1,0) - (theta_2 - theta_2,0) = integral_0^t f``: the test bench's speed
   control of one output relative to another.
 
 The multiplier is the driving torque: the driver reports ``torque``, the torque it applies on
 body B of the (first) joint about the joint axis [N m], and ``power`` = torque x prescribed
-speed [W], which the energy balance counts as work supplied. Drivers start at t = 0 from the
-angles the joints have in the initial configuration.
+speed [W], which the energy balance counts as work supplied (a travel driver: ``force`` [N]
+along the axis and ``power``). Drivers start at t = 0 from the angles (slides) the joints have
+in the initial configuration.
 """
 
 from __future__ import annotations
@@ -29,20 +34,30 @@ from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_angle, quad_form, unwrap
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.elements.framework.work_arrays import carve
-from drivedyn.elements.joints import ROW_DRIVE, build_constraint_group, relative_angle
+from drivedyn.elements.joints import (
+    ROW_DRIVE,
+    ROW_TRAVEL,
+    build_constraint_group,
+    relative_angle,
+)
 from drivedyn.errors import ModelError
 
 _ANGLE_JOINTS = ("hinge", "cylindrical", "screw")
+_SLIDE_JOINTS = ("prismatic", "cylindrical", "screw")
 
 
-def _driven_joint(ctx, joint: str, what: str):
+def _driven_joint(ctx, joint: str, what: str, kinds: tuple[str, ...] = _ANGLE_JOINTS):
     try:
         j = ctx.spec.element(joint)
     except KeyError:
         raise ModelError(f"{what}: unknown joint {joint!r}") from None
-    if getattr(j, "kind", "") not in _ANGLE_JOINTS:
+    kind = getattr(j, "kind", "")
+    if kind not in kinds:
+        need = "a rotation axis" if kinds == _ANGLE_JOINTS else "a sliding axis"
+        hint = ("; a prismatic joint's slide is driven by a TravelDriver"
+                if kind == "prismatic" else "")
         raise ModelError(f"{what}: joint {joint!r} is a {type(j).__name__}; a driver needs a "
-                         f"joint with a rotation axis ({', '.join(_ANGLE_JOINTS)})")
+                         f"joint with {need} ({', '.join(kinds)}){hint}")
     return j
 
 
@@ -109,6 +124,63 @@ class JointDriverFamily(Family):
         g.aux_units = ("N m", "rad", "W")
         g.aux_desc = ("torque applied by the driver on body B about the joint axis",
                       "accumulated joint angle", "power supplied by the driver")
+        return g
+
+
+@dataclass(frozen=True)
+class TravelDriver(ElementSpec):
+    """Prescribed slide [m] or sliding speed [m/s] of a joint along its axis (the z axis of
+    its marker A) as a function of time.
+
+    The slide is ``s = (x_mB - x_mA) . a3``, measured from its value in the initial
+    configuration: ``s - s0 = f(t)`` (``quantity="travel"``) or ``s - s0 = integral_0^t f``
+    (``quantity="speed"``, exact, no drift).
+
+    Attributes:
+        name: unique element name.
+        joint: name of a prismatic, cylindrical or screw joint.
+        function: time function (number, :class:`~drivedyn.timefunctions.TimeFunction` or
+            dict) giving the travel [m] or the speed [m/s].
+        quantity: ``"travel"`` or ``"speed"``.
+        k, p: scaling [N/m] > 0 and penalty [N/m] >= 0 of the constraint row (a position
+            row; None = automatic).
+    """
+
+    name: str
+    joint: str
+    function: Any = 0.0
+    quantity: str = "travel"
+    k: float | None = None
+    p: float | None = None
+    family: ClassVar[str] = "travel_driver"
+    units: ClassVar[dict[str, str]] = {"k": "N/m", "p": "N/m"}
+
+    def validate(self) -> None:
+        if self.quantity not in ("travel", "speed"):
+            raise ModelError(f"TravelDriver {self.name!r}.quantity: expected 'travel' or "
+                             f"'speed', got {self.quantity!r}")
+        check_param_optional(self, "k", 0.0, strict=True)
+        check_param_optional(self, "p", 0.0)
+
+
+class TravelDriverFamily(Family):
+    name = "travel_driver"
+
+    def build(self, specs, ctx) -> Group:
+        views, drive = [], []
+        for s in specs:
+            j = _driven_joint(ctx, s.joint, f"TravelDriver {s.name!r}", _SLIDE_JOINTS)
+            views.append(_DriverView(s.name, j.marker_a, j.marker_b, s.k, s.p))
+            drive.append((ctx.time_function(s.function), 0 if s.quantity == "travel" else 1))
+        g = build_constraint_group(self.name, views, ctx, [((ROW_TRAVEL, 2, 0),)] * len(views),
+                                   [False] * len(views), drive)
+        g.extra["joint"] = [s.joint for s in specs]
+        # outputs: driving force (column 8 = -sigma of the travel row) and power
+        g.aux_cols = (8, 7)
+        g.aux_names = ("force", "power")
+        g.aux_units = ("N", "W")
+        g.aux_desc = ("force applied by the driver on body B along the joint axis",
+                      "power supplied by the driver")
         return g
 
 
@@ -266,4 +338,5 @@ class SpeedDifferenceDriverFamily(Family):
 
 
 register(JointDriverFamily())
+register(TravelDriverFamily())
 register(SpeedDifferenceDriverFamily())

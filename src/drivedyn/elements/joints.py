@@ -62,6 +62,7 @@ ROW_AXIAL = 0  # d . a_i
 ROW_DOT = 1  # a_i . b_j
 ROW_SCREW = 2  # d . a3 - pitch/(2 pi) theta - c0
 ROW_DRIVE = 3  # theta - theta0 - f(t)   (or the integral of f for a speed driver)
+ROW_TRAVEL = 4  # d.a3 - s0 - f(t)       (or the integral of f): a prescribed slide
 
 JOINT_OUTPUTS = (
     ("force_x", "N", "reaction force on body B, global x"),
@@ -111,14 +112,24 @@ def _constraints(P, C, W, full):
             phitt = 0.0
             # one inlined copy of prim_axial for the axial and the screw rows (each copy is
             # typed and lowered again at first compilation)
-            if typ == ROW_AXIAL or typ == ROW_SCREW:
-                col = 2 if typ == ROW_SCREW else ai[e, i]
+            if typ == ROW_AXIAL or typ == ROW_SCREW or typ == ROW_TRAVEL:
+                col = ai[e, i] if typ == ROW_AXIAL else 2
                 val = prim_axial(xA, RA, xB, RB, pA[e], pB[e], RmA[e, :, col], g, H,
                                  full, ws, wv)
                 if typ == ROW_SCREW:
                     c = pitch[e] / (2.0 * np.pi)
                     val -= c * th + c0[e]
                     add_scaled(-c, gth, Hth, g, H, full)
+                elif typ == ROW_TRAVEL:
+                    f = tfid[e]
+                    if tfmode[e] == 0:
+                        val -= c0[e] + tfv[f, 0]
+                        phit = -tfv[f, 1]
+                        phitt = -tfv[f, 2]
+                    else:
+                        val -= c0[e] + tfv[f, 3]
+                        phit = -tfv[f, 0]
+                        phitt = -tfv[f, 1]
             elif typ == ROW_DOT:
                 val = prim_dot(RA, RB, RmA[e, :, ai[e, i]], RmB[e, :, bj[e, i]], g, H, full,
                                ws, wv)
@@ -368,8 +379,8 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
 
     Per element: ``rows_of`` its ``(type, i, j)`` row triples (a group may mix joint
     types), ``angle_of`` whether it measures the relative angle, and ``drive`` (time-function
-    id, mode) for ``ROW_DRIVE`` rows. Elements with fewer rows than the longest have their
-    remaining rows and multiplier dofs unused (zero and -1).
+    id, mode) for ``ROW_DRIVE`` and ``ROW_TRAVEL`` rows. Elements with fewer rows than the
+    longest have their remaining rows and multiplier dofs unused (zero and -1).
     """
     nel = len(specs)
     nr = max(len(r) for r in rows_of)
@@ -398,7 +409,7 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
         angle[e] = bool(angle_of[e])
         for i, (typ, a, b) in enumerate(er):
             rt[e, i], ai[e, i], bj[e, i] = typ, a, b
-            rot = typ == ROW_DOT or typ == ROW_DRIVE
+            rot = typ == ROW_DOT or typ == ROW_DRIVE  # a travel row holds a position
             kk[e, i], pp[e, i] = ctx.scaling(getattr(s, "k", None), getattr(s, "p", None), rot)
             if typ in (ROW_AXIAL, ROW_DOT):
                 val = _row_value(typ, a, b, xA, RA, xB, RB, pA[e], pB[e], RmA[e], RmB[e])
@@ -416,7 +427,11 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
             c0[e] = float(d @ (RA @ RmA[e][:, 2])) - s.pitch / (2 * np.pi) * th0
         if drive is not None:
             tfid[e], tfmode[e] = drive[e]
-            c0[e] = th0
+            if any(r[0] == ROW_TRAVEL for r in er):  # the initial slide along a3
+                d = xB + RB @ pB[e] - xA - RA @ pA[e]
+                c0[e] = float(d @ (RA @ RmA[e][:, 2]))
+            else:
+                c0[e] = th0
         m0 = ctx.alloc_mult(len(er), f"{getattr(s, 'kind', family)} {s.name}",
                             list(kk[e, :len(er)]))
         dofs[e, :12 + len(er)] = ctx.local_dofs([nA, nB], m0, len(er))

@@ -5,8 +5,8 @@ exact or published reference. One module per subject registers its cases:
 :mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears`,
 :mod:`~drivedyn.validation.beams`, :mod:`~drivedyn.validation.fe`,
 :mod:`~drivedyn.validation.torsen`, :mod:`~drivedyn.validation.torsen_b`,
-:mod:`~drivedyn.validation.vehicles`, :mod:`~drivedyn.validation.bushings` and
-:mod:`~drivedyn.validation.chassis`."""
+:mod:`~drivedyn.validation.vehicles`, :mod:`~drivedyn.validation.bushings`,
+:mod:`~drivedyn.validation.chassis` and :mod:`~drivedyn.validation.suspensions`."""
 
 from __future__ import annotations
 
@@ -25,6 +25,7 @@ from drivedyn.validation import torsen_b  # noqa: F401
 from drivedyn.validation import vehicles  # noqa: F401
 from drivedyn.validation import bushings  # noqa: F401
 from drivedyn.validation import chassis  # noqa: F401
+from drivedyn.validation import suspensions  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case
 

@@ -1,0 +1,96 @@
+"""Suspension and steering library: parametric subsystems a vehicle is assembled from.
+
+* :func:`add_double_wishbone` builds one corner of a :class:`DoubleWishboneFile` (arms,
+  upright, tie rod, coil-over, stops; bushings or ideal pivots at the chassis pickups) and
+  returns a :class:`Corner` (its upright, hub marker, wheel centre and element names);
+* :func:`add_rack_steering` builds a :class:`SteeringFile`'s rack on a prismatic joint
+  driven by a steering function and returns a :class:`Rack` (whose markers the front
+  corners' tie rods attach to);
+* :func:`add_anti_roll_bar` builds a suspension's anti-roll bar between its two corners;
+* :func:`corner_rig` puts a corner on a wheel-pad rig (kinematics and wheel rate by
+  statics), :func:`design_point` gives its wheel load, installation ratio and wheel rate at
+  the design position and :func:`free_length_for_load` the spring's free length for a
+  wanted wheel load there (the ride height);
+* :func:`load_suspensions` reads a :class:`SuspensionSet` (front, rear, steering) from a
+  TOML file or a shipped name (:data:`SHIPPED`: ``"hmmwv"``, the data set of Project
+  Chrono's HMMWV with the provenance of each number in the file).
+
+Each builder takes ``mount(name, point)``, a function of the vehicle that creates a marker on
+the chassis at a global point and returns its name: the library does not know whether the
+chassis is a rigid body or a frame of beams. See docs/suspensions.md.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from drivedyn.errors import ModelError
+from drivedyn.library.vehicles.suspensions.anti_roll_bar import AntiRollBar, add_anti_roll_bar
+from drivedyn.library.vehicles.suspensions.double_wishbone import (
+    Corner,
+    add_double_wishbone,
+    check_geometry,
+)
+from drivedyn.library.vehicles.suspensions.geometry import Mount, wheel_angles
+from drivedyn.library.vehicles.suspensions.rig import (
+    DesignPoint,
+    corner_rig,
+    design_point,
+    free_length_for_load,
+)
+from drivedyn.library.vehicles.suspensions.schema import (
+    AntiRollBarFile,
+    DoubleWishboneFile,
+    SteeringFile,
+    SuspensionSet,
+)
+from drivedyn.library.vehicles.suspensions.steering import Rack, add_rack_steering
+
+#: shipped data sets: name -> file beside this module
+SHIPPED = {"hmmwv": Path(__file__).with_name("hmmwv.toml")}
+
+
+def load_suspensions(source: str | Path) -> SuspensionSet:
+    """The :class:`SuspensionSet` of a shipped name (:data:`SHIPPED`) or a TOML file path;
+    :class:`ModelError` naming the file, the key path and the value otherwise."""
+    path = SHIPPED.get(str(source), Path(source))
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f)
+    except OSError as exc:
+        raise ModelError(f"suspension file {str(source)!r}: {exc.strerror} (shipped: "
+                         f"{', '.join(SHIPPED)})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"suspension file {str(path)!r}: {exc}") from None
+    try:
+        return SuspensionSet.model_validate(data)
+    except ValidationError as exc:
+        lines = [f"{'.'.join(str(x) for x in e['loc'])}: {e['msg']} (got {e.get('input')!r})"
+                 for e in exc.errors()]
+        raise ModelError(f"suspension file {str(path)!r}: " + "; ".join(lines)) from None
+
+
+__all__ = [
+    "SHIPPED",
+    "AntiRollBar",
+    "AntiRollBarFile",
+    "Corner",
+    "DesignPoint",
+    "DoubleWishboneFile",
+    "Mount",
+    "Rack",
+    "SteeringFile",
+    "SuspensionSet",
+    "add_anti_roll_bar",
+    "add_double_wishbone",
+    "add_rack_steering",
+    "check_geometry",
+    "corner_rig",
+    "design_point",
+    "free_length_for_load",
+    "load_suspensions",
+    "wheel_angles",
+]
