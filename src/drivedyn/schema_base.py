@@ -16,13 +16,18 @@ import drivedyn.units as U  # noqa: N812 - short name for units
 
 def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False) -> BeforeValidator:
     """Validator of a quantity of dimension ``dim``: SI number or unit string, finite, of
-    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`), optionally > 0 or >= 0."""
+    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`; a positive one also at least
+    :data:`drivedyn.units.PLAUSIBLE_MIN_POSITIVE`), optionally > 0 or >= 0."""
 
     def conv(v: Any) -> float:
         x = U.to_si(v, dim)
         U.check_plausible(x, dim)
         if positive and x <= 0:
             raise ValueError(f"must be > 0 {U.dim_name(dim)}")
+        low = U.PLAUSIBLE_MIN_POSITIVE.get(dim, 0.0)
+        if positive and x < low:
+            raise ValueError(f"{x:g} {U.dim_name(dim)} is implausibly small (>= {low:g} "
+                             f"{U.dim_name(dim)}): a unit mistake?")
         if nonneg and x < 0:
             raise ValueError(f"must be >= 0 {U.dim_name(dim)}")
         return x

@@ -39,7 +39,8 @@ MODELS = {"torsen-c": "torsen_c", "torsen-b": "torsen_b", "vehicle-4wd": "vehicl
 
 #: edge values (TOML text); lists get lists of them
 EDGES = ["0", "-1", "-1e-9", "1e30", "-1e30", "nan", "inf", "-inf", '"3 kg"', '"3 m"',
-         '"-2 s"', '"abc"', '""', "true", "false", "[1, 2]", "{ a = 1 }"]
+         '"-2 s"', "1", "1e-300", "1e9", '"abc"', '""', "true", "false", "[1, 2]",
+         "{ a = 1 }"]
 
 
 def _models_in(annotation: Any) -> list[type[BaseModel]]:
@@ -79,7 +80,7 @@ def edge_value(draw: Any, annotation: Any) -> str:
     """An edge value for a key of type ``annotation``; a list of them for list keys."""
     if _is_sequence(annotation) and draw(st.booleans()):
         n = draw(st.integers(1, 3))
-        return "[" + ", ".join(draw(st.sampled_from(EDGES[:13])) for _ in range(n)) + "]"
+        return "[" + ", ".join(draw(st.sampled_from(EDGES[:16])) for _ in range(n)) + "]"
     return draw(st.sampled_from(EDGES))
 
 
