@@ -16,8 +16,9 @@ import drivedyn.units as U  # noqa: N812 - short name for units
 
 def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False) -> BeforeValidator:
     """Validator of a quantity of dimension ``dim``: SI number or unit string, finite, of
-    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`), optionally > 0 or >= 0;
-    every message gives the SI unit (none for a dimensionless quantity)."""
+    plausible magnitude (:data:`drivedyn.units.PLAUSIBLE_MAX`; a positive one also at least
+    :data:`drivedyn.units.PLAUSIBLE_MIN_POSITIVE`), optionally > 0 or >= 0; every message
+    gives the SI unit (none for a dimensionless quantity)."""
     unit = f" {U.unit_label(dim)}" if U.unit_label(dim) else ""
 
     def conv(v: Any) -> float:
@@ -25,6 +26,10 @@ def scalar(dim: U.Dim, positive: bool = False, nonneg: bool = False) -> BeforeVa
         U.check_plausible(x, dim)
         if positive and x <= 0:
             raise ValueError(f"must be > 0{unit}")
+        low = U.PLAUSIBLE_MIN_POSITIVE.get(dim, 0.0)
+        if positive and x < low:
+            raise ValueError(f"{x:g}{unit} is implausibly small (>= {low:g}{unit}): a unit "
+                             "mistake?")
         if nonneg and x < 0:
             raise ValueError(f"must be >= 0{unit}")
         return x
@@ -74,14 +79,30 @@ def _plausible(x: float, dim: U.Dim) -> float:
 
 
 def inertia_value(v: Any) -> list:
-    """Principal moments (3 values) or a 3x3 tensor [kg m^2]."""
+    """Principal moments (3 values) or a 3x3 tensor [kg m^2] of a real body: symmetric,
+    positive definite, principal moments within the triangle inequality (as
+    :func:`drivedyn.model.spec.check_inertia` requires of a body, checked here so that the
+    message names the key)."""
     if isinstance(v, (list, tuple)) and len(v) == 3 and all(
             not isinstance(x, (list, tuple)) for x in v):
-        return [_plausible(U.to_si(x, U.INERTIA), U.INERTIA) for x in v]
-    if (isinstance(v, (list, tuple)) and len(v) == 3
+        out: list = [_plausible(U.to_si(x, U.INERTIA), U.INERTIA) for x in v]
+        J = np.diag(out)
+    elif (isinstance(v, (list, tuple)) and len(v) == 3
             and all(isinstance(r, (list, tuple)) and len(r) == 3 for r in v)):
-        return [[_plausible(U.to_si(x, U.INERTIA), U.INERTIA) for x in r] for r in v]
-    raise ValueError("expected 3 principal moments or a 3x3 tensor [kg m^2]")
+        out = [[_plausible(U.to_si(x, U.INERTIA), U.INERTIA) for x in r] for r in v]
+        J = np.array(out)
+    else:
+        raise ValueError("expected 3 principal moments or a 3x3 tensor [kg m^2]")
+    if not np.allclose(J, J.T, rtol=1e-9, atol=1e-12 * max(1.0, np.abs(J).max())):
+        raise ValueError("the inertia tensor is not symmetric")
+    ev = np.linalg.eigvalsh(0.5 * (J + J.T))
+    if ev[0] <= 0.0:
+        raise ValueError(f"the inertia tensor is not positive definite (principal moments "
+                         f"{ev.tolist()} kg m^2)")
+    if ev[0] + ev[1] < ev[2] * (1.0 - 1e-9):
+        raise ValueError(f"principal moments {ev.tolist()} kg m^2 violate the triangle "
+                         "inequality J1 + J2 >= J3 (no real mass distribution has them)")
+    return out
 
 
 Inertia = Annotated[list, BeforeValidator(inertia_value)]

@@ -81,6 +81,10 @@ PLAUSIBLE_MAX: dict[Dim, float] = {
     ANGULAR_VELOCITY: 1e5, ANGLE: 1e9, FORCE: 1e9, TORQUE: 1e9,
 }
 GENERIC_MAX = 1e15
+# Smallest magnitude of a length that must be > 0 (a module, a radius, a clearance, a
+# roughness): a nanometre, below any part or surface of a driveline; smaller values are a unit
+# slip, and the geometry computed from them underflows (squares of 1e-300 m are 0).
+PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9}
 
 
 def unit_label(*dims: Dim) -> str:

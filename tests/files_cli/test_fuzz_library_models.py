@@ -39,7 +39,8 @@ MODELS = {"torsen-c": "torsen_c", "torsen-b": "torsen_b", "vehicle-4wd": "vehicl
 
 #: edge values (TOML text); lists get lists of them
 EDGES = ["0", "-1", "-1e-9", "1e30", "-1e30", "nan", "inf", "-inf", '"3 kg"', '"3 m"',
-         '"-2 s"', '"abc"', '""', "true", "false", "[1, 2]", "{ a = 1 }"]
+         '"-2 s"', "1", "1e-300", "1e9", '"abc"', '""', "true", "false", "[1, 2]",
+         "{ a = 1 }"]
 
 
 def _models_in(annotation: Any) -> list[type[BaseModel]]:
@@ -79,7 +80,7 @@ def edge_value(draw: Any, annotation: Any) -> str:
     """An edge value for a key of type ``annotation``; a list of them for list keys."""
     if _is_sequence(annotation) and draw(st.booleans()):
         n = draw(st.integers(1, 3))
-        return "[" + ", ".join(draw(st.sampled_from(EDGES[:13])) for _ in range(n)) + "]"
+        return "[" + ", ".join(draw(st.sampled_from(EDGES[:16])) for _ in range(n)) + "]"
     return draw(st.sampled_from(EDGES))
 
 
@@ -276,6 +277,9 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
     ([*VEHICLE, "--set", "differentials.bevel.clutch.stiffness=0", "--compare", "clutch"],
      "vehicle-4wd", "differentials.bevel.clutch.stiffness"),
     ([*VEHICLE, "--set", 'wheels.tyre="simple-mud"'], "vehicle-4wd", "wheels.tyre"),
+    ([*VEHICLE, "--set", "wheels.inertia=[0, 0, 0]"], "vehicle-4wd", "wheels.inertia"),
+    (["run", "torsen-b", "--t-end", "0.002", "--set", "bodies.housing.inertia=[1, 1, 5]"],
+     "torsen-b", "bodies.housing.inertia"),
 ]
 
 
@@ -326,7 +330,8 @@ def test_vehicle_names_its_key_for_an_impossible_torsen_file(tmp_path: Path) -> 
 @given(model=st.sampled_from(["torsen-c", "torsen-b"]), data=st.data())
 def test_differential_files_long(tmp_path: Path, model: str, data: st.DataObject) -> None:
     """Long profile of the differential tests (every accepted value also simulated, in the
-    vehicle or the bench scenario)."""
+    vehicle or the bench scenario). Fails on their mutations, and e.g. if the bench's
+    ``scenario.modes`` check is removed (the builder's message names no key)."""
     key, value = data.draw(overrides(model))
     run_differential(tmp_path, model, key, value, simulate=True, bench=data.draw(st.booleans()))
 
@@ -337,7 +342,8 @@ def test_differential_files_long(tmp_path: Path, model: str, data: st.DataObject
 def test_several_keys_at_once_long(tmp_path: Path, model: str, data: st.DataObject) -> None:
     """Two or three keys at edge values together (interactions: a window and an end time, a
     module and a clearance...): clean outcome; a refusal names the file and one of the
-    keys."""
+    keys. Fails e.g. if a geometry check's message stops naming the other keys it depends on
+    (pockets overlap without pockets.clearance)."""
     sets = [data.draw(overrides(model)) for _ in range(data.draw(st.integers(2, 3)))]
     args = [a for k, v in sets for a in ("--set", f"{k}={v}")]
     if model == "vehicle-4wd":
@@ -358,7 +364,9 @@ def test_several_keys_at_once_long(tmp_path: Path, model: str, data: st.DataObje
 @long(300)
 @given(data=st.data())
 def test_vehicle_file_long(data: st.DataObject) -> None:
-    """Long profile of :func:`test_vehicle_file_refuses_or_runs`."""
+    """Long profile of :func:`test_vehicle_file_refuses_or_runs` (fails on the same
+    mutations, e.g. the schema's inertia check removed: the builder names the body, not
+    the key)."""
     key, value = data.draw(overrides("vehicle-4wd"))
     config = data.draw(st.sampled_from([None, "open", "clutch", "locked"]))
     run_vehicle(key, value, config)
@@ -368,7 +376,8 @@ def test_vehicle_file_long(data: st.DataObject) -> None:
 @long(150)
 @given(data=st.data())
 def test_vehicle_file_runs_long(data: st.DataObject) -> None:
-    """Long profile of :func:`test_vehicle_file_runs_or_fails_cleanly`."""
+    """Long profile of :func:`test_vehicle_file_runs_or_fails_cleanly` (fails on the same
+    mutations, e.g. the window analysis dividing by a zero engine torque again)."""
     key, value = data.draw(accepted_overrides("vehicle-4wd"))
     config = data.draw(st.sampled_from([None, "open", "clutch", "locked"]))
     run_vehicle(key, value, config)
@@ -378,7 +387,8 @@ def test_vehicle_file_runs_long(data: st.DataObject) -> None:
 @long(150)
 @given(model=st.sampled_from(["torsen-c", "torsen-b"]), data=st.data())
 def test_differential_files_run_long(tmp_path: Path, model: str, data: st.DataObject) -> None:
-    """Long profile of :func:`test_differential_files_run_or_fail_cleanly`."""
+    """Long profile of :func:`test_differential_files_run_or_fail_cleanly`, vehicle and
+    bench scenarios (fails on the same mutations)."""
     key, value = data.draw(accepted_overrides(model))
     run_differential(tmp_path, model, key, value, simulate=True,
                      bench=data.draw(st.booleans()))
@@ -415,7 +425,9 @@ def _vehicle_problem(key: str, value: str) -> str | None:
 def test_every_key_and_edge_value(model: str) -> None:
     """Every key of the file with every edge value through the validation path (the
     differentials' ``tdr --analytic-only``, the vehicle's build without simulation): a
-    refusal names the file and the key, nothing crashes."""
+    refusal names the file and the key, nothing crashes. Fails if any check is loosened
+    (e.g. ``allow_inf_nan`` dropped from the sections: an infinite damping ratio reaches the
+    gear element, whose message names the mesh) or a message stops naming its key."""
     problems = []
     for key, _ in KEYS[model]:
         for value in EDGES:

@@ -525,7 +525,8 @@ def test_tir_errors_through_the_vehicle(tmp_path: Path) -> None:
 @long(1000)
 @given(case=valid_tir())
 def test_valid_tir_files_read_long(tmp_path: Path, case: TirCase) -> None:
-    """Long profile of :func:`test_valid_tir_files_are_read`."""
+    """Long profile of :func:`test_valid_tir_files_are_read` (fails on the same mutations,
+    e.g. the formula dividing by LMUY* again at road friction 0)."""
     _valid_case(tmp_path, case, 1.0, cli_run=False)
 
 
@@ -533,7 +534,8 @@ def test_valid_tir_files_read_long(tmp_path: Path, case: TirCase) -> None:
 @long(100)
 @given(case=valid_tir(), mu=st.sampled_from(MU))
 def test_valid_tir_files_run_long(tmp_path: Path, case: TirCase, mu: float) -> None:
-    """Long profile of :func:`test_valid_tir_files_run`."""
+    """Long profile of :func:`test_valid_tir_files_run` (fails on the same mutations, e.g.
+    the relaxation length dividing by PTY2 = 0 in the tyre kernel)."""
     _valid_case(tmp_path, case, mu, cli_run=True)
 
 
@@ -554,6 +556,7 @@ def test_valid_tir_files_in_the_vehicle_long(tmp_path: Path, case: TirCase) -> N
 @long(600)
 @given(pair=malformed_tir())
 def test_malformed_tir_files_long(tmp_path: Path, pair: tuple[TirCase, Mutation]) -> None:
-    """Long profile of :func:`test_malformed_tir_files_are_refused`."""
+    """Long profile of :func:`test_malformed_tir_files_are_refused` (fails on the same
+    mutations, e.g. the reader no longer refusing a negative scaling factor)."""
     case, mut = pair
     _malformed_case(tmp_path, case, mut, via_cli=True)

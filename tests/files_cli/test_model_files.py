@@ -146,8 +146,11 @@ def test_bad_files_name_key_value_and_expectation(tmp_path, edit, message):
 
 
 def test_impossible_inertia_is_refused_with_the_file_name(tmp_path):
+    """Refused when the file is read (the schema checks the inertia a body can have), naming
+    the file and the key."""
     path = _write(tmp_path, BLOCK.replace("inertia = [0.1, 0.1, 0.1]", "inertia = [0.1, 0.1, 0.5]"))
-    with pytest.raises(dd.ModelError, match="violate the triangle inequality"):
+    with pytest.raises(ModelFileError, match=r"(?s)m\.toml.*bodies\[0\] \(block\)\.inertia: "
+                       "principal moments .* violate the triangle inequality"):
         load_model(path)
 
 

@@ -112,6 +112,14 @@ def check_mesh(pair: GearPair, section: str, keys: dict[str, str], values: objec
                          f"{m.group(2)}") from None
 
 
+def undercut_shift(teeth: int, cone: float, pressure_angle: float) -> float:
+    """Smallest profile shift coefficient of a straight bevel gear of ``teeth`` on a pitch
+    cone of ``cone`` [rad] at ``pressure_angle`` [rad] without undercut beyond the practical
+    limit (DIN 3960, on Tredgold's virtual spur gear: the check of
+    :class:`~drivedyn.elements.GearPair`)."""
+    return undercut_limits(teeth / math.cos(cone), pressure_angle)[2]
+
+
 def check_bevel(p, section: str = "differentials.bevel") -> None:
     """Refuse a bevel differential section ``p`` whose meshes cannot be built: spiders or
     side gears that undercut at its ``profile_shift`` (DIN 3960 practical limit, as
@@ -124,14 +132,16 @@ def check_bevel(p, section: str = "differentials.bevel") -> None:
     # the spider takes +x, the side gear -x: the shift is bounded on both sides
     for key, z, cone, sign in (("teeth_spider", p.teeth_spider, geo["cone_spider"], 1.0),
                                ("teeth_side", p.teeth_side, geo["cone_side"], -1.0)):
-        z_v = z / math.cos(cone)  # Tredgold's virtual spur gear
-        x_min = undercut_limits(z_v, p.pressure_angle)[2]
+        x_min = undercut_shift(z, cone, p.pressure_angle)
         if sign * p.profile_shift < x_min - 1e-12:
             bound = (f">= {x_min:.3f}" if sign > 0 else f"<= {-x_min:.3f}")
             raise ModelError(f"{section}.profile_shift = {p.profile_shift!r}: the "
-                             f"{key.removeprefix('teeth_')} gears ({section}.{key} = {z}) "
-                             f"undercut; expected profile_shift {bound} at this pressure "
-                             "angle (DIN 3960 practical limit)")
+                             f"{key.removeprefix('teeth_')} gears undercut; expected "
+                             f"profile_shift {bound} with {section}.teeth_spider = "
+                             f"{p.teeth_spider}, {section}.teeth_side = {p.teeth_side} and "
+                             f"{section}.pressure_angle = "
+                             f"{math.degrees(p.pressure_angle):.4g} deg (DIN 3960 practical "
+                             "limit)")
     pair = GearPair("check", "spider", "side", p.teeth_spider, p.teeth_side,
                     cone_angle_a=geo["cone_spider"], cone_angle_b=geo["cone_side"],
                     profile_shift_a=p.profile_shift, profile_shift_b=-p.profile_shift,

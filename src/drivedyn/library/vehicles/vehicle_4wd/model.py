@@ -45,7 +45,12 @@ from drivedyn.elements import (
 from drivedyn.elements.framework.visuals import box, link
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
-from drivedyn.library.vehicles.bevel_differential import build_bevel, check_bevel, check_mesh
+from drivedyn.library.vehicles.bevel_differential import (
+    build_bevel,
+    check_bevel,
+    check_mesh,
+    undercut_shift,
+)
 from drivedyn.library.vehicles.vehicle_4wd.schema import WHEELS, Vehicle4WDFile
 from drivedyn.model.spec import Spec
 from drivedyn.model.subassembly import include
@@ -142,6 +147,14 @@ def check_parameters(p: Vehicle4WDFile) -> None:
         check_bevel(p.differentials.bevel)
     fd = p.final_drive
     geo = _final_drive_geometry(fd)
+    for key, cone in (("teeth_pinion", geo["cone_pinion"]), ("teeth_ring", geo["cone_ring"])):
+        if undercut_shift(getattr(fd, key), cone, fd.pressure_angle) > 1e-12:
+            raise ModelError(f"final_drive.{key} = {getattr(fd, key)}: undercuts (no profile "
+                             f"shift) with final_drive.teeth_pinion = {fd.teeth_pinion}, "
+                             f"final_drive.teeth_ring = {fd.teeth_ring} and "
+                             f"final_drive.pressure_angle = "
+                             f"{math.degrees(fd.pressure_angle):.4g} deg (DIN 3960 practical "
+                             "limit)")
     check_mesh(GearPair("check", "pinion", "ring", fd.teeth_pinion, fd.teeth_ring,
                         module=fd.module, face_width=fd.face_width,
                         pressure_angle=fd.pressure_angle, kind="bevel",

@@ -37,13 +37,13 @@ from drivedyn.schema_base import (
 
 
 def _pressure_angle(v: float) -> float:
-    if not 0.0 < v < math.radians(45.0):
-        raise ValueError(f"expected 0 < angle < 45 deg, got {v!r} rad")
+    if not math.radians(10.0) <= v <= math.radians(30.0):
+        raise ValueError(f"expected 10..30 deg, got {math.degrees(v):.6g} deg")
     return v
 
 
 Velocity = Annotated[float, scalar(U.VELOCITY)]  # signed (initial speed)
-#: normal pressure angle of a gear mesh [rad], in (0, 45 deg) as the gear element needs
+#: normal pressure angle of a gear mesh [rad], 10 to 30 deg (standard 20; 14.5 to 25 in use)
 PressureAngle = Annotated[float, scalar(U.ANGLE), AfterValidator(_pressure_angle)]
 ForceValue = Annotated[float, scalar(U.FORCE, nonneg=True)]
 Time = Annotated[float, scalar(U.TIME, nonneg=True)]  # may be 0 (a start time)
