@@ -73,10 +73,12 @@ PLAUSIBLE_MAX: dict[Dim, float] = {
     ANGULAR_VELOCITY: 1e5, ANGLE: 1e9, FORCE: 1e9, TORQUE: 1e9,
 }
 GENERIC_MAX = 1e15
-# Smallest magnitude of a length that must be > 0 (a module, a radius, a clearance, a
-# roughness): a nanometre, below any part or surface of a driveline; smaller values are a unit
-# slip, and the geometry computed from them underflows (squares of 1e-300 m are 0).
-PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9}
+# Smallest magnitude of a quantity that must be > 0: a length (a module, a radius, a
+# clearance, a roughness) of a nanometre, below any part or surface of a driveline; a time (a
+# ramp, a step, an output interval) of a picosecond, below any step the solver takes. Smaller
+# values are a unit slip, and what is computed from them underflows (squares of 1e-300 are 0,
+# a ramp of 1e-300 s ends where it starts).
+PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9, TIME: 1e-12}
 
 
 def check_plausible(x: float, dim: Dim) -> None:

@@ -280,6 +280,13 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
     ([*VEHICLE, "--set", "wheels.inertia=[0, 0, 0]"], "vehicle-4wd", "wheels.inertia"),
     (["run", "torsen-b", "--t-end", "0.002", "--set", "bodies.housing.inertia=[1, 1, 5]"],
      "torsen-b", "bodies.housing.inertia"),
+    (["run", "torsen-c", "--t-end", "0.002", "--set", "solver.output_dt=1e-11"],
+     "torsen-c", "solver.output_dt"),
+    ([*VEHICLE, "--set", "load.ramp=1e-300"], "vehicle-4wd", "load.ramp"),
+    (["run", "torsen-b", "--t-end", "0.002", "--set", "vehicle.ramp=1e-12", "--set",
+      "vehicle.hold=1e5"], "torsen-b", "vehicle.ramp"),
+    (["tdr", "torsen-b", "--analytic-only", "--set", "gears.module=1e-300"], "torsen-b",
+     "gears.module"),
 ]
 
 
