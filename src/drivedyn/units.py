@@ -81,10 +81,13 @@ PLAUSIBLE_MAX: dict[Dim, float] = {
     ANGULAR_VELOCITY: 1e5, ANGLE: 1e9, FORCE: 1e9, TORQUE: 1e9,
 }
 GENERIC_MAX = 1e15
-# Smallest magnitude of a length that must be > 0 (a module, a radius, a clearance, a
-# roughness): a nanometre, below any part or surface of a driveline; smaller values are a unit
-# slip, and the geometry computed from them underflows (squares of 1e-300 m are 0).
-PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9}
+# Smallest magnitude of a quantity that must be > 0: a length (a module, a radius, a
+# clearance, a roughness) of a nanometre, below any part or surface of a driveline; a time (a
+# ramp, a step, an output interval) of a picosecond, below any step the solver takes; a
+# modulus of 1 Pa, below any material. Smaller values are a unit slip, and what is computed
+# from them underflows or overflows (squares of 1e-300 are 0, a ramp of 1e-300 s ends where it
+# starts, a washer of modulus 1e-300 Pa sinks 1e300 m).
+PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9, TIME: 1e-12, PRESSURE: 1.0}
 
 
 def unit_label(*dims: Dim) -> str:

@@ -280,6 +280,16 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
     ([*VEHICLE, "--set", "wheels.inertia=[0, 0, 0]"], "vehicle-4wd", "wheels.inertia"),
     (["run", "torsen-b", "--t-end", "0.002", "--set", "bodies.housing.inertia=[1, 1, 5]"],
      "torsen-b", "bodies.housing.inertia"),
+    (["run", "torsen-c", "--t-end", "0.002", "--set", "solver.output_dt=1e-11"],
+     "torsen-c", "solver.output_dt"),
+    ([*VEHICLE, "--set", "load.ramp=1e-300"], "vehicle-4wd", "load.ramp"),
+    (["run", "torsen-b", "--t-end", "0.002", "--set", "vehicle.ramp=1e-12", "--set",
+      "vehicle.hold=1e5"], "torsen-b", "vehicle.ramp"),
+    (["tdr", "torsen-b", "--analytic-only", "--set", "gears.module=1e-300"], "torsen-b",
+     "gears.module"),
+    (["tdr", "torsen-b", "--analytic-only", "--set",
+      "contact.elastic_washers.youngs_modulus=1e-300"], "torsen-b",
+     "contact.elastic_washers.youngs_modulus"),
 ]
 
 
@@ -358,6 +368,26 @@ def test_several_keys_at_once_long(tmp_path: Path, model: str, data: st.DataObje
         msg = out.text[out.text.index("error: "):]
         assert model in msg, out.show()
         assert any(_names_key(msg, k) for k, _ in sets), out.show()
+
+
+FLEXIBLE_KEYS = [(k, a) for k, a in KEYS["torsen-c"] if k.startswith("flexible.")
+                 and k not in ("flexible.washers", "flexible.case")]
+
+
+@pytest.mark.fuzz_long
+@long(40)
+@given(data=st.data())
+def test_flexible_parts_long(tmp_path: Path, drivedyn_cache: Path, data: st.DataObject) -> None:
+    """The Type C with its meshed flexible washers or case (Craig-Bampton reductions, cached
+    in the test's own folder) and one key of ``[flexible]`` at an edge value, 2 ms: clean
+    outcome. Fails e.g. if a modulus of 1e-300 Pa reaches the mesh (the plausibility floor of
+    moduli removed)."""
+    part = data.draw(st.sampled_from(["washers", "case"]))
+    key, annotation = data.draw(st.sampled_from(FLEXIBLE_KEYS))
+    value = data.draw(edge_value(annotation))
+    out = cli(["run", "torsen-c", "--t-end", "0.002", "--out", str(tmp_path / "f.nc"),
+               "--set", f"flexible.{part}=true", "--set", f"{key}={value}"])
+    check_outcome(out, "torsen-c", key)
 
 
 @pytest.mark.fuzz_long

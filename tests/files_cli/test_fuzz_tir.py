@@ -276,7 +276,9 @@ WHEEL = {
 
 
 def _run_wheel(tmp_path: Path, tir: Path, mu: float = 1.0) -> tuple[Outcome, Path]:
-    """``drivedyn run`` on a wheel rolling 5 m/s with 3 % slip on the tyre file ``tir``."""
+    """``drivedyn run`` on a wheel moving at 5 m/s and spinning a little faster (driving
+    slip, about 9 % with the base radius), pressed 9 mm into the road, on the tyre file
+    ``tir``."""
     model = {**WHEEL, "elements": [{**WHEEL["elements"][0], "tyre": str(tir), "mu": mu}]}
     path = tmp_path / "wheel.toml"
     path.write_text(to_toml(model))

@@ -98,7 +98,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     from drivedyn.model.spec import ModelError
     from drivedyn.results.provenance import record_provenance
     from drivedyn.results.results import write_netcdf_atomic
-    from drivedyn.solver.simulate import InitializationError, simulate
+    from drivedyn.solver.simulate import MAX_OUTPUTS, InitializationError, simulate
 
     if verbose:
         logging.basicConfig(level=logging.DEBUG, format="%(message)s", stream=sys.stderr)
@@ -120,6 +120,11 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     if h_fixed is not None and h_fixed > t_final:
         bad_input(f"--t-end {t_final:g} s is shorter than the step solver.step.h = "
                   f"{h_fixed:g} s")
+    if scenario.output_dt is not None and t_final / scenario.output_dt > MAX_OUTPUTS:
+        key = "solver.output_dt" if model.meta.get("library") is not None else "output.dt"
+        bad_input(f"{model.meta['source']}: {key} = {scenario.output_dt:g} s records "
+                  f"{t_final / scenario.output_dt:.3g} samples up to t = {t_final:g} s (at most "
+                  f"{MAX_OUTPUTS:.0e}); a longer output interval")
     name = model.meta.get("model_name", "model")
     target = out or Path(f"{name}.nc")
     check_output_path(target, "--out")

@@ -118,6 +118,10 @@ def _settle_active_set(model: Model, st: State, sys: System, lin: LinearSolver,
         st.lam += d[nd:]
 
 
+#: most recorded samples of a run (each holds every output variable of the model)
+MAX_OUTPUTS = 10_000_000
+
+
 def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.ndarray:
     if output_times is not None:
         ts = np.unique(np.asarray(output_times, dtype=float))
@@ -130,6 +134,10 @@ def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.
         else:
             output_dt = (t_end - t0) / 1000
     n = max(1, round((t_end - t0) / output_dt))
+    if n > MAX_OUTPUTS:
+        raise ValueError(f"output_dt = {output_dt:g} s records {n:.3g} samples over "
+                         f"{t_end - t0:g} s (at most {MAX_OUTPUTS:.0e}): choose a longer "
+                         "output interval")
     ts = t0 + output_dt * np.arange(n + 1)
     ts = ts[ts <= t_end * (1 + 1e-12) + 1e-15]
     if ts[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):

@@ -118,6 +118,15 @@ def vehicle_profile(p: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, f
     if len(v.torque_levels) != len(v.speed_diff) or len(v.torque_levels) < 1:
         raise ModelError("vehicle.torque_levels and vehicle.speed_diff must have the same "
                          f"length >= 1, got {len(v.torque_levels)} and {len(v.speed_diff)}")
+    try:
+        return _vehicle_profile(v)
+    except ValueError as exc:  # a ramp that ends where it starts in floating point
+        raise ModelError(f"vehicle.ramp = {v.ramp!r} s, vehicle.hold = {v.hold!r} s, "
+                         f"vehicle.reversal = {v.reversal!r} s: the profile's steps cannot be "
+                         f"timed ({exc})") from None
+
+
+def _vehicle_profile(v: Any) -> tuple[TimeFunction, TimeFunction, TimeFunction, float]:
     tq: list[Any] = []
     dd: list[Any] = [Constant(v.speed_diff[0])]
     ww: list[Any] = [Constant(v.speed)]

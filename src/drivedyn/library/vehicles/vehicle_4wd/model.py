@@ -143,6 +143,9 @@ def check_parameters(p: Vehicle4WDFile) -> None:
         if pos != "central" and t == "torsen-c":
             raise ModelError(f"differentials.{pos}: torsen-c is the central (epicyclic, "
                              f"asymmetric) differential; use torsen-b, open, locked or clutch")
+    if not p.load.start + p.load.ramp > p.load.start:
+        raise ModelError(f"load.ramp = {p.load.ramp!r} s: ends where it starts at load.start = "
+                         f"{p.load.start!r} s (floating point); a longer ramp")
     if {getattr(p.differentials, pos) for pos in POSITIONS} & {"open", "locked", "clutch"}:
         check_bevel(p.differentials.bevel)
     fd = p.final_drive
