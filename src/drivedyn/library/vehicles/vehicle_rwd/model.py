@@ -61,6 +61,7 @@ from typing import Any
 import numpy as np
 
 from drivedyn.elements import (
+    Bushing,
     Fixed,
     Force,
     GearPair,
@@ -246,8 +247,15 @@ def mass_properties(sp: Spec) -> tuple[float, np.ndarray]:
 
 
 def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
-               tyre: Tyre | None = None) -> tuple[Spec, Layout]:
+               tyre: Tyre | None = None, parked: bool = False) -> tuple[Spec, Layout]:
     """The vehicle at its static ride height.
+
+    ``parked`` adds what a static solution needs and a rolling vehicle does not have: a
+    brake on each wheel (a torsional spring on its bearing) and a ground bushing on the
+    frame that holds only the plane motions (x, y and yaw; free in heave, roll and pitch).
+    At rest the tyres' horizontal forces vanish, so without them the vehicle's plane motion
+    and the wheels' spins would have no stiffness; with them the vertical loads are the
+    vehicle's own (the bushing carries no vertical force or moment about x and y).
 
     Args:
         p: validated parameters.
@@ -292,9 +300,34 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     rho = float(np.mean([f / tyres["l"].vertical_stiffness for f in loads.values()]))
     sp, lay = _assemble(p, torsen, susp, tyres, r0 - rho, loads, body_m,
                         body_cg - [0, 0, z_lift])
+    if parked:
+        _park(sp, lay)
     lay.static_load = loads
     lay.rolling_radius = tyres["l"].effective_radius(rho)
     return sp, lay
+
+
+#: stiffness of the parking restraints (brakes [N m/rad], ground bushing [N/m, N m/rad])
+PARK_TORSION = 1.0e5
+PARK_PLANE = 1.0e6
+
+
+def _park(sp: Spec, lay: Layout) -> None:
+    """Brakes on the wheels and a ground bushing holding the frame's plane motions (see
+    :func:`build_spec`)."""
+    for w, name in lay.wheels.items():
+        sp.add(TorsionalSpringDamper(f"brake_{w}", f"{name}_bearing_hub", f"{name}_hub",
+                                     stiffness=PARK_TORSION))
+    sp.add(TorsionalSpringDamper("brake_engine", "engine_bearing_frame_axis"
+                                 if "engine_bearing_frame_axis" in sp.markers
+                                 else "engine_bearing_frame", "engine_out",
+                                 stiffness=PARK_TORSION))
+    node = "frame.cross3.n2" if "frame.cross3.n2" in sp.nodes else next(iter(sp.nodes))
+    pos = sp.nodes[node].position
+    sp.add_marker("park_ground", "ground", position=pos)
+    sp.add_marker("park_frame", node)
+    sp.add(Bushing("park", "park_ground", "park_frame", stiffness=(PARK_PLANE, PARK_PLANE, 0.0),
+                   rotational_stiffness=(0.0, 0.0, PARK_PLANE)))
 
 
 def _beams(sp: Spec) -> tuple[float, np.ndarray]:
@@ -376,6 +409,7 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
                           rotation=R)
         sp.add_marker(f"{name}_hub", name)
         sp.add(Hinge(f"{name}_bearing", c.hub, f"{name}_hub"))
+        marker_at(sp, f"{name}_bearing_hub", sp.markers[c.hub].body, pos, R)
         sp.add(TyreContact(f"tyre_{w}", f"{name}_hub", tyres[w[1]], mu=getattr(p.road.mu, w),
                            patches=patches[w], transition=p.road.transition,
                            relaxation=p.wheels.relaxation,
