@@ -299,7 +299,7 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     loads = {"fl": w_front / 2, "fr": w_front / 2, "rl": w_rear / 2, "rr": w_rear / 2}
     rho = float(np.mean([f / tyres["l"].vertical_stiffness for f in loads.values()]))
     sp, lay = _assemble(p, torsen, susp, tyres, r0 - rho, loads, body_m,
-                        body_cg - [0, 0, z_lift])
+                        body_cg - [0, 0, z_lift], lift=not parked)
     if parked:
         _park(sp, lay)
     lay.static_load = loads
@@ -356,10 +356,12 @@ def _unsprung(corner_p: Any, wheel_mass: float, shaft_mass: float) -> float:
 
 def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[str, Tyre],
               h_wc: float, loads: dict[str, float] | None, body_mass: float,
-              body_cg: Any) -> tuple[Spec, Layout]:
+              body_cg: Any, lift: bool = True) -> tuple[Spec, Layout]:
     """The vehicle with its wheel centres at height ``h_wc`` [m], the springs' free lengths
     for the corner ``loads`` [N] (None: the file's), the carried body's mass and centre of
-    gravity (``body_cg`` in Chrono's vehicle frame)."""
+    gravity (``body_cg`` in Chrono's vehicle frame); ``lift`` cancels the weight of the
+    gears inside the differential (a rolling vehicle; a static solution keeps it, so that
+    the tyres carry the whole weight)."""
     lay = Layout(ratio=p.final_drive.teeth_ring / p.final_drive.teeth_pinion,
                  rear_type=p.differentials.rear)
     dz = h_wc - susp.rear.point("wheel_center")[2]
@@ -504,7 +506,7 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
                          marker_at(sp, f"{hs}_wheel", lay.wheels[w], c_w, Rw)))
         lay.drives[w] = f"{hs}_outer"
     # the gears inside the differential carry no weight: a lift cancels it
-    for b in diff_bodies:
+    for b in diff_bodies if lift else ():
         if b.split("_", 1)[1] in CARRIED:
             continue
         bd = sp.bodies[b]
