@@ -29,6 +29,7 @@ from drivedyn.library.vehicles.vehicle_4wd.schema import (
 from drivedyn.schema_base import (
     Damping,
     Inertia,
+    Length,
     LengthVec,
     Mass,
     PositiveLength,
@@ -62,7 +63,7 @@ class SprungBody(Strict):
     mass: Mass = 2086.52
     cg: LengthVec = (0.056, 0.0, 0.213)
     inertia: Inertia = (1078.52, 2955.66, 3570.20)
-    mounts: list[float] = Field(default_factory=lambda: [1.0, 1.8, 2.7, 3.5])
+    mounts: list[Length] = Field(default_factory=lambda: [1.0, 1.8, 2.7, 3.5])
 
 
 class Wheels(Strict):
