@@ -247,6 +247,19 @@ def table(summaries: list[LaunchSummary]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["CONFIGS", "SCENARIOS", "LaunchSummary", "StaticSummary", "checks", "compare",
-           "configure", "config_name", "drive_torque", "run", "static", "static_checks",
-           "summarize", "table"]
+__all__ = [
+    "CONFIGS",
+    "SCENARIOS",
+    "LaunchSummary",
+    "StaticSummary",
+    "checks",
+    "compare",
+    "config_name",
+    "configure",
+    "drive_torque",
+    "run",
+    "static",
+    "static_checks",
+    "summarize",
+    "table",
+]

@@ -53,8 +53,7 @@ Simplifications (stated in the model file too):
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -195,16 +194,16 @@ def _lifted(s: SuspensionSet, dz: float) -> SuspensionSet:
                                 "steering": steering})
 
 
-def _differential(p: VehicleRWDFile, torsen: dict) -> tuple[Spec, str, str, str,
-                                                            tuple[float, float] | None]:
-    """The rear differential in its own frame: (spec, housing, output at lower z, output at
-    higher z, analytic TDR range or None)."""
+def _differential(p: VehicleRWDFile, torsen: dict, omega: float = 0.0
+                  ) -> tuple[Spec, str, str, str, tuple[float, float] | None]:
+    """The rear differential in its own frame, every body turning at ``omega`` [rad/s]:
+    (spec, housing, output at lower z, output at higher z, analytic TDR range or None)."""
     kind = p.differentials.rear
     if kind in ("open", "locked", "clutch"):
-        return build_bevel(p.differentials.bevel, kind, 0.0), "housing", "a", "b", None
+        return build_bevel(p.differentials.bevel, kind, omega), "housing", "a", "b", None
     diff = get_differential(kind)
     params = torsen[kind]
-    spec, _ = diff.build(params, (0.0, 0.0, 0.0), 1.0)
+    spec, _ = diff.build(params, (omega, omega, omega), 1.0)
     first, second = (o.body for o in diff.outputs)
     lo, hi = ((first, second) if spec.bodies[first].position[2] <= spec.bodies[second].position[2]
               else (second, first))
@@ -298,12 +297,13 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     w_rear = m * G - w_front
     loads = {"fl": w_front / 2, "fr": w_front / 2, "rl": w_rear / 2, "rr": w_rear / 2}
     rho = float(np.mean([f / tyres["l"].vertical_stiffness for f in loads.values()]))
+    re = tyres["l"].effective_radius(rho)
     sp, lay = _assemble(p, torsen, susp, tyres, r0 - rho, loads, body_m,
-                        body_cg - [0, 0, z_lift], lift=not parked)
+                        body_cg - [0, 0, z_lift], lift=not parked, rolling_radius=re)
     if parked:
         _park(sp, lay)
     lay.static_load = loads
-    lay.rolling_radius = tyres["l"].effective_radius(rho)
+    lay.rolling_radius = re
     return sp, lay
 
 
@@ -356,12 +356,14 @@ def _unsprung(corner_p: Any, wheel_mass: float, shaft_mass: float) -> float:
 
 def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[str, Tyre],
               h_wc: float, loads: dict[str, float] | None, body_mass: float,
-              body_cg: Any, lift: bool = True) -> tuple[Spec, Layout]:
+              body_cg: Any, lift: bool = True, rolling_radius: float = 1.0
+              ) -> tuple[Spec, Layout]:
     """The vehicle with its wheel centres at height ``h_wc`` [m], the springs' free lengths
     for the corner ``loads`` [N] (None: the file's), the carried body's mass and centre of
     gravity (``body_cg`` in Chrono's vehicle frame); ``lift`` cancels the weight of the
     gears inside the differential (a rolling vehicle; a static solution keeps it, so that
-    the tyres carry the whole weight)."""
+    the tyres carry the whole weight). The vehicle moves forward at ``body.speed``, the
+    wheels rolling on ``rolling_radius`` [m]."""
     lay = Layout(ratio=p.final_drive.teeth_ring / p.final_drive.teeth_pinion,
                  rear_type=p.differentials.rear)
     dz = h_wc - susp.rear.point("wheel_center")[2]
@@ -428,10 +430,13 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     sp.add_rigid_body("carrier", ca.mass, ca.inertia, position=centre)
     sp.add_marker("carrier_seat", "carrier")
     sp.add(Fixed("carrier_fix", mount("carrier_mount", centre), "carrier_seat"))
-    sub, housing, lo, hi, rng = _differential(p, torsen)
+    v0 = p.body.speed
+    w_wheel = v0 / rolling_radius
+    sub, housing, lo, hi, rng = _differential(p, torsen, w_wheel)
     for body, mk in ((lo, "vehicle_lo"), (hi, "vehicle_hi"), (housing, "vehicle_housing")):
         sub.add_marker(mk, body, rotation=sub.bodies[body].rotation.T @ frame_from_axis(Z))
-    names = include(sp, sub, "rear_", position=centre, rotation=R_AXLE, ground="carrier")
+    names = include(sp, sub, "rear_", position=centre, rotation=R_AXLE, ground="carrier",
+                    velocity=v0 * X)
     lay.housing = f"rear_{housing}"
     lay.tdr = rng
     diff_bodies = [names[b] for b in sub.bodies]
@@ -512,6 +517,28 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
         bd = sp.bodies[b]
         sp.add_marker(f"{b}_cg", b, position=bd.com)
         sp.add(Force(f"{b}_lift", f"{b}_cg", vector=(0.0, 0.0, G * bd.mass)))
+    if v0 != 0.0:
+        _moving(sp, lay, diff_bodies, v0, w_wheel)
     lay.total_mass, lay.cg = mass_properties(sp)
     return sp, lay
+
+
+def _moving(sp: Spec, lay: Layout, diff_bodies: list[str], v0: float, w_wheel: float) -> None:
+    """Initial velocities of a vehicle moving forward at ``v0`` [m/s]: every body and node
+    translates with it; the wheels, half-shafts and plungers turn at ``w_wheel`` about their
+    axes, the propeller and engine shafts at the final-drive ratio times it about x (the
+    differential's bodies were built turning)."""
+    spin = {lay.wheels[w]: w_wheel * sp.bodies[lay.wheels[w]].rotation[:, 2] for w in WHEELS}
+    for w in lay.drives:
+        for b in (f"halfshaft_{w}", f"plunger_{w}"):
+            spin[b] = w_wheel * sp.bodies[b].rotation[:, 2]
+    for b in ("propshaft", "engine_shaft"):
+        spin[b] = lay.ratio * w_wheel * X
+    for name, bd in list(sp.bodies.items()):
+        if name in diff_bodies:
+            continue
+        sp.bodies[name] = replace(bd, velocity=v0 * X,
+                                  angular_velocity=spin.get(name, np.zeros(3)))
+    for name, nd in list(sp.nodes.items()):
+        sp.nodes[name] = replace(nd, velocity=v0 * X)
 

@@ -25,6 +25,7 @@ from drivedyn.library.vehicles.vehicle_4wd.schema import (
     Patch,
     PressureAngle,
     Time,
+    Velocity,
 )
 from drivedyn.schema_base import (
     Damping,
@@ -42,7 +43,7 @@ WHEELS = ("fl", "fr", "rl", "rr")
 #: the differential types the rear axle accepts
 RearType = Literal["open", "locked", "clutch", "torsen-b"]
 
-__all__ = ["PressureAngle", "RearType", "VehicleRWDFile", "WHEELS"]
+__all__ = ["WHEELS", "PressureAngle", "RearType", "VehicleRWDFile"]
 
 
 class Info(Strict):
@@ -58,11 +59,13 @@ class SprungBody(Strict):
     wheelbase, y left, z up from the suspensions' reference plane, the plane of Chrono's
     chassis reference) and ``inertia`` about it [kg m^2]. The frame's beams and the driveline
     parts (engine shaft, propeller shaft, rear carrier, differential) are subtracted from
-    ``mass`` when the model is built, so that the sprung mass is ``mass``."""
+    ``mass`` when the model is built, so that the sprung mass is ``mass``. ``speed``: the
+    vehicle's initial forward speed [m/s] (the wheels rolling)."""
 
     mass: Mass = 2086.52
     cg: LengthVec = (0.056, 0.0, 0.213)
     inertia: Inertia = (1078.52, 2955.66, 3570.20)
+    speed: Velocity = 0.0
     mounts: list[Length] = Field(default_factory=lambda: [1.0, 1.8, 2.7, 3.5])
 
 
