@@ -17,6 +17,21 @@ def _check_dicts(checks: list[tuple[str, float, float, bool]]) -> list[dict[str,
     return [dict(zip(("check", "value", "limit", "passed"), c, strict=True)) for c in checks]
 
 
+#: interval [s] of the rear wheel torques' time history in the JSON output
+HISTORY_DT = 0.05
+
+
+def _thinned(history: dict[str, list[float]]) -> dict[str, list[float]]:
+    """The time history (``time``, ``torque_rl``, ``torque_rr``) every :data:`HISTORY_DT`."""
+    t = history.get("time", [])
+    keep, next_t = [], -1.0
+    for i, ti in enumerate(t):
+        if ti >= next_t - 1e-9:
+            keep.append(i)
+            next_t = ti + HISTORY_DT
+    return {k: [v[i] for i in keep] for k, v in history.items()}
+
+
 def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: float | None,
             sets: tuple[str, ...], out: Path | None, as_json: bool,
             scenario: str | None) -> None:
@@ -113,7 +128,8 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
     results = [{"configuration": s.name, "wheels": {w: vars(x) for w, x in s.wheels.items()},
                 "axle_ratio": s.axle_ratio, "left_share": s.left_share, "speed": s.speed,
                 "tdr": s.tdr, "wall": s.wall, "steps": s.steps, "rejected": s.rejected,
-                "unknowns": s.unknowns, "checks": _check_dicts(V.checks(s))}
+                "unknowns": s.unknowns, "history": _thinned(s.history),
+                "checks": _check_dicts(V.checks(s))}
                for s in summaries]
     ok = not failed and all(c["passed"] for r in results for c in r["checks"])
     if as_json:

@@ -44,7 +44,7 @@ Simplifications (stated in the model file too):
   pinion on the rear carrier and its compliance to the gearbox output is one torsional
   spring-damper (it passes torque whatever the small misalignment from frame bending);
 * the carried body's inertia is Chrono's chassis inertia as given (the frame's beams add
-  their own on top, 5 % in pitch);
+  their own on top, about 7 % in pitch);
 * gravity acts on everything except the gears inside the differential (their weight in the
   pocket clearances makes them rattle at low speed for no effect on the torques; the 4WD
   vehicle does the same);
