@@ -116,3 +116,21 @@ def test_cli_bad_input(args, message):
     r = CliRunner().invoke(main, ["vehicle", "vehicle-rwd", *args])
     assert r.exit_code == 2
     assert message in r.output
+
+
+def test_every_number_of_the_model_file_has_its_provenance():
+    """Mutation: delete the comment of any value line of ``vehicle-rwd.toml`` -> it is
+    listed here."""
+    path = resolve_path("vehicle-rwd")
+    section, bare = "", []
+    for i, line in enumerate(path.read_text().splitlines(), 1):
+        text = line.strip()
+        if text.startswith("["):
+            section = text
+            continue
+        if "=" not in text or text.startswith("#") or section == "[model]":
+            continue
+        comment = line.partition("#")[2]
+        if not any(tag in comment for tag in ("source:", "chosen", "switch:")):
+            bare.append(f"{i}: {text}")
+    assert not bare, "value lines without provenance:\n" + "\n".join(bare)

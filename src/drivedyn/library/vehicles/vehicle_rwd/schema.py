@@ -154,7 +154,6 @@ class Run(Strict):
     t_end: PositiveTime = 3.0
     h_max: PositiveTime = 2e-3
     window: tuple[Time, Time] = (0.8, 3.0)
-    settle: PositiveTime = 1.0
 
     @model_validator(mode="after")
     def _window(self) -> Run:
