@@ -165,6 +165,9 @@ def load_tyre(p: VehicleRWDFile, base_dir: str | Path = ".", side: str | None = 
 
 def check_parameters(p: VehicleRWDFile) -> None:
     """Refuse what cannot be built, naming the key."""
+    if "body" in p.chassis.model_fields_set:
+        raise ModelError("chassis.body: the body the frame carries comes from [body] (mass, "
+                         "cg, inertia, mounts); remove [chassis.body]")
     if p.differentials.rear in ("open", "locked", "clutch"):
         check_bevel(p.differentials.bevel)
     fd = p.final_drive
