@@ -207,11 +207,17 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
         if name.startswith(rigid):
             st.x[i] = carried(x0[i])
             st.R[i] = Qc @ R0[i]
-        elif not name.startswith(("halfshaft_", "plunger_", "wheel_")) \
+        elif not name.startswith(("halfshaft_", "plunger_", "wheel_", "frame.body.")) \
                 and name in ms.node_index:
-            j = ms.node_index[name]
-            st.x[i] = ss.x[j]
-            st.R[i] = ss.R[j]
+            j = ms.node_index[name]  # the static displacement (the models may differ a little)
+            st.x[i] = x0[i] + ss.x[j] - s0.x[j]
+            st.R[i] = ss.R[j] @ s0.R[j].T @ R0[i]
+    for name, i in model.node_index.items():  # the body's carriers: rigid with their node
+        if name.startswith("frame.body.") and f"{name}.mount" in model.marker_frames:
+            n = model.marker_frames[f"{name}.mount"][0]
+            Qn = st.R[n] @ R0[n].T
+            st.x[i] = st.x[n] + Qn @ (x0[i] - x0[n])
+            st.R[i] = Qn @ R0[i]
     for w in WHEELS:  # the wheels turn with their uprights (their spins kept)
         wh = model.node_index[lay.wheels[w]]
         up = model.marker_frames[f"{lay.wheels[w]}_bearing_hub"][0]
