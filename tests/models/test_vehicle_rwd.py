@@ -80,7 +80,7 @@ def test_open_differential_splits_evenly_on_split_mu():
     assert all(c[3] for c in V.checks(s))
 
 
-@pytest.mark.slow  # about 40 s: the TORSEN's gears make the launch the dearest run here
+@pytest.mark.slow  # about 20 s: the TORSEN's gears make its launch the dearest run here
 def test_torsen_b_ratio_within_its_tdr():
     """Mutation: set the TORSEN file's friction coefficients to zero (``--set`` of its
     ``mu`` keys) -> the ratio falls towards 1, below the lowest analytic TDR."""
