@@ -13,7 +13,7 @@ Run it with::
     python examples/11_vehicle_rwd.py [out_dir] [--full] [--configs open,locked,torsen-b]
                                       [--set KEY=VALUE ...]
 
-By default only the open differential runs 0.8 s of the launch (half a minute); ``--full``
+By default only the open differential runs 0.8 s of the launch (about 10 s); ``--full``
 runs the file's 3 s (from half a minute for ``open`` to four minutes for ``torsen-b``).
 """
 
