@@ -1,5 +1,6 @@
-"""``drivedyn vehicle``: the 4WD vehicle on split-mu with one or several differential
-configurations, a wheel-torque table, the acceptance checks and the figures.
+"""``drivedyn vehicle``: a vehicle model with one or several differential configurations,
+a wheel-torque table and the acceptance checks: the 4WD vehicle on split-mu (and its
+figures), or the RWD vehicle's scenarios (``--scenario static`` or ``split-mu-launch``).
 
 Exit codes: 0 success (every check passed), 1 a run failed or a check did not pass, 2 bad
 input (file, key, value, configuration name).
@@ -41,8 +42,11 @@ from drivedyn.cli.common import (
               help="Folder for the results (one .nc per configuration) and the figures "
                    "(wheel_torques.png, comparison.png).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
+@click.option("--scenario", default=None, metavar="NAME",
+              help="Scenario of a vehicle that has several (vehicle-rwd: static, "
+                   "split-mu-launch; default split-mu-launch).")
 def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tuple[str, ...],
-            out: Path | None, as_json: bool) -> None:
+            out: Path | None, as_json: bool, scenario: str | None) -> None:
     """Simulate a vehicle model FILE (default: the shipped vehicle-4wd) on its road and print
     the wheel torques, torque splits and checks over the file's steady window.
 
@@ -66,6 +70,13 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         if p.model.library not in vehicles.TYPES:
             bad_input(f"{source}: model.library = {p.model.library!r} is not a vehicle "
                       f"(vehicles: {', '.join(vehicles.TYPES)})")
+        if p.model.library == "vehicle_rwd":
+            from drivedyn.cli.vehicle_rwd import run_rwd
+
+            run_rwd(p, source, model_file, configs, t_end, sets, out, as_json, scenario)
+            return
+        if scenario is not None:
+            bad_input(f"--scenario: {source} has one scenario (split-mu); got {scenario!r}")
         names = [c.strip() for c in configs.split(",")] if configs else []
         for c in names:
             if c not in V.CONFIGS:

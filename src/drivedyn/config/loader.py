@@ -316,7 +316,8 @@ def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str
 
     out: dict[str, Any] = {}
     d = params.differentials
-    for kind in sorted({d.central, d.front, d.rear} & {"torsen-c", "torsen-b"}):
+    kinds = {getattr(d, pos, None) for pos in ("central", "front", "rear")}
+    for kind in sorted(kinds & {"torsen-c", "torsen-b"}):
         key = kind.replace("-", "_")
         name = getattr(d, key)
         try:

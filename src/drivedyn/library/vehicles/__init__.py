@@ -18,6 +18,7 @@ from drivedyn.library.dashboards import Dashboard
 #: library key -> module of the vehicle (imported on first use)
 TYPES = {
     "vehicle_4wd": "drivedyn.library.vehicles.vehicle_4wd",
+    "vehicle_rwd": "drivedyn.library.vehicles.vehicle_rwd",
 }
 
 

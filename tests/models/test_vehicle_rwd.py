@@ -1,0 +1,136 @@
+"""The RWD vehicle (flexible ladder frame, double wishbones on bushings, Magic Formula tyres,
+rear differential by name): it builds and rolls, its static loads, the open differential's
+equal split and the TORSEN Type B's torque ratio on split-mu, and the command line. Each
+test's docstring names a deliberate mutation that makes it fail. Runs are short (0.8 s of a
+launch from walking pace) to keep CI cheap."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import drivedyn.analysis.vehicle_rwd as V  # noqa: N812 - short name for the analysis
+from drivedyn.cli import main
+from drivedyn.config import read_library_file
+from drivedyn.config.loader import read_vehicle_differentials, resolve_path
+from drivedyn.library import vehicles
+
+MODELS_DIR = resolve_path("vehicle-rwd").parent
+#: the shipped file with a short launch: the throttle ramps over 0.2 s, the checks read
+#: 0.5-0.8 s
+SHORT = ["run.t_end=0.8", "run.window=[0.5, 0.8]", 'engine.ramp="0.2 s"']
+
+
+def _params(config: str):
+    p, _, source = read_library_file("vehicle-rwd", SHORT)
+    q = V.configure(p, config)
+    return q, read_vehicle_differentials(q, source, MODELS_DIR)
+
+
+def test_registered_and_listed():
+    """Mutation: drop ``vehicle_rwd`` from ``vehicles.TYPES`` -> the lookup fails."""
+    mod = vehicles.get("vehicle-rwd")
+    p, _, _ = read_library_file("vehicle-rwd")
+    assert mod.SCHEMA is type(p)
+    assert mod.CONFIGURATION(p) == "torsen-b"
+
+
+def test_builds_and_rolls_forward():
+    """Mutation: put the ring gear on the +y side of the housing (``ring = centre +
+    d_ring * Y``) -> the engine drives the vehicle backwards and the speed check fails."""
+    p, torsen = _params("open")
+    res, lay = V.run(p, torsen, MODELS_DIR, t_end=0.3)
+    assert res.success, res.message
+    assert 2500.0 < lay.total_mass < 2700.0
+    v = res.values("wheel_fl.velocity")[:, 0]
+    assert v[-1] > p.body.speed + 0.05  # pulled forward by the rear wheels
+    for w in ("rl", "rr"):
+        assert V.drive_torque(res, lay, w)[-1] > 50.0
+
+
+def test_static_loads():
+    """Mutation: keep cancelling the weight of the differential's gears in the static
+    solution (``lift=True`` when parked) -> the loads sum to m g only within 1e-3."""
+    p, torsen = _params("open")
+    s = V.static(p, torsen, MODELS_DIR)
+    total = sum(s.loads.values())
+    assert abs(total - s.mass * 9.81) <= 1e-6 * s.mass * 9.81
+    assert abs(s.rear_share - s.rear_share_cg) <= 5e-3 * s.rear_share_cg
+    assert all(c[3] for c in V.static_checks(s))
+    # left and right carry the same load within 0.5 % (a symmetric vehicle)
+    for a, b in (("fl", "fr"), ("rl", "rr")):
+        assert abs(s.loads[a] - s.loads[b]) <= 5e-3 * s.loads[a]
+
+
+def test_open_differential_splits_evenly_on_split_mu():
+    """Mutation: build the ``open`` configuration with the ``locked`` bevel differential
+    (``CONFIGS["open"] = "locked"``) -> the dry wheel takes more torque and the 1 % check
+    fails."""
+    p, torsen = _params("open")
+    res, lay = V.run(p, torsen, MODELS_DIR)
+    assert res.success, res.message
+    s = V.summarize(res, lay, p.run.window)
+    tl, tr = s.wheels["rl"].torque, s.wheels["rr"].torque
+    assert tl > 50.0
+    assert abs(tl - tr) <= 0.01 * 0.5 * (tl + tr)
+    assert s.wheels["rl"].kappa > 0.2  # the iced wheel spins
+    assert all(c[3] for c in V.checks(s))
+
+
+@pytest.mark.slow  # about 20 s: the TORSEN's gears make its launch the dearest run here
+def test_torsen_b_ratio_within_its_tdr():
+    """Mutation: set the TORSEN file's friction coefficients to zero (``--set`` of its
+    ``mu`` keys) -> the ratio falls towards 1, below the lowest analytic TDR."""
+    p, torsen = _params("torsen-b")
+    res, lay = V.run(p, torsen, MODELS_DIR)
+    assert res.success, res.message
+    s = V.summarize(res, lay, p.run.window)
+    lo, hi = lay.tdr
+    assert s.wheels["rr"].torque > s.wheels["rl"].torque > 0.0  # the dry wheel takes more
+    assert 0.95 * lo <= s.axle_ratio["rear"] <= 1.02 * hi
+    assert all(c[3] for c in V.checks(s))
+
+
+def test_cli_static_json():
+    """Mutation: drop the ``vehicle_rwd`` dispatch in ``cli/vehicle.py`` -> the 4WD analysis
+    refuses the file (exit 2)."""
+    r = CliRunner().invoke(main, ["vehicle", "vehicle-rwd", "--scenario", "static",
+                                  "--compare", "open", "--json"])
+    assert r.exit_code == 0, r.output
+    out = json.loads(r.stdout)
+    run = out["runs"][0]
+    assert run["configuration"] == "open"
+    assert {c["check"] for c in run["checks"]} and all(c["passed"] for c in run["checks"])
+    assert np.isclose(sum(run["loads"].values()), run["mass"] * 9.81, rtol=1e-6)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--scenario", "drift"], "unknown scenario"),
+    (["--compare", "torsen"], "unknown configuration"),
+])
+def test_cli_bad_input(args, message):
+    """Mutation: accept any scenario name -> exit 0 or 1 instead of 2."""
+    r = CliRunner().invoke(main, ["vehicle", "vehicle-rwd", *args])
+    assert r.exit_code == 2
+    assert message in r.output
+
+
+def test_every_number_of_the_model_file_has_its_provenance():
+    """Mutation: delete the comment of any value line of ``vehicle-rwd.toml`` -> it is
+    listed here."""
+    path = resolve_path("vehicle-rwd")
+    section, bare = "", []
+    for i, line in enumerate(path.read_text().splitlines(), 1):
+        text = line.strip()
+        if text.startswith("["):
+            section = text
+            continue
+        if "=" not in text or text.startswith("#") or section == "[model]":
+            continue
+        comment = line.partition("#")[2]
+        if not any(tag in comment for tag in ("source:", "chosen", "switch:")):
+            bare.append(f"{i}: {text}")
+    assert not bare, "value lines without provenance:\n" + "\n".join(bare)
