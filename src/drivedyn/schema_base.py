@@ -52,6 +52,11 @@ def vector(dim: U.Dim) -> BeforeValidator:
     return BeforeValidator(conv)
 
 
+#: most teeth of a gear in a model file: beyond any driveline gear (large ring gears have a
+#: few hundred), and the mesh geometry and ISO 6336 stiffness lose their meaning (and their
+#: precision) long before 1e9
+MAX_TEETH = 1000
+
 Length = Annotated[float, scalar(U.LENGTH)]
 PositiveLength = Annotated[float, scalar(U.LENGTH, positive=True)]
 NonNegLength = Annotated[float, scalar(U.LENGTH, nonneg=True)]

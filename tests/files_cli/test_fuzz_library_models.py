@@ -277,6 +277,8 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
     ([*VEHICLE, "--set", "differentials.bevel.clutch.stiffness=0", "--compare", "clutch"],
      "vehicle-4wd", "differentials.bevel.clutch.stiffness"),
     ([*VEHICLE, "--set", 'wheels.tyre="simple-mud"'], "vehicle-4wd", "wheels.tyre"),
+    ([*VEHICLE, "--set", "differentials.bevel.teeth_side=1e9", "--compare", "open"],
+     "vehicle-4wd", "differentials.bevel.teeth_side"),
     ([*VEHICLE, "--set", "wheels.inertia=[0, 0, 0]"], "vehicle-4wd", "wheels.inertia"),
     (["run", "torsen-b", "--t-end", "0.002", "--set", "bodies.housing.inertia=[1, 1, 5]"],
      "torsen-b", "bodies.housing.inertia"),

@@ -85,6 +85,9 @@ class GearPairFamily(Family):
             km = s.stiffness if s.stiffness is not None else md.k_iso
             if km is None:  # pragma: no cover - validate() requires it
                 raise ModelError(f"{what}.stiffness: required for kind {s.kind!r}")
+            if not (np.isfinite(km) and km > 0.0):  # ISO 6336 outside its range
+                raise ModelError(f"{what}: the mesh stiffness {float(km)!r} N/m is not a "
+                                 "positive number (check the teeth, module and face width)")
             eps = s.contact_ratio if s.contact_ratio is not None else md.eps_alpha
             k_lo = k_hi = float(km)
             f_hi, w_tr = 0.0, 1.0

@@ -28,7 +28,7 @@ from drivedyn.library.differentials.schema_sections import (
     Solver,
     Vehicle,
 )
-from drivedyn.schema_base import Angle, NonNegLength, PositiveLength, Strict, scalar
+from drivedyn.schema_base import MAX_TEETH, Angle, NonNegLength, PositiveLength, Strict, scalar
 
 
 class Info(Strict):
@@ -48,8 +48,8 @@ class Gears(Strict):
     hand of its side gear along its whole length, so the two element gears of a pair (of
     opposite hands) also mesh as a crossed-hand external helical pair at their ends."""
 
-    teeth_side: int = Field(gt=0)
-    teeth_element: int = Field(gt=0)
+    teeth_side: int = Field(gt=0, le=MAX_TEETH)
+    teeth_element: int = Field(gt=0, le=MAX_TEETH)
     pairs: int = Field(ge=2, le=8)
     module: PositiveLength
     helix_angle: Angle

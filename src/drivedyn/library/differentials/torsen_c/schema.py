@@ -28,7 +28,7 @@ from drivedyn.library.differentials.schema_sections import (
     Solver,
     Vehicle,
 )
-from drivedyn.schema_base import Angle, NonNegLength, PositiveLength, Strict, scalar
+from drivedyn.schema_base import MAX_TEETH, Angle, NonNegLength, PositiveLength, Strict, scalar
 
 
 class Info(Strict):
@@ -41,9 +41,9 @@ class Info(Strict):
 class Gears(Strict):
     """Epicyclic set: sun (front output), planets in housing pockets, internal gear."""
 
-    teeth_sun: int = Field(gt=0)
-    teeth_planet: int = Field(gt=0)
-    teeth_ring: int = Field(gt=0)
+    teeth_sun: int = Field(gt=0, le=MAX_TEETH)
+    teeth_planet: int = Field(gt=0, le=MAX_TEETH)
+    teeth_ring: int = Field(gt=0, le=MAX_TEETH)
     planets: int = Field(ge=2, le=12)
     module: PositiveLength
     helix_angle: Angle  # of the sun, > 0 right hand

@@ -23,6 +23,7 @@ from drivedyn.library.differentials.schema_sections import (
     TorqueValue,
 )
 from drivedyn.schema_base import (
+    MAX_TEETH,
     Angle,
     Damping,
     Inertia,
@@ -141,8 +142,8 @@ class FinalDrive(Strict):
     """Bevel pinion (on the propeller shaft) and ring gear (on the axle differential's
     housing), straight bevel, shaft angle 90 deg; ratio teeth_ring / teeth_pinion."""
 
-    teeth_pinion: int = Field(default=17, gt=4)
-    teeth_ring: int = Field(default=17, gt=4)
+    teeth_pinion: int = Field(default=17, gt=4, le=MAX_TEETH)
+    teeth_ring: int = Field(default=17, gt=4, le=MAX_TEETH)
     module: PositiveLength = 0.005
     face_width: PositiveLength = 0.02
     pressure_angle: PressureAngle = 0.3490658503988659
@@ -187,8 +188,8 @@ class ClutchPack(Strict):
 class BevelDifferential(Strict):
     """The open / locked / clutch reference differential (a straight bevel differential)."""
 
-    teeth_side: int = Field(default=16, gt=4)
-    teeth_spider: int = Field(default=10, gt=4)
+    teeth_side: int = Field(default=16, gt=4, le=MAX_TEETH)
+    teeth_spider: int = Field(default=10, gt=4, le=MAX_TEETH)
     spiders: int = Field(default=2, ge=2, le=4)
     profile_shift: float = 0.35  # spider +x, side gears -x (long-addendum spiders)
     module: PositiveLength = 0.0045
