@@ -84,10 +84,12 @@ GENERIC_MAX = 1e15
 # Smallest magnitude of a quantity that must be > 0: a length (a module, a radius, a
 # clearance, a roughness) of a nanometre, below any part or surface of a driveline; a time (a
 # ramp, a step, an output interval) of a picosecond, below any step the solver takes; a
-# modulus of 1 Pa, below any material. Smaller values are a unit slip, and what is computed
-# from them underflows or overflows (squares of 1e-300 are 0, a ramp of 1e-300 s ends where it
-# starts, a washer of modulus 1e-300 Pa sinks 1e300 m).
-PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9, TIME: 1e-12, PRESSURE: 1.0}
+# modulus of 1 Pa and a density of 1 kg/m^3, below any material. Smaller values are a unit
+# slip, and what is computed from them underflows or overflows (squares of 1e-300 are 0, a ramp
+# of 1e-300 s ends where it starts, a washer of modulus 1e-300 Pa sinks 1e300 m, a mesh of
+# density 1e-300 kg/m^3 has no modes).
+PLAUSIBLE_MIN_POSITIVE: dict[Dim, float] = {LENGTH: 1e-9, TIME: 1e-12, PRESSURE: 1.0,
+                                            DENSITY: 1.0}
 
 
 def unit_label(*dims: Dim) -> str:

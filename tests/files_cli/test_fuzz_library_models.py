@@ -292,6 +292,10 @@ REGRESSIONS: list[tuple[list[str], str, str]] = [
     (["tdr", "torsen-b", "--analytic-only", "--set",
       "contact.elastic_washers.youngs_modulus=1e-300"], "torsen-b",
      "contact.elastic_washers.youngs_modulus"),
+    (["tdr", "torsen-c", "--analytic-only", "--set", "flexible.density=1e-300"], "torsen-c",
+     "flexible.density"),
+    (["tdr", "torsen-c", "--analytic-only", "--set", "gears.helix_angle=1e-300"], "torsen-c",
+     "gears.helix_angle"),
 ]
 
 

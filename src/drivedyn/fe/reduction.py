@@ -287,8 +287,12 @@ def craig_bampton(solid: SolidModel, interfaces: Sequence[Interface], n_modes: i
             w2, V = sla.eigh(Kii.toarray(), Mii.toarray())
             w2, V = w2[:n_modes], V[:, :n_modes]
         else:
-            w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM",
-                               v0=np.linspace(1.0, 2.0, nf))
+            try:
+                w2, V = spla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM",
+                                   v0=np.linspace(1.0, 2.0, nf))
+            except (spla.ArpackError, spla.ArpackNoConvergence) as exc:
+                raise ModelError(f"part {name!r}: no fixed-interface modes ({exc}); check the "
+                                 "material (density, modulus) and the mesh") from None
         order = np.argsort(w2)
         w2, V = w2[order], V[:, order]
         V /= np.sqrt(np.einsum("ij,ij->j", V, Mii @ V))

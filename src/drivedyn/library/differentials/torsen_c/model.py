@@ -58,6 +58,7 @@ from drivedyn.elements import (
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
 from drivedyn.elements.framework.visuals import cylinder
+from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
 
@@ -138,6 +139,15 @@ def check_parameters(p: TorsenCFile) -> Geometry:
              "make the thrusts that lock the differential)")
     if not math.radians(10) < g.pressure_angle < math.radians(30):
         fail("gears.pressure_angle", g.pressure_angle, "expected 10..30 deg")
+    # the external wheels without profile shift: the gear element's undercut limit
+    for key in ("teeth_sun", "teeth_planet"):
+        z = getattr(g, key)
+        z_lim = undercut_limits(z, g.pressure_angle, abs(g.helix_angle))[0]
+        if z < 5 / 6 * z_lim:
+            fail(f"gears.{key}", z, f"undercut: at least {math.ceil(5 / 6 * z_lim)} teeth at "
+                 f"gears.pressure_angle = {g.pressure_angle:.4g} rad and gears.helix_angle = "
+                 f"{g.helix_angle:.4g} rad without profile shift (DIN 3960 practical limit "
+                 "5/6 z_g)")
     gap = 2 * geo.carrier_radius * math.sin(math.pi / g.planets) - 2 * (
         geo.r_tip_planet + p.pockets.clearance)
     if gap <= 0:
