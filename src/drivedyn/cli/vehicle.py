@@ -40,7 +40,8 @@ from drivedyn.cli.common import (
                    "--set 'load.torque=\"150 N m\"'. Repeatable.")
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder for the results (one .nc per configuration) and the figures "
-                   "(wheel_torques.png, comparison.png).")
+                   "(vehicle-4wd: wheel_torques.png, comparison.png; vehicle-rwd: the "
+                   "dashboard of each run, <name>-<configuration>-dashboard.png).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--scenario", default=None, metavar="NAME",
               help="Scenario of a vehicle that has several (vehicle-rwd: static, "

@@ -43,6 +43,7 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
     from drivedyn.config.loader import read_vehicle_differentials, resolve_path
     from drivedyn.library.vehicles.vehicle_rwd import check_parameters, load_tyre
     from drivedyn.model.spec import ModelError
+    from drivedyn.plots.dashboard import save_dashboard
     from drivedyn.results.results import write_netcdf_atomic
     from drivedyn.solver.statics import StaticsError
 
@@ -119,6 +120,9 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
         if out is not None:
             name = f"{p.model.name}-{label}" + (".nc" if res.success else ".partial.nc")
             outputs.write(lambda d, res=res, name=name: write_netcdf_atomic(res.dataset, d / name),
+                          out, "--out", directory=True)
+            stem = f"{p.model.name}-{label}"
+            outputs.write(lambda d, res=res, stem=stem: save_dashboard(res.dataset, d, stem),
                           out, "--out", directory=True)
         if not res.success:
             err(f"[{label}] FAILED: {res.message}")

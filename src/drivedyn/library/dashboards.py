@@ -23,7 +23,7 @@ from typing import Literal
 @dataclass(frozen=True)
 class Term:
     """``coefficient * variable[component]``, summed over every variable the glob
-    ``pattern`` matches.
+    ``pattern`` matches (or their largest value at each sample: ``reduce = "max"``).
 
     Attributes:
         pattern: variable name or glob pattern of variable names.
@@ -31,11 +31,14 @@ class Term:
             ``(time, xyz)`` variable); None for scalar variables.
         coefficient: factor (-1 for a sign change, e.g. torque delivered = minus the driver's
             torque).
+        reduce: how the matched variables combine: ``"sum"``, or ``"max"`` (the largest of
+            them at each sample: the peak stress over a frame's beam elements).
     """
 
     pattern: str
     component: int | None = None
     coefficient: float = 1.0
+    reduce: Literal["sum", "max"] = "sum"
 
 
 @dataclass(frozen=True)
@@ -80,6 +83,21 @@ class Window:
 
 
 @dataclass(frozen=True)
+class Abscissa:
+    """What a panel's curves are drawn against instead of time (a path: y against x).
+
+    Attributes:
+        quantity: x-axis name, short (``"x"``).
+        unit: SI unit of the values (``"m"``).
+        curve: the values (its label names them in the axis label).
+    """
+
+    quantity: str
+    unit: str
+    curve: Curve
+
+
+@dataclass(frozen=True)
 class Panel:
     """One small plot: curves sharing a unit.
 
@@ -93,6 +111,8 @@ class Panel:
         windows: time windows to shade; a panel with windows also draws each curve's window
             mean (ratio curves: ratio of the window means) and the windows' references.
         note: one line under the title (what is shown when something could not be).
+        abscissa: draw the curves against this instead of time (the start marked with a
+            dot; windows are not drawn on such a panel).
     """
 
     title: str
@@ -102,6 +122,7 @@ class Panel:
     display: str | None = None
     windows: tuple[Window, ...] = ()
     note: str = ""
+    abscissa: Abscissa | None = None
 
 
 @dataclass(frozen=True)

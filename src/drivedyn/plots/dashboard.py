@@ -8,7 +8,8 @@ dashboard: :func:`drivedyn.library.differentials.dashboard_of` for a differentia
 panels; a curve whose variables the run lacks is left out, a panel without curves too.
 Windows (TDR windows) are shaded where the run covers them, with each curve's window mean
 written above (for ratio curves the ratio of the window means, as the TDR is measured) and the
-window's reference value (a measured TDR) dashed.
+window's reference value (a measured TDR) dashed. A panel with an abscissa (a vehicle's path)
+draws its curves against it, the start dotted.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from __future__ import annotations
 import fnmatch
 import json
 import warnings
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -66,7 +68,11 @@ def _term(ds: Any, names: list[str], term: Term) -> np.ndarray | None:
             v = v[:, term.component]
         elif v.ndim != 1:
             continue
-        total = term.coefficient * v if total is None else total + term.coefficient * v
+        v = term.coefficient * v
+        if total is None:
+            total = v
+        else:
+            total = np.fmax(total, v) if term.reduce == "max" else total + v
     return total
 
 
@@ -166,6 +172,27 @@ def _clip_ratio(ax: Any, values: list[np.ndarray], scale: float) -> str:
     return f"y axis clipped at {top:.3g} (transients reach {v.max():.3g})"
 
 
+def _against(ax: Any, ds: Any, names: list[str], panel: Panel,
+             values: list[tuple[Curve, np.ndarray]]) -> bool:
+    """Draw a panel whose curves go against its abscissa (a path), the start dotted."""
+    assert panel.abscissa is not None
+    xs = curve_values(ds, panel.abscissa.curve, names)
+    if xs is None:
+        return False
+    x = xs[0]
+    x_scale, x_shown = display_scale(x, panel.abscissa.unit, None)
+    scale, shown = display_scale(np.concatenate([v for _, v in values]), panel.unit,
+                                 panel.display)
+    for c, v in values:
+        fmt = (c.style,) if c.style else ()
+        (line,) = ax.plot(x_scale * x, scale * v, *fmt, lw=1.1, label=c.label)
+        ax.plot(x_scale * x[0], scale * v[0], "o", ms=4, color=line.get_color())
+    finish_panel(ax, panel.title, f"{panel.quantity} [{shown}]", "", panel.note)
+    ax.set_xlabel(f"{panel.abscissa.quantity}: {panel.abscissa.curve.label} [{x_shown}] "
+                  "(dot: start)")
+    return True
+
+
 def _panel(ax: Any, ds: Any, names: list[str], panel: Panel, t_raw: np.ndarray,
            t_scale: float, t_unit: str) -> bool:
     """Draw one panel; False (nothing drawn) when the run has none of its curves."""
@@ -173,6 +200,8 @@ def _panel(ax: Any, ds: Any, names: list[str], panel: Panel, t_raw: np.ndarray,
     values = [(c, v[0]) for c, v in values if v is not None]
     if not values:
         return False
+    if panel.abscissa is not None:
+        return _against(ax, ds, names, panel, values)
     scale, shown = display_scale(np.concatenate([v for _, v in values]), panel.unit,
                                  panel.display)
     drawn = []
@@ -211,7 +240,9 @@ def dashboard_figures(ds: Any) -> list[tuple[str, Figure]]:
     out = []
     for page in dash.pages:
         usable = [p for p in page.panels
-                  if any(curve_values(ds, c, names) is not None for c in p.curves)]
+                  if any(curve_values(ds, c, names) is not None for c in p.curves)
+                  and (p.abscissa is None
+                       or curve_values(ds, p.abscissa.curve, names) is not None)]
         if not usable:
             continue
         fig, axes = panel_grid(f"{dash.title}: {page.title}", len(usable))
@@ -219,3 +250,17 @@ def dashboard_figures(ds: Any) -> list[tuple[str, Figure]]:
             _panel(ax, ds, names, panel, t_raw, t_scale, t_unit)
         out.append((f"{dash.name}: {page.title}", fig))
     return out
+
+
+def save_dashboard(ds: Any, folder: Path, stem: str, dpi: int = 110) -> list[Path]:
+    """Write the dashboard pages of a run as ``folder/<stem>-dashboard.png`` (several pages:
+    ``-dashboard-1.png``, ``-2``...); returns the paths written (none for a run without a
+    dashboard or without two output times)."""
+    figs = dashboard_figures(ds)
+    paths = []
+    for k, (_, fig) in enumerate(figs, 1):
+        path = Path(folder) / (f"{stem}-dashboard.png" if len(figs) == 1
+                               else f"{stem}-dashboard-{k}.png")
+        fig.savefig(path, dpi=dpi)
+        paths.append(path)
+    return paths
