@@ -41,7 +41,7 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
     from drivedyn.cli.progress import progress_bar
     from drivedyn.config import ModelFileError, UnitError
     from drivedyn.config.loader import read_vehicle_differentials, resolve_path
-    from drivedyn.library.vehicles.vehicle_rwd import check_parameters, load_tyre
+    from drivedyn.library.vehicles.vehicle_rwd import check_parameters, tyre_notes
     from drivedyn.model.spec import ModelError
     from drivedyn.plots.dashboard import save_dashboard
     from drivedyn.results.results import write_netcdf_atomic
@@ -62,12 +62,14 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
     try:
         for q in variants:
             torsen.update(read_vehicle_differentials(q, source, base))
-            check_parameters(q)
-            load_tyre(q, base)
+            check_parameters(q, base)
+        notes = tyre_notes(p, base)
     except ModelFileError as exc:
         bad_input(str(exc))
     except (ModelError, UnitError) as exc:
         bad_input(f"{source}: {exc}")
+    for note in notes:
+        err(f"note: {note}")
     if scenario == "static":
         results = []
         for q in variants:

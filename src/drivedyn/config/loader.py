@@ -521,7 +521,7 @@ def _load_library_model(path: str | Path, overrides) -> Model:
     model.meta["source"] = source
     model.meta["model_file"] = json.dumps(data, indent=1, default=str)
     model.meta["model_name"] = params.model.name
-    model.meta["notes"] = []
+    model.meta["notes"] = list(getattr(model.meta.get("layout"), "notes", []))
     model.meta["library"] = params
     model.meta["library_model"] = lib
     model.meta["configuration"] = (vehicles.configuration(params) if lib in vehicles.TYPES

@@ -25,7 +25,7 @@ from drivedyn.tyres.magic_formula import effective_radius as _effective_radius
 from drivedyn.tyres.tir import VERSIONS, coefficients, file_side, parse_tir
 
 __all__ = ["SURFACES", "Tyre", "read_tir", "resolve_tyre", "shipped", "shipped_files",
-           "simple_tyre"]
+           "side_asymmetry", "simple_tyre"]
 
 DATA = Path(__file__).parent / "data"
 
@@ -121,25 +121,63 @@ class Tyre:
         return Tyre(self.name, P, self.version, self.source)
 
 
-def read_tir(path: str | Path, side: str | None = None) -> Tyre:
+def read_tir(path: str | Path, side: str | None = None, measured: str | None = None) -> Tyre:
     """Read a Magic Formula 5.2 / 6.1 / 6.2 property file; :class:`ModelError` naming the
     section and key for a malformed or incomplete file.
 
     ``side`` (``"left"`` or ``"right"``): the side of the vehicle the tyre is mounted on. A
     file measured on the other side (``[MODEL] TYRESIDE``) is mirrored
     (:mod:`drivedyn.tyres.magic_formula`, "Sides"); a ``SYMMETRIC`` file, or one without
-    ``TYRESIDE``, is used as it is on both sides. None: as the file gives it."""
+    ``TYRESIDE``, is used as it is on both sides. None: as the file gives it.
+    ``measured`` (``"left"``, ``"right"``, ``"symmetric"``): the side a file without
+    ``TYRESIDE`` was measured on (one that has it must agree)."""
     if side is not None and side not in ("left", "right"):
         raise ModelError(f"tyre file {path}: side: expected 'left' or 'right', got {side!r}")
+    if measured is not None and measured not in ("left", "right", "symmetric"):
+        raise ModelError(f"tyre file {path}: measured: expected 'left', 'right' or "
+                         f"'symmetric', got {measured!r}")
     tf = parse_tir(path)
     P, fittyp = coefficients(tf)
     name = Path(path).stem
-    measured = file_side(tf)
+    given = file_side(tf)
+    if measured is not None and given is not None and given != measured:
+        raise ModelError(f"tyre file {path}: measured on the {measured} contradicts its "
+                         f"[MODEL] TYRESIDE = {given.upper()!r}")
+    measured = given or measured
     if side is not None and measured in ("left", "right") and measured != side:
         P = P.copy()
         P[INDEX["MIRROR"]] = 1.0
         name += f" (mirrored to the {side})"
     return Tyre(name, P, VERSIONS[fittyp], str(path))
+
+
+#: slip angles [rad] and camber angles [rad] at which :func:`side_asymmetry` compares a
+#: tyre with its mirror image (at its nominal load)
+ASYMMETRY_ALPHA = tuple(np.linspace(-0.15, 0.15, 7))
+ASYMMETRY_GAMMA = (-0.05, 0.0, 0.05)
+
+
+def side_asymmetry(tyre: Tyre) -> float:
+    """How much the tyre differs from its mirror image (the same tyre on the other side of
+    the vehicle): the largest change of the lateral force and of the aligning moment when
+    mirrored, each relative to its own largest magnitude, over slip angles
+    :data:`ASYMMETRY_ALPHA` and cambers :data:`ASYMMETRY_GAMMA` at the nominal load and no
+    longitudinal slip. 0 for a symmetric tyre (no ply-steer, conicity or one-sided shape
+    factor); a simple formula tyre is symmetric."""
+    if tyre.version == "simple":
+        return 0.0
+    mirror = tyre.params.copy()
+    mirror[INDEX["MIRROR"]] = 1.0 - mirror[INDEX["MIRROR"]]
+    other = Tyre(tyre.name, mirror, tyre.version, tyre.source)
+    a, g = np.meshgrid(ASYMMETRY_ALPHA, ASYMMETRY_GAMMA)
+    fz = tyre.nominal_load
+    r0, r1 = tyre.evaluate(fz, 0.0, a, g), other.evaluate(fz, 0.0, a, g)
+    out = 0.0
+    for key in ("fy", "mz"):
+        scale = float(np.abs(r0[key]).max())
+        if scale > 0.0:
+            out = max(out, float(np.abs(r0[key] - r1[key]).max()) / scale)
+    return out
 
 
 def simple_tyre(surface: str = "dry", unloaded_radius: float = 0.3,

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import tomllib
 from pathlib import Path
+from typing import Any
 
 from pydantic import ValidationError
 
@@ -53,9 +54,13 @@ from drivedyn.library.vehicles.suspensions.steering import Rack, add_rack_steeri
 SHIPPED = {"hmmwv": Path(__file__).with_name("hmmwv.toml")}
 
 
-def load_suspensions(source: str | Path) -> SuspensionSet:
-    """The :class:`SuspensionSet` of a shipped name (:data:`SHIPPED`) or a TOML file path;
-    :class:`ModelError` naming the file, the key path and the value otherwise."""
+def load_suspensions(source: str | Path, overrides: dict[str, Any] | None = None,
+                     overrides_key: str = "overrides") -> SuspensionSet:
+    """The :class:`SuspensionSet` of a shipped name (:data:`SHIPPED`) or a TOML file path,
+    with ``overrides`` (a nested table of the file's keys, e.g. ``{"front": {"spring":
+    {"rate": 5e4}}}``) replacing the file's values; :class:`ModelError` naming the file, the
+    key path (``<overrides_key>.<path>`` for a value the overrides gave) and the value
+    otherwise."""
     path = SHIPPED.get(str(source), Path(source))
     try:
         with open(path, "rb") as f:
@@ -65,12 +70,40 @@ def load_suspensions(source: str | Path) -> SuspensionSet:
                          f"{', '.join(SHIPPED)})") from None
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"suspension file {str(path)!r}: {exc}") from None
+    merged(data, overrides or {})
     try:
         return SuspensionSet.model_validate(data)
     except ValidationError as exc:
-        lines = [f"{'.'.join(str(x) for x in e['loc'])}: {e['msg']} (got {e.get('input')!r})"
-                 for e in exc.errors()]
+        lines = []
+        for e in exc.errors():
+            key = ".".join(str(x) for x in e["loc"])
+            if _given(overrides or {}, e["loc"]):
+                key = f"{overrides_key}.{key}"
+            lines.append(f"{key}: {e['msg']} (got {e.get('input')!r})")
         raise ModelError(f"suspension file {str(path)!r}: " + "; ".join(lines)) from None
+
+
+def merged(data: dict[str, Any], overrides: dict[str, Any]) -> dict[str, Any]:
+    """``data`` with the values of the nested table ``overrides`` put in by key (tables
+    merged, anything else replaced), in place; returns ``data``."""
+    for k, v in overrides.items():
+        if isinstance(v, dict) and isinstance(data.get(k), dict):
+            merged(data[k], v)
+        else:
+            data[k] = v
+    return data
+
+
+def _given(overrides: dict[str, Any], loc: tuple) -> bool:
+    """Whether the overrides give the value at ``loc`` (or a table that holds it)."""
+    node: Any = overrides
+    for part in loc:
+        if not isinstance(node, dict) or part not in node:
+            return False
+        node = node[part]
+        if not isinstance(node, dict):
+            return True
+    return True
 
 
 __all__ = [
@@ -92,5 +125,6 @@ __all__ = [
     "design_point",
     "free_length_for_load",
     "load_suspensions",
+    "merged",
     "wheel_angles",
 ]

@@ -143,11 +143,12 @@ def _stop_gaps(p: DoubleWishboneFile, length: float) -> tuple[float, float]:
 def check_geometry(p: DoubleWishboneFile) -> None:
     """Refuse hardpoints that cannot form the linkage: links of zero length, arms without
     lever, a knuckle whose ball joints and tie-rod joint are in line (it would turn freely
-    about its kingpin axis). Messages name the keys and their values."""
+    about its kingpin axis), a wheel centre that is not outboard of the kingpin axis (the
+    hub is on the upright's outer side). Messages name the keys and their values."""
     h = {n: p.point(n) for n in HARDPOINTS}
 
     def given(key: str) -> list[float]:
-        return [float(v) for v in getattr(p.hardpoints, key)]
+        return [float(f"{v:.6g}") for v in getattr(p.hardpoints, key)]
 
     def length(a: str, b: str, what: str) -> None:
         d = float(np.linalg.norm(h[a] - h[b]))
@@ -172,6 +173,14 @@ def check_geometry(p: DoubleWishboneFile) -> None:
         raise ModelError(f"hardpoints.tie_rod_outer = {given('tie_rod_outer')} m: on the "
                          f"kingpin axis (steering lever {lever:.3g} m): the upright would turn "
                          "freely about it")
+    c = h["wheel_center"] - h["lower_ball_joint"]
+    outboard = float((c - (c @ kp) * kp)[1])  # the left corner: outboard is +y
+    if outboard < MIN_LINK:
+        where = "inboard of" if outboard < 0.0 else "outboard of"
+        raise ModelError(f"hardpoints.wheel_center = {given('wheel_center')} m: "
+                         f"{abs(outboard):.3g} m {where} the kingpin axis (lower_ball_joint "
+                         "to upper_ball_joint): the wheel is not on a hub (the hub is on the "
+                         f"upright's outer side, at least {MIN_LINK:g} m outboard of the axis)")
 
 
 def add_double_wishbone(sp: Spec, prefix: str, side: Literal["left", "right"],

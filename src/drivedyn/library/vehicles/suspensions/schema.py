@@ -4,10 +4,11 @@ A :class:`DoubleWishboneFile` describes one axle's double-wishbone suspension (b
 the file gives the LEFT side, the right side is its mirror image ``y -> -y``), a
 :class:`SteeringFile` a rack-and-pinion steering, a :class:`SuspensionSet` the two axles and
 the steering of a vehicle as one file (``[front]``, ``[rear]``, ``[steering]``). Every value
-is SI or a string with a unit (``"17.5575 in"``, ``"35 kN/mm"``); unknown keys are refused
-and every problem is reported with its key path. What needs the whole geometry (a link of
-zero length, hardpoints that do not assemble, a design length outside the stops) is checked
-when the suspension is built (:mod:`drivedyn.library.vehicles.suspensions.double_wishbone`).
+is SI or a string with a unit (``"17.5575 in"``, ``"35 kN/mm"``); unknown keys are refused,
+curves must be monotone, and every problem is reported with its key path. What needs the
+whole geometry (a link of zero length, a wheel centre inboard of the knuckle, hardpoints
+that do not assemble, a design length outside the stops) is checked when the suspension is
+built (:mod:`drivedyn.library.vehicles.suspensions.double_wishbone`).
 
 Points are in the vehicle frame (x forward, y left, z up) [m], given relative to
 ``location`` (a point in the vehicle frame: the position of the suspension's own reference,
@@ -23,6 +24,7 @@ import numpy as np
 from pydantic import BeforeValidator, Field, model_validator
 
 import drivedyn.units as U  # noqa: N812 - short name for units
+from drivedyn.elements.framework.curves import check_table
 from drivedyn.schema_base import (
     Angle,
     Damping,
@@ -41,7 +43,9 @@ from drivedyn.schema_base import (
 
 def _table(dx: U.Dim, dy: U.Dim, what: str) -> BeforeValidator:
     """Validator of a table of ``[x, y]`` pairs (each a number in SI or a unit string of its
-    column's dimension), at least two rows; monotonicity is checked by the element."""
+    column's dimension), at least two rows, ``x`` strictly increasing and ``y`` not
+    decreasing (a spring, damper or stop curve is monotone: a falling one has points of
+    negative stiffness where the suspension would snap through)."""
 
     def conv(v: Any) -> tuple[tuple[float, float], ...]:
         if isinstance(v, np.ndarray):
@@ -53,6 +57,7 @@ def _table(dx: U.Dim, dy: U.Dim, what: str) -> BeforeValidator:
             if not isinstance(row, (list, tuple)) or len(row) != 2:
                 raise ValueError(f"row {i}: expected a pair [{what}], got {row!r}")
             out.append((U.to_si(row[0], dx), U.to_si(row[1], dy)))
+        check_table([x for x, _ in out], [y for _, y in out], f"table [{what}]")
         return tuple(out)
 
     return BeforeValidator(conv)

@@ -20,10 +20,10 @@ Parts and connections:
   :func:`~drivedyn.library.vehicles.suspensions.free_length_for_load` for the static load
   of each corner, so that the vehicle starts at its ride height;
 * **steering**: :func:`~drivedyn.library.vehicles.suspensions.add_rack_steering`, the
-  pinion angle held at ``steering.pinion_angle``;
+  pinion angle ``steering.pinion_angle`` (held, or a time function);
 * **wheels**: a rigid body per corner hinged on the corner's hub; a
   :class:`~drivedyn.elements.TyreContact` per wheel, the property file mirrored for the
-  side it was not measured on;
+  side it was not measured on (:func:`~.inputs.measured_side`);
 * **driveline**: the engine and gearbox as one shaft hinged on the frame (engine torque
   ``throttle(t) * torque * gear_ratio``, reacted on the frame) -> torsional spring-damper
   (the propeller shaft's compliance) -> rigid propeller shaft hinged on the rear carrier,
@@ -74,7 +74,7 @@ from drivedyn.elements import (
 )
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
-from drivedyn.library.vehicles.bevel_differential import build_bevel, check_bevel, check_mesh
+from drivedyn.library.vehicles.bevel_differential import build_bevel
 from drivedyn.library.vehicles.chassis import add_ladder_frame
 from drivedyn.library.vehicles.chassis.schema import CarriedBody, LadderFrameFile
 from drivedyn.library.vehicles.suspensions import (
@@ -82,27 +82,32 @@ from drivedyn.library.vehicles.suspensions import (
     add_double_wishbone,
     add_rack_steering,
     free_length_for_load,
-    load_suspensions,
 )
 from drivedyn.library.vehicles.suspensions.geometry import marker_at, marker_pose
 from drivedyn.library.vehicles.vehicle_4wd.model import (
-    FINAL_DRIVE_KEYS,
     R_AXLE,
     R_CENTRAL,
     _final_drive_geometry,
+)
+from drivedyn.library.vehicles.vehicle_rwd.inputs import (
+    SIDES,
+    axle_error,
+    check_parameters,
+    load_tyre,
+    tyre_notes,
+    vehicle_suspensions,
 )
 from drivedyn.library.vehicles.vehicle_rwd.schema import WHEELS, VehicleRWDFile
 from drivedyn.model.spec import Spec
 from drivedyn.model.subassembly import include
 from drivedyn.rotations import frame_from_axis
 from drivedyn.timefunctions import SmoothStep
-from drivedyn.tyres import Tyre, resolve_tyre
+from drivedyn.tyres import Tyre
 
 X = np.array([1.0, 0.0, 0.0])
 Y = np.array([0.0, 1.0, 0.0])
 Z = np.array([0.0, 0.0, 1.0])
 G = 9.81
-SIDES = {"l": "left", "r": "right"}
 #: bodies of the differential that carry their weight (the gears inside do not)
 CARRIED = ("housing", "case")
 
@@ -127,6 +132,7 @@ class Layout:
         tdr: (lowest, highest) analytic bench TDR of a TORSEN (None for the other types).
         frame_nodes: number of frame nodes; frame_mass: the beams' mass [kg].
         free_lengths: corner -> the spring's free length [m].
+        notes: what the user should know about the build (:func:`tyre_notes`).
     """
 
     wheels: dict[str, str] = field(default_factory=dict)
@@ -147,45 +153,7 @@ class Layout:
     frame_nodes: int = 0
     frame_mass: float = 0.0
     free_lengths: dict[str, float] = field(default_factory=dict)
-
-
-def load_tyre(p: VehicleRWDFile, base_dir: str | Path = ".", side: str | None = None) -> Tyre:
-    """The tyre of ``wheels.tyre`` (shipped name or a path relative to ``base_dir``) for a
-    wheel on ``side`` (a property file measured on the other side is mirrored)."""
-    name = p.wheels.tyre
-    path = Path(base_dir) / name
-    try:
-        return resolve_tyre(str(path) if path.exists() and not Path(name).is_absolute()
-                            else name, side)
-    except ModelError as exc:
-        text = str(exc)
-        raise ModelError(f"wheels.{text}" if text.startswith("tyre") else
-                         f"wheels.tyre = {name!r}: {text}") from None
-
-
-def check_parameters(p: VehicleRWDFile) -> None:
-    """Refuse what cannot be built, naming the key."""
-    if "body" in p.chassis.model_fields_set:
-        raise ModelError("chassis.body: the body the frame carries comes from [body] (mass, "
-                         "cg, inertia, mounts); remove [chassis.body]")
-    if p.differentials.rear in ("open", "locked", "clutch"):
-        check_bevel(p.differentials.bevel)
-    fd = p.final_drive
-    geo = _final_drive_geometry(fd)
-    check_mesh(GearPair("check", "pinion", "ring", fd.teeth_pinion, fd.teeth_ring,
-                        module=fd.module, face_width=fd.face_width,
-                        pressure_angle=fd.pressure_angle, kind="bevel",
-                        cone_angle_a=geo["cone_pinion"], cone_angle_b=geo["cone_ring"],
-                        damping_ratio=fd.damping_ratio),
-               "final_drive", FINAL_DRIVE_KEYS, fd)
-    _suspensions(p)
-
-
-def _suspensions(p: VehicleRWDFile) -> SuspensionSet:
-    try:
-        return load_suspensions(p.suspensions)
-    except ModelError as exc:
-        raise ModelError(f"suspensions = {p.suspensions!r}: {exc}") from None
+    notes: list[str] = field(default_factory=list)
 
 
 def _lifted(s: SuspensionSet, dz: float) -> SuspensionSet:
@@ -267,10 +235,10 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     Returns:
         (spec, layout).
     """
-    check_parameters(p)
+    check_parameters(p, base_dir)
     tyres = ({"l": tyre, "r": tyre} if tyre is not None else
              {k: load_tyre(p, base_dir, side) for k, side in SIDES.items()})
-    susp = _suspensions(p)
+    susp = vehicle_suspensions(p, base_dir)
     r0 = tyres["l"].unloaded_radius
     # first pass: the masses (independent of heights and free lengths)
     sp0, lay0 = _assemble(p, torsen, susp, tyres, r0, None, p.body.mass, p.body.cg)
@@ -307,6 +275,7 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
         _park(sp, lay)
     lay.static_load = loads
     lay.rolling_radius = re
+    lay.notes = tyre_notes(p, base_dir) if tyre is None else []
     return sp, lay
 
 
@@ -401,8 +370,11 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
                 update={"free_length": fl})})
             lay.free_lengths[w] = fl
         side = SIDES[w[1]]
-        corners[w] = add_double_wishbone(sp, w, side, cp, mount,
-                                         steer=rack.marker(side) if w[0] == "f" else None)
+        try:
+            corners[w] = add_double_wishbone(sp, w, side, cp, mount,
+                                             steer=rack.marker(side) if w[0] == "f" else None)
+        except ModelError as exc:
+            raise axle_error(p, "front" if w[0] == "f" else "rear", exc) from None
     # wheels and tyres
     patches = {w: tuple(RoadPatch(pa.x_start, pa.x_end, pa.mu) for pa in p.road.patches
                         if w in pa.wheels) for w in WHEELS}

@@ -1,16 +1,19 @@
 """Schema of the rear-wheel-drive vehicle model file (``library = "vehicle_rwd"``).
 
 Every value is SI or a string with units; unknown keys are refused and every problem is reported
-with its key path. What cannot be checked key by key (the suspension set, the tyre file, the
+with its key path. ``suspensions`` names the suspension set (a shipped name or a TOML file,
+relative to the model file), whose values ``[suspension_overrides]`` may replace by key
+(``suspension_overrides.front.hardpoints.wheel_center``). What cannot be checked key by key
+(the suspension set and its geometry, the steering's travel, the tyre file and its side, the
 TORSEN file, the final-drive mesh) is checked when the model is built
 (:func:`drivedyn.library.vehicles.vehicle_rwd.model.check_parameters`).
 """
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, field_validator, model_validator
 
 from drivedyn.library.differentials.schema_sections import (
     PositiveTime,
@@ -28,6 +31,7 @@ from drivedyn.library.vehicles.vehicle_4wd.schema import (
     Velocity,
 )
 from drivedyn.schema_base import (
+    Angle,
     Damping,
     Inertia,
     Length,
@@ -72,11 +76,20 @@ class SprungBody(Strict):
 class Wheels(Strict):
     """Each wheel (rim, tyre and the spindle the corner does not build) and its tyre:
     ``tyre`` is a shipped property file name or a ``.tir`` path (relative to the model
-    file); ``vertical_damping`` None keeps the file's tyre damping."""
+    file); ``vertical_damping`` None keeps the file's tyre damping.
+
+    ``tyre_side``: the side of the vehicle the tyre file was measured on, for a file without
+    ``[MODEL] TYRESIDE``: ``"left"`` or ``"right"`` (the file is mirrored for the wheels on
+    the other side) or ``"symmetric"`` (used as it is on both sides). None: the file's
+    ``TYRESIDE`` (mirrored for the other side, with a note), or, for a file without it,
+    as it is if its tyre is symmetric; a file without ``TYRESIDE`` whose tyre is not
+    symmetric, and a ``tyre_side`` that contradicts the file's ``TYRESIDE``, are refused
+    (:func:`~drivedyn.library.vehicles.vehicle_rwd.model.load_tyre`)."""
 
     mass: Mass = 71.105
     inertia: Inertia = (4.345, 7.388, 4.345)
     tyre: str = "hmmwv_pac02_37x12.5R16.5"
+    tyre_side: Literal["left", "right", "symmetric"] | None = None
     relaxation: bool = True
     vertical_damping: Damping | None = None
     low_speed_damping: float = Field(default=0.2, ge=0.0)
@@ -145,9 +158,25 @@ class Differentials(Strict):
 
 
 class Steering(Strict):
-    """The rack's pinion angle [rad], held (0: straight ahead)."""
+    """The rack's pinion angle [rad] (0: straight ahead): a number (held) or a time function
+    (``{type = "smooth_step", t0 = 1.0, t1 = 1.5, v0 = 0.0, v1 = 0.2}``, values in rad;
+    types: :func:`drivedyn.timefunctions.as_time_function`). Its rack travel (the steering
+    file's ``ratio`` times the angle) must stay within the steering file's
+    ``travel_limit``."""
 
-    pinion_angle: float = 0.0
+    pinion_angle: Angle | dict[str, Any] = 0.0
+
+    @field_validator("pinion_angle")
+    @classmethod
+    def _function(cls, v: Any) -> Any:
+        if isinstance(v, dict):
+            from drivedyn.timefunctions import as_time_function
+
+            try:
+                as_time_function(v)
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"expected a number [rad] or a time function: {exc}") from None
+        return v
 
 
 class Run(Strict):
@@ -170,6 +199,8 @@ class VehicleRWDFile(Strict):
     chassis: LadderFrameFile = Field(default_factory=LadderFrameFile)
     frame_origin: LengthVec = (-2.2, 0.0, 0.0)
     suspensions: str = "hmmwv"
+    #: values replacing the suspension file's, by its keys (``front.spring.rate``...)
+    suspension_overrides: dict[str, Any] = Field(default_factory=dict)
     body: SprungBody = Field(default_factory=SprungBody)
     wheels: Wheels = Field(default_factory=Wheels)
     road: Road = Field(default_factory=Road)
