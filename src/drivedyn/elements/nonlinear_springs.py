@@ -386,6 +386,15 @@ class NonlinearSpringDamper(TwoMarkerSpec):
             raise ModelError(f"{what_of(self)}: give spring_curve or stiffness, not both")
         self.tables()
 
+    def visuals(self) -> tuple:
+        """A coil between the markers when the element has a spring (sized by the viewer
+        from their initial distance), else a damper's tube."""
+        from drivedyn.elements.framework.visuals import coil, link
+
+        if self.spring_curve is not None or self.stiffness is not None:
+            return (coil(self.marker_a, self.marker_b, label=self.name),)
+        return (link(self.marker_a, self.marker_b, 0.0, role="damper", label=self.name),)
+
 
 @dataclass(frozen=True)
 class BumpStop(TwoMarkerSpec):
@@ -446,6 +455,16 @@ class BumpStop(TwoMarkerSpec):
                              f"force must vanish smoothly at contact onset), got "
                              f"{self.transition!r}")
         self.table()
+
+    def visuals(self) -> tuple:
+        """The stop's rubber: a stub on the line of the markers, from marker A (a
+        compression stop) or marker B (an extension stop), a fifth of their initial
+        distance long."""
+        from drivedyn.elements.framework.visuals import link
+
+        a, b = ((self.marker_a, self.marker_b) if self.side == "compression"
+                else (self.marker_b, self.marker_a))
+        return (link(a, b, 0.0, role="stop", label=self.name, fraction=0.2),)
 
 
 # --- families -----------------------------------------------------------------------------------

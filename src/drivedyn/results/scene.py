@@ -33,8 +33,8 @@ import numpy as np
 from drivedyn.model.model import Model
 
 #: roles that do not count as a body's own shape (a body with only these gets a box): a
-#: washer on a housing's face is not the housing
-_NOT_SOLID = ("joint", "force", "washer")
+#: washer on a housing's face is not the housing, a spring or bushing on an arm not the arm
+_NOT_SOLID = ("joint", "force", "washer", "spring", "damper", "stop", "bushing")
 #: opacity of the inertia boxes: stand-ins, they must not hide the declared shapes
 EQUIVALENT_OPACITY = 0.35
 

@@ -53,7 +53,8 @@ def scene_payload(scene: Scene) -> dict[str, Any]:
                    "points": _b64(p.points), "displacement": _b64(p.displacement),
                    "stress": _b64(p.stress)} for p in scene.parts],
         "links": [{"name": k.name, "a": _b64(k.a), "b": _b64(k.b), "radius": k.radius,
-                   "colour": list(k.colour)} for k in scene.links],
+                   "colour": list(k.colour), "turns": k.turns, "wire": k.wire}
+                  for k in scene.links],
         "footprints": [{"name": f.name, "centre": _b64(f.centre), "heading": _b64(f.heading),
                         "length": _b64(f.length), "width": f.width} for f in scene.footprints],
         "road": [{"mu": r.mu, "colour": list(r.colour), "tyres": r.tyres} for r in scene.road],

@@ -28,7 +28,9 @@ COLOURS = {"gear": (0.80, 0.62, 0.25), "shaft": (0.55, 0.57, 0.62), "washer": (0
            "case": (0.62, 0.66, 0.72), "housing": (0.55, 0.62, 0.70),
            "body": (0.60, 0.60, 0.66), "wheel": (0.15, 0.15, 0.17), "pin": (0.50, 0.52, 0.58),
            "chassis": (0.70, 0.20, 0.20), "part": (0.65, 0.65, 0.70), "joint": (0.1, 0.1, 0.1),
-           "force": (0.85, 0.15, 0.15), "road": (0.4, 0.4, 0.42)}
+           "force": (0.85, 0.15, 0.15), "road": (0.4, 0.4, 0.42),
+           "spring": (0.95, 0.70, 0.10), "damper": (0.35, 0.36, 0.40),
+           "stop": (0.12, 0.12, 0.12), "bushing": (0.08, 0.08, 0.08)}
 OPACITY = {"case": 0.3, "housing": 0.3, "chassis": 0.25}
 
 
@@ -86,14 +88,50 @@ class Part:
 
 @dataclass
 class Link:
-    """A tube between two moving points (a shaft joining two bodies): its ends ``a``, ``b``
-    (nf, 3) [m] in the global frame and its ``radius`` [m]."""
+    """A tube between two moving points (a shaft joining two bodies, a damper, a bump stop's
+    stub) or a coil spring: its ends ``a``, ``b`` (nf, 3) [m] in the global frame, its
+    ``radius`` [m] (a coil's: of the helix), and for a coil its ``turns`` and the ``wire``'s
+    radius [m] (``turns`` 0: a straight tube)."""
 
     name: str
     a: np.ndarray
     b: np.ndarray
     radius: float
     colour: tuple[float, float, float]
+    role: str = "shaft"
+    turns: float = 0.0
+    wire: float = 0.0
+
+
+#: sizes of the links and coils whose radius is 0, as fractions of the initial distance of
+#: their ends: a tube, a stub (a bump stop's rubber), a coil and its wire (of the coil)
+LINK_RADIUS, STUB_RADIUS, COIL_RADIUS, COIL_WIRE = 0.05, 0.08, 0.15, 0.12
+#: the lengths of a shape declared ``relative`` (fractions of the mechanism's size)
+_SIZE_KEYS = ("radius", "length", "inner_radius", "radius_end", "z0", "sx", "sy", "sz")
+
+
+def _link(s: dict, node: int, nb: int, X: np.ndarray, Rm: np.ndarray) -> Link:
+    """The :class:`Link` of a ``link`` or ``coil`` shape (sizes from its ends' initial
+    distance where it gives none; a stub's far end ``fraction`` of the way)."""
+    prm = s["params"]
+    a = _pose(node, X, Rm, np.asarray(s["position"], dtype=float))
+    b = _pose(nb, X, Rm, np.asarray(s["position_b"], dtype=float))
+    length0 = float(np.linalg.norm(b[0] - a[0]))
+    radius = float(prm.get("radius", 0.0))
+    colour = COLOURS[s["role"]]
+    if s["kind"] == "coil":
+        radius = radius or COIL_RADIUS * length0
+        wire = float(prm.get("wire", 0.0)) or COIL_WIRE * radius
+        return Link(s["label"], a, b, radius, colour, s["role"], float(prm.get("turns", 7.0)),
+                    wire)
+    fraction = prm.get("fraction")
+    if fraction:
+        d = b - a
+        n = np.linalg.norm(d, axis=1, keepdims=True)
+        reach = np.minimum(float(fraction) * length0, n)
+        b = a + d / np.maximum(n, 1e-300) * reach
+        radius = radius or STUB_RADIUS * length0
+    return Link(s["label"], a, b, radius or LINK_RADIUS * length0, colour, s["role"])
 
 
 @dataclass
@@ -292,6 +330,7 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
     index["ground"] = -1
     scene = Scene(title or str(ds.attrs.get("model_source", "drivedyn run")), t, nodes, X,
                   quaternions(Rm))
+    size = _spread(X)  # the mechanism's size: the scale of the "relative" shapes
     for s in desc.get("shapes", []):
         node = index.get(s["node"])
         if node is None:
@@ -301,19 +340,19 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
             scene.joints.append((s["label"], node, np.asarray(s["position"]),
                                  np.asarray(s["rotation"]).reshape(3, 3)))
             continue
-        if s["kind"] == "link":
+        if s["kind"] in ("link", "coil"):
             nb = index.get(s.get("node_b", ""))
             if nb is not None:
-                scene.links.append(Link(
-                    s["label"], _pose(node, X, Rm, np.asarray(s["position"], dtype=float)),
-                    _pose(nb, X, Rm, np.asarray(s["position_b"], dtype=float)),
-                    float(s["params"]["radius"]), COLOURS[s["role"]]))
+                scene.links.append(_link(s, node, nb, X, Rm))
             continue
         if s["kind"] in ("arrow", "point_force"):
             arrow = _arrow(s, ds, idx, index, X, Rm)
             if arrow is not None:
                 scene.arrows.append(arrow)
             continue
+        if s["params"].get("relative"):
+            s = {**s, "params": {k: v * size if k in _SIZE_KEYS else v
+                                 for k, v in s["params"].items()}}
         mesh = shape_mesh(s)
         if mesh is None:
             continue
@@ -329,9 +368,13 @@ def build_scene(ds: Any, frames: int = 400, title: str = "") -> Scene:
     _add_beams(scene, ds, desc, idx, index)
     _add_parts(scene, ds, idx, index)
     _add_road(scene, desc.get("road", []), index, X, Rm)
-    spread = float(np.ptp(X[0], axis=0).max()) if len(nodes) > 1 else 0.0
-    scene.length = max(spread, float(desc.get("length", 0.0)), 1e-3)
+    scene.length = max(size, float(desc.get("length", 0.0)), 1e-3)
     return scene
+
+
+def _spread(X: np.ndarray) -> float:
+    """The largest extent [m] of the nodes (nf, nn, 3) at the first frame (0 for one node)."""
+    return float(np.ptp(X[0], axis=0).max()) if X.shape[1] > 1 else 0.0
 
 
 def _pose(node: int, X: np.ndarray, Rm: np.ndarray, p: np.ndarray) -> np.ndarray:

@@ -95,16 +95,56 @@
   }
   const forceScale = fmax > 0 ? 0.4 * L / fmax : 0;
 
-  // ---- shafts between bodies: a unit cylinder (along y) placed and stretched per frame ----
+  // ---- shafts between bodies: a unit cylinder (along y) placed and stretched per frame;
+  // coil springs: a helical tube along y, reshaped when its length changes --------------
   const links = [];
   const unitCylinder = new THREE.CylinderGeometry(1, 1, 1, 16, 1, false);
+  const COIL_SEG = 20, WIRE_SEG = 8;  // segments per turn of a coil, around its wire
+  function coilGeometry(turns) {
+    const nh = Math.max(2, Math.round(turns * COIL_SEG) + 1);
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute("position", new THREE.BufferAttribute(new Float32Array(nh * WIRE_SEG * 3), 3));
+    const idx = [];
+    for (let i = 0; i < nh - 1; i++) {
+      for (let j = 0; j < WIRE_SEG; j++) {
+        const a = i * WIRE_SEG + j, b = i * WIRE_SEG + (j + 1) % WIRE_SEG;
+        idx.push(a, a + WIRE_SEG, b, b, a + WIRE_SEG, b + WIRE_SEG);
+      }
+    }
+    geo.setIndex(idx);
+    geo.userData.nh = nh;
+    return geo;
+  }
+  // the helix of radius r and `turns` turns from y = 0 to y = len, a wire of radius w
+  function shapeCoil(geo, len, r, turns, w) {
+    const P = geo.attributes.position.array, nh = geo.userData.nh;
+    const rise = len / (2 * Math.PI * turns);  // dy / dtheta
+    let k = 0;
+    for (let i = 0; i < nh; i++) {
+      const f = i / (nh - 1), th = 2 * Math.PI * turns * f, c = Math.cos(th), s = Math.sin(th);
+      let tx = -r * s, ty = rise, tz = r * c;  // tangent
+      const tn = Math.hypot(tx, ty, tz); tx /= tn; ty /= tn; tz /= tn;
+      const nx = -c, nz = -s;  // normal, towards the axis; binormal t x n
+      const bx = ty * nz, by = tz * nx - tx * nz, bz = -ty * nx;
+      for (let j = 0; j < WIRE_SEG; j++) {
+        const ph = 2 * Math.PI * j / WIRE_SEG, cp = w * Math.cos(ph), sp = w * Math.sin(ph);
+        P[k++] = r * c + cp * nx + sp * bx; P[k++] = len * f + sp * by; P[k++] = r * s + cp * nz + sp * bz;
+      }
+    }
+    geo.attributes.position.needsUpdate = true;
+    geo.computeVertexNormals();
+    geo.computeBoundingSphere();
+  }
   for (const k of D.links) {
-    const mesh = new THREE.Mesh(unitCylinder, new THREE.MeshStandardMaterial({
-      color: new THREE.Color(k.colour[0], k.colour[1], k.colour[2]), metalness: 0.3, roughness: 0.5 }));
+    const coil = k.turns > 0;
+    const mesh = new THREE.Mesh(coil ? coilGeometry(k.turns) : unitCylinder,
+      new THREE.MeshStandardMaterial({ color: new THREE.Color(k.colour[0], k.colour[1], k.colour[2]),
+        metalness: 0.3, roughness: 0.5, side: coil ? THREE.DoubleSide : THREE.FrontSide }));
     mesh.name = k.name;
     mesh.frustumCulled = false;
     scene.add(mesh);
-    links.push({ mesh: mesh, a: b64(k.a, F32), b: b64(k.b, F32), r: k.radius });
+    links.push({ mesh: mesh, a: b64(k.a, F32), b: b64(k.b, F32), r: k.radius, turns: k.turns,
+      wire: k.wire, len: -1 });
   }
 
   // ---- tyre footprints on the road: a unit square (in xy) placed per frame ---------------
@@ -266,7 +306,11 @@
       dir.set(K.b[k] - v1.x, K.b[k + 1] - v1.y, K.b[k + 2] - v1.z);
       const len = dir.length();
       K.mesh.visible = len > 0;
-      if (len > 0) {
+      if (len > 0 && K.turns > 0) {
+        K.mesh.position.copy(v1);
+        K.mesh.quaternion.setFromUnitVectors(yAxis, dir.divideScalar(len));
+        if (len !== K.len) { shapeCoil(K.mesh.geometry, len, K.r, K.turns, K.wire); K.len = len; }
+      } else if (len > 0) {
         K.mesh.position.copy(v1).addScaledVector(dir, 0.5);
         K.mesh.quaternion.setFromUnitVectors(yAxis, dir.divideScalar(len));
         K.mesh.scale.set(K.r, len, K.r);

@@ -232,6 +232,18 @@ class Bushing(TwoMarkerSpec):
     def validate(self) -> None:
         self.laws()
 
+    #: the bushing's shape: radius and length as fractions of the mechanism's size
+    VISUAL_SIZE: ClassVar[tuple[float, float]] = (0.006, 0.012)
+
+    def visuals(self) -> tuple:
+        """A small rubber cylinder on the bushing frame (marker A; its axis the frame's z),
+        sized to the mechanism (:attr:`VISUAL_SIZE`)."""
+        from drivedyn.elements.framework.visuals import cylinder
+
+        r, length = self.VISUAL_SIZE
+        return (cylinder(self.marker_a, r, length, role="bushing", label=self.name,
+                         relative=True),)
+
     def dynamic_stiffness(self, axis: str, omega: float, rotational: bool = False) -> complex:
         """The complex stiffness ``K*(omega)`` [N/m or N m/rad] of one axis about zero
         deflection: ``k + i omega c + sum_b k_b (i omega tau_b)/(1 + i omega tau_b)``, ``k``

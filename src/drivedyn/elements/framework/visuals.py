@@ -14,7 +14,9 @@ Kinds and their parameters (all lengths in metres, angles in radians):
 
 - ``"cylinder"``: ``radius``, ``length``, ``inner_radius`` (0: solid; > 0: tube, washer),
   ``radius_end`` (the radius at +z: a cone frustum), ``z0`` (the start along z; default
-  ``-length/2``: centred on the marker).
+  ``-length/2``: centred on the marker), ``relative`` (1: the lengths are fractions of the
+  mechanism's size, the largest spread of its nodes at the start: a bushing drawn to the
+  scale of whatever it sits in).
 - ``"gear"``: ``teeth``, ``pitch_radius``, ``face_width``, ``module`` (normal),
   ``helix_angle`` (signed: right hand > 0), ``internal`` (1: a ring gear, teeth inward),
   ``cone_angle`` (bevel: pitch cone half-angle; 0: cylindrical).
@@ -32,7 +34,12 @@ Kinds and their parameters (all lengths in metres, angles in radians):
   ``marker_b`` towards the marker (the bore pushing the pin back).
 - ``"link"``: ``radius``: a tube from the marker's origin to ``marker_b``'s origin, redrawn
   at every frame (a shaft between two bodies: a half-shaft from its differential output to
-  the wheel hub).
+  the wheel hub, a damper); radius 0: a twentieth of the markers' initial distance.
+  ``fraction`` (optional): only a stub of that fraction of the initial distance from the
+  marker towards ``marker_b`` (a bump stop's rubber; radius 0: 0.08 of the distance).
+- ``"coil"``: ``radius`` (of the coil; 0: 0.15 of the markers' initial distance),
+  ``turns``, ``wire`` (the wire's radius; 0: 0.12 of the coil's): a helical coil spring from
+  the marker's origin to ``marker_b``'s, stretched with them at every frame.
 """
 
 from __future__ import annotations
@@ -40,9 +47,9 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-KINDS = ("cylinder", "gear", "box", "sphere", "axes", "arrow", "point_force", "link")
+KINDS = ("cylinder", "gear", "box", "sphere", "axes", "arrow", "point_force", "link", "coil")
 ROLES = ("gear", "shaft", "washer", "case", "housing", "body", "wheel", "joint", "force",
-         "chassis", "pin", "part")
+         "chassis", "pin", "part", "spring", "damper", "stop", "bushing")
 
 
 @dataclass(frozen=True)
@@ -110,11 +117,14 @@ def _params(**kw: float | None) -> tuple[tuple[str, float], ...]:
 
 def cylinder(marker: str, radius: float, length: float, *, role: str = "shaft",
              inner_radius: float = 0.0, radius_end: float | None = None,
-             z0: float | None = None, label: str = "", opacity: float | None = None) -> Visual:
-    """A solid or hollow cylinder (or cone frustum) along the marker's z axis [m]."""
+             z0: float | None = None, label: str = "", opacity: float | None = None,
+             relative: bool = False) -> Visual:
+    """A solid or hollow cylinder (or cone frustum) along the marker's z axis [m]; with
+    ``relative`` the lengths are fractions of the mechanism's size."""
     return Visual(marker, "cylinder", role,
                   _params(radius=radius, length=length, inner_radius=inner_radius,
-                          radius_end=radius_end, z0=z0), label=label, opacity=opacity)
+                          radius_end=radius_end, z0=z0, relative=1.0 if relative else None),
+                  label=label, opacity=opacity)
 
 
 def gear(marker: str, teeth: int, pitch_radius: float, face_width: float, module: float, *,
@@ -160,7 +170,18 @@ def point_force(marker: str, marker_b: str, variable: str, reach: float, *,
 
 
 def link(marker: str, marker_b: str, radius: float, *, role: str = "shaft",
-         label: str = "") -> Visual:
-    """A tube of ``radius`` [m] from the origin of ``marker`` to the origin of ``marker_b``,
-    following both at every frame (a shaft joining two bodies)."""
-    return Visual(marker, "link", role, _params(radius=radius), label=label, marker_b=marker_b)
+         label: str = "", fraction: float | None = None) -> Visual:
+    """A tube of ``radius`` [m] (0: sized by the viewer) from the origin of ``marker`` to the
+    origin of ``marker_b``, following both at every frame (a shaft joining two bodies); with
+    ``fraction`` only a stub of that fraction of their initial distance from ``marker``."""
+    return Visual(marker, "link", role, _params(radius=radius, fraction=fraction), label=label,
+                  marker_b=marker_b)
+
+
+def coil(marker: str, marker_b: str, radius: float = 0.0, *, turns: float = 7.0,
+         wire: float = 0.0, role: str = "spring", label: str = "") -> Visual:
+    """A helical coil spring of ``radius`` [m] with ``turns`` turns of a wire of radius
+    ``wire`` [m] (0: sized by the viewer from the markers' initial distance) between the
+    origins of ``marker`` and ``marker_b``, stretched with them at every frame."""
+    return Visual(marker, "coil", role, _params(radius=radius, turns=turns, wire=wire),
+                  label=label, marker_b=marker_b)

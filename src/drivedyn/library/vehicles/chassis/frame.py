@@ -20,12 +20,15 @@ from typing import Any
 import numpy as np
 
 from drivedyn.elements.beams.family import GeometricallyExactBeam, section_frame
+from drivedyn.elements.framework.visuals import link, sphere
 from drivedyn.elements.joints import Fixed
 from drivedyn.errors import ModelError
 from drivedyn.library.vehicles.chassis.body import carriers
 from drivedyn.library.vehicles.chassis.schema import LadderFrameFile
 from drivedyn.model.spec import Spec
 
+#: the viewer's shape of a body carrier: a ball of this radius [m] on a post of this radius
+CARRIER_BALL, CARRIER_POST = 0.06, 0.012
 #: section orientation (global vector of the section's y axis): rails and cross members
 #: have their section y horizontal and z vertical (``width`` across, ``height`` up)
 RAIL_ORIENTATION = (0.0, 1.0, 0.0)
@@ -184,4 +187,9 @@ def _add_body(sp: Spec, frame: Frame, p: LadderFrameFile, xs: np.ndarray) -> Non
                       rotation=nd.rotation.T)
         frame.joints.append(sp.add(Fixed(f"{name}.fix", f"{name}.mount", f"{name}.seat")).name)
         frame.carriers.append(name)
+        # drawn as a ball on a post from its rail node (not as its large inertia box)
+        sp.add_marker(f"{name}.rail", node)
+        sp.add_visual(link(f"{name}.rail", f"{name}.seat", CARRIER_POST, role="body",
+                           label=name))
+        sp.add_visual(sphere(f"{name}.seat", CARRIER_BALL, role="body", label=name))
         frame.body_mass += c.mass

@@ -72,6 +72,7 @@ from drivedyn.elements import (
     TyreContact,
     Universal,
 )
+from drivedyn.elements.framework.visuals import box, cylinder, link
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
 from drivedyn.library.vehicles.bevel_differential import build_bevel
@@ -404,6 +405,7 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     ca = p.carrier
     sp.add_rigid_body("carrier", ca.mass, ca.inertia, position=centre)
     sp.add_marker("carrier_seat", "carrier")
+    sp.add_visual(box("carrier_seat", 0.35, 0.45, 0.4, role="case", label="carrier"))
     sp.add(Fixed("carrier_fix", mount("carrier_mount", centre), "carrier_seat"))
     v0 = p.body.speed
     w_wheel = v0 / rolling_radius
@@ -450,6 +452,9 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
                                            frame_from_axis(X)),
                                  stiffness=sh.propshaft_stiffness, damping=sh.propshaft_damping))
     marker_at(sp, "rear_pinion", "propshaft", pin_pos, frame_from_axis(X))
+    sp.add_visual(link("prop_front", "prop_rear", 0.035, label="propshaft"))  # 70 mm tube
+    sp.add_visual(cylinder("engine_out", 0.05, 0.3, label="engine_shaft"))
+    sp.add_visual(box(eng_mount, 0.55, 0.6, 1.1, role="case", label="engine and gearbox"))
     ring = centre - fd_geo["d_ring"] * Y  # the ring on the -y side drives forward
     marker_at(sp, "rear_ring", lay.housing, ring, frame_from_axis(Y))
     sp.add(GearPair("rear_bevel", "rear_pinion", "rear_ring", fd.teeth_pinion, fd.teeth_ring,
@@ -485,6 +490,8 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
         sp.add(Universal(f"{hs}_outer", marker_at(sp, f"{pl}_out", pl, c_w, Rp),
                          marker_at(sp, f"{hs}_wheel", lay.wheels[w], c_w, Rw)))
         lay.drives[w] = f"{hs}_outer"
+        sp.add_visual(link(f"{hs}_in", f"{hs}_out", 0.015, label=hs))  # 30 mm shaft
+        sp.add_visual(cylinder(f"{pl}_in", 0.04, 0.08, label=pl))  # the plunging joint's can
     # the gears inside the differential carry no weight: a lift cancels it
     for b in diff_bodies if lift else ():
         if b.split("_", 1)[1] in CARRIED:
