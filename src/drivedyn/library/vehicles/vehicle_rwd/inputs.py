@@ -71,6 +71,7 @@ def measured_side(p: VehicleRWDFile, base_dir: str | Path = ".") -> str | None:
     name, given = p.wheels.tyre, p.wheels.tyre_side
     try:
         in_file = file_side(parse_tir(path))
+        tyre = read_tir(path) if in_file is None and given is None else None
     except ModelError as exc:
         raise ModelError(f"wheels.tyre = {name!r}: {exc}") from None
     if in_file is not None:
@@ -83,8 +84,8 @@ def measured_side(p: VehicleRWDFile, base_dir: str | Path = ".") -> str | None:
         return in_file
     if given is not None:
         return given
-    asym = side_asymmetry(read_tir(path))
-    if asym > SYMMETRY_TOLERANCE:
+    asym = side_asymmetry(tyre)
+    if not asym <= SYMMETRY_TOLERANCE:
         raise ModelError(
             f"wheels.tyre = {name!r}: the file gives no [MODEL] TYRESIDE and its tyre is not "
             f"symmetric (mirrored, its lateral force or aligning moment changes by "
@@ -199,7 +200,7 @@ def _check_steering(p: VehicleRWDFile, s: SuspensionSet) -> None:
     st = s.steering
     travel = st.ratio * as_time_function(p.steering.pinion_angle)
     peak, t_peak = peak_magnitude(travel)
-    if peak > st.travel_limit * (1.0 + 1e-12):
+    if not peak <= st.travel_limit * (1.0 + 1e-12):  # NaN too
         raise ModelError(f"steering.pinion_angle = {p.steering.pinion_angle!r}: pinion angle "
                          f"{peak / st.ratio:.6g} rad (rack travel {peak:.6g} m) at t = "
                          f"{t_peak:g} s exceeds the rack's travel_limit = "
