@@ -67,7 +67,8 @@ def rwd_static_loads(quick: bool = False, figure_dir: str | None = None) -> list
 @register_case("rwd_split_mu")
 def rwd_split_mu(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """See the module docstring (quick: the open differential only). Mutations that fail
-    it: a TORSEN with the pockets' friction halved (the ratio drops by about 10 %); a bevel
+    it: the vehicle's TORSEN built with its pockets' friction halved while the reference
+    keeps the file's (the ratio drops by about 10 %); a bevel
     differential whose spiders are pinned (a locked differential: the torques differ by a
     factor 1.7); the engine shaft left out of the driveline's kinetic energy in the power
     balance (it holds most of it), or the TORSEN's friction and film losses left out of the
