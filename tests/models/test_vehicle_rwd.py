@@ -80,6 +80,59 @@ def test_open_differential_splits_evenly_on_split_mu():
     assert all(c[3] for c in V.checks(s))
 
 
+def test_power_balance_names_the_driveline_terms():
+    """The driveline power balance of a short open launch holds within 1e-3 (validation:
+    0.5 %), and it is not blind: leaving the engine shaft out of the driveline's kinetic
+    energy (the mutation of ``rwd_split_mu``'s docstring) breaks it by far more than 1 %.
+    Mutation: drop the ``- w_c.h`` term or the wheels' work -> the first assertion fails."""
+    p, torsen = _params("open")
+    res, lay = V.run(p, torsen, MODELS_DIR)
+    assert res.success, res.message
+    t = res.time
+    i0, i1 = (int(i) for i in np.flatnonzero(t >= p.run.window[0] - 1e-12)[[0, -1]])
+    pb, w_eng = V.power_balance(res, lay, i0, i1)
+    assert w_eng > 0.0
+    assert pb <= 1e-3
+    h = res.values("engine_shaft.angular_momentum")
+    w = res.values("engine_shaft.angular_velocity")
+    k_engine = 0.5 * float(w[i1] @ h[i1] - w[i0] @ h[i0])
+    assert abs(k_engine) > 0.01 * w_eng  # what the mutation would leave out
+
+
+def test_validation_cases_pass_quick():
+    """The registered cases ``rwd_static_loads`` and ``rwd_split_mu`` (quick: the open
+    differential) pass. Mutation: count the tyre loads of three wheels in
+    ``analysis.vehicle_rwd.static`` -> the sum check fails."""
+    from drivedyn.validation import base
+
+    for name in ("rwd_static_loads", "rwd_split_mu"):
+        results = base.CASES[name](quick=True)
+        assert results and all(r.source for r in results)
+        assert all(r.passed for r in results), [(r.quantity, r.simulated) for r in results
+                                                if not r.passed]
+
+
+def test_run_starts_from_the_static_equilibrium():
+    """``drivedyn run vehicle-rwd`` (``load_model``) starts from the parked vehicle's static
+    shape, not the built one: the frame's nodes sit where :func:`static_start` puts them
+    (the frame sags by millimetres under the body). Mutation: drop ``INITIAL_STATE`` from
+    the vehicle module -> the model starts from the built shape and the positions differ."""
+    from drivedyn.config import load_model
+    from drivedyn.library.vehicles.vehicle_rwd import static_start
+
+    model = load_model("vehicle-rwd", SHORT)
+    p, torsen = _params("torsen-b")
+    spec, lay = vehicles.get("vehicle-rwd").build_spec(p, torsen, MODELS_DIR)
+    from drivedyn.model.compile import compile_model
+
+    built = compile_model(spec)
+    ref = static_start(p, torsen, MODELS_DIR, built, lay)
+    frame = [i for n, i in model.node_index.items() if n.startswith("frame.")]
+    assert np.allclose(model.state0.x, ref.x, atol=1e-12)
+    sag = np.max(np.abs(model.state0.x[frame, 2] - built.state0.x[frame, 2]))
+    assert 1e-3 < sag < 0.05
+
+
 @pytest.mark.slow  # about 20 s: the TORSEN's gears make its launch the dearest run here
 def test_torsen_b_ratio_within_its_tdr():
     """Mutation: set the TORSEN file's friction coefficients to zero (``--set`` of its

@@ -22,13 +22,14 @@ Checks (:func:`checks`, the issue's acceptance criteria):
 from __future__ import annotations
 
 import math
-import time
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from drivedyn.analysis import vehicle_runs
 from drivedyn.library.vehicles.vehicle_4wd import Layout, Vehicle4WDFile, build_spec
 from drivedyn.library.vehicles.vehicle_4wd.configurations import CONFIGS, config_name
 from drivedyn.library.vehicles.vehicle_4wd.schema import WHEELS
@@ -331,16 +332,10 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
 
 def compare(p: Vehicle4WDFile, torsen: dict, configs: list[str], base_dir: str | Path = ".",
             t_end: float | None = None, progress=None) -> list[tuple[Summary, Any]]:
-    """Run the same vehicle with each configuration: [(summary, results)]."""
-    out = []
-    for c in configs:
-        q = configure(p, c)
-        t0 = time.perf_counter()
-        res, lay = run(q, torsen, base_dir, t_end=t_end, progress=progress)
-        s = summarize(res, lay, q.run.window)
-        s.wall = time.perf_counter() - t0
-        out.append((s, res))
-    return out
+    """The same vehicle with each configuration: [(summary, results)]
+    (:func:`drivedyn.analysis.vehicle_runs.compare`)."""
+    return vehicle_runs.compare(sys.modules[__name__], p, torsen, configs, base_dir,
+                                t_end=t_end, progress=progress)
 
 
 def table(summaries: list[Summary]) -> str:

@@ -13,11 +13,25 @@ Checks:
 * ``open``: the rear wheel torques are equal within 1 %;
 * ``torsen-b``: the rear torque ratio (high / low) lies within the differential's analytic
   TDR range (+2 %), and the wheel with more grip gets more torque;
-* ``locked``: the wheel with more grip gets more torque.
+* ``locked``: the wheel with more grip gets more torque;
+* every launch: the driveline's power balance over the window (engine = rear wheels +
+  driveline dissipation + rate of driveline kinetic energy, 0.5 %) and the model's energy
+  audit (1 %).
+
+The driveline power balance is written relative to the rear carrier: the engine's power is
+its torque times the shaft's speed relative to its mount on the frame (the engine torque
+element and its reaction, ``engine.power + engine_reaction.power``), a rear wheel's power
+the outboard joint's torque on the wheel times the wheel's angular velocity relative to its
+upright, and the driveline's kinetic energy ``sum(w.h/2 - w_c.h)`` over its bodies (engine
+and propeller shafts, the differential's bodies, half-shafts and plungers) with ``w_c`` the
+carrier's angular velocity. The bearings carry the driveline along with the vehicle; the
+work they do in that (translation, the frame's pitch and roll) is left out, and it is what
+the balance's error measures besides the integration's.
 """
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,9 +39,11 @@ from typing import Any
 
 import numpy as np
 
+from drivedyn.analysis import vehicle_runs
 from drivedyn.library.vehicles.vehicle_rwd import Layout, VehicleRWDFile, build_spec
 from drivedyn.library.vehicles.vehicle_rwd.configurations import CONFIGS, config_name
 from drivedyn.library.vehicles.vehicle_rwd.schema import WHEELS
+from drivedyn.library.vehicles.vehicle_rwd.static_start import static_start
 
 G = 9.81
 SCENARIOS = ("static", "split-mu-launch")
@@ -77,6 +93,9 @@ class LaunchSummary:
     steps: int = 0
     rejected: int = 0
     unknowns: int = 0
+    newton: int = 0
+    power_balance: float = float("nan")
+    energy_error: float = float("nan")
     history: dict[str, list[float]] = field(default_factory=dict)
 
     @property
@@ -157,97 +176,6 @@ def run(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     return res, lay
 
 
-def _minimal_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The rotation turning unit vector ``a`` onto unit vector ``b`` about their normal."""
-    c = float(a @ b)
-    k = np.cross(a, b)
-    s = float(np.linalg.norm(k))
-    if s < 1e-15:
-        return np.eye(3)
-    k /= s
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + s * K + (1.0 - c) * K @ K
-
-
-def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: Any,
-                 lay: Layout) -> Any:
-    """The initial state of ``model`` moved to the static equilibrium of the parked vehicle
-    (:func:`static`'s solution), so that a run does not begin with the frame springing back
-    from its unloaded shape (it sags by 10 mm under the body).
-
-    Every body and node the two models share takes its static position and orientation,
-    except the differential's (``rear_*``: they move rigidly with the rear carrier, since a
-    TORSEN is solved as the open differential) and the half-shafts and plungers (turned
-    about their inner joint so that the shaft reaches its wheel's static centre; the plunger
-    slides). Velocities stay the model's own (the vehicle's speed, the wheels' spins)."""
-    from drivedyn.model.compile import compile_model
-    from drivedyn.solver.statics import solve_static
-
-    q = p.model_copy(update={"engine": p.engine.model_copy(update={"throttle": 0.0})})
-    if q.differentials.rear == "torsen-b":
-        q = configure(q, "open")
-    spec_s, _ = build_spec(q, torsen, base_dir, parked=True)
-    ms = compile_model(spec_s)
-    ss = solve_static(ms, max_iter=100)
-    s0 = ms.initial_state()
-    st = model.initial_state()
-    x0 = st.x.copy()
-    R0 = st.R.copy()
-    jc = ms.node_index["carrier"]
-    Qc = ss.R[jc] @ s0.R[jc].T
-
-    def carried(point: np.ndarray) -> np.ndarray:
-        return ss.x[jc] + Qc @ (point - s0.x[jc])
-
-    def axis(node: int, marker: str, col: int) -> np.ndarray:
-        return st.R[node] @ model.marker_frames[marker][2][:, col]
-
-    rigid = ("rear_", "carrier", "propshaft")  # on the carrier, spins kept
-    for name, i in model.node_index.items():
-        if name.startswith(rigid):
-            st.x[i] = carried(x0[i])
-            st.R[i] = Qc @ R0[i]
-        elif not name.startswith(("halfshaft_", "plunger_", "wheel_", "frame.body.")) \
-                and name in ms.node_index:
-            j = ms.node_index[name]  # the static displacement (the models may differ a little)
-            st.x[i] = x0[i] + ss.x[j] - s0.x[j]
-            st.R[i] = ss.R[j] @ s0.R[j].T @ R0[i]
-    for name, i in model.node_index.items():  # the body's carriers: rigid with their node
-        if name.startswith("frame.body.") and f"{name}.mount" in model.marker_frames:
-            n = model.marker_frames[f"{name}.mount"][0]
-            Qn = st.R[n] @ R0[n].T
-            st.x[i] = st.x[n] + Qn @ (x0[i] - x0[n])
-            st.R[i] = Qn @ R0[i]
-    for w in WHEELS:  # the wheels turn with their uprights (their spins kept)
-        wh = model.node_index[lay.wheels[w]]
-        up = model.marker_frames[f"{lay.wheels[w]}_bearing_hub"][0]
-        st.R[wh] = st.R[up] @ R0[up].T @ R0[wh]
-        st.x[wh] = ss.x[ms.node_index[lay.wheels[w]]]
-    for w in lay.drives:
-        hs, pl, wh = (model.node_index[n] for n in (f"halfshaft_{w}", f"plunger_{w}",
-                                                    lay.wheels[w]))
-        p_in = x0[hs] + R0[hs] @ model.marker_frames[f"halfshaft_{w}_in"][1]
-        p_in_new = carried(p_in)
-        outer_new = st.x[wh] + (x0[pl] - x0[wh])
-        a_old = Qc @ (x0[pl] - p_in) / np.linalg.norm(x0[pl] - p_in)
-        a_new = (outer_new - p_in_new) / np.linalg.norm(outer_new - p_in_new)
-        # with the carrier (the inner joint's cross stays square), then onto the wheel
-        Q = _minimal_rotation(a_old, a_new) @ Qc
-        st.x[hs] = p_in_new + Q @ (x0[hs] - p_in)
-        st.R[hs] = Q @ R0[hs]
-        st.x[pl] = outer_new
-        st.R[pl] = Q @ R0[pl]
-        # the wheel's spin angle that keeps the outer joint's cross square
-        u = axis(pl, f"plunger_{w}_out", 0)
-        k = st.R[wh][:, 2]
-        v = axis(wh, f"halfshaft_{w}_wheel", 1)
-        th = np.arctan2(-(u @ v), u @ np.cross(k, v))
-        c, s_ = np.cos(th), np.sin(th)
-        K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-        st.R[wh] = (np.eye(3) + s_ * K + (1.0 - c) * K @ K) @ st.R[wh]
-    return st
-
-
 def drive_torque(res: Any, lay: Layout, w: str) -> np.ndarray:
     """Drive torque [N m] of rear wheel ``w`` per sample (see the module docstring)."""
     tq = np.stack([res.values(f"{lay.drives[w]}.torque_{c}") for c in "xyz"], axis=1)
@@ -280,11 +208,54 @@ def summarize(res: Any, lay: Layout, window: tuple[float, float]) -> LaunchSumma
     tl, tr = wheels["rl"].torque, wheels["rr"].torque
     v = res.values(f"{lay.wheels['fl']}.velocity")[:, 0]
     st = res.stats
+    i0, i1 = np.flatnonzero(sel)[[0, -1]]
+    pb, _ = power_balance(res, lay, int(i0), int(i1))
+    wi = res.values("energy.work_in")[i1]
+    ee = abs(res.values("energy.balance_error")[i1]) / max(abs(wi), 1e-12)
     return LaunchSummary(
         rear=lay.rear_type, wheels=wheels, speed=float(v[np.flatnonzero(sel)[-1]]),
         axle_ratio={"rear": _ratio(tl, tr)}, left_share=tl / (tl + tr) if tl + tr else np.nan,
         tdr=lay.tdr, wall=st.wall_s, steps=st.steps, rejected=st.rejected,
-        unknowns=int(getattr(res, "neq", 0)), history=hist)
+        unknowns=int(getattr(res, "neq", 0)), newton=st.newton_iterations,
+        power_balance=pb, energy_error=float(ee), history=hist)
+
+
+#: name prefixes of the driveline's bodies and elements (see the module docstring)
+DRIVELINE = ("engine", "prop", "rear_", "halfshaft_", "plunger_")
+
+
+def _integral(res: Any, p: np.ndarray, i0: int, i1: int) -> float:
+    return float(np.trapezoid(p[i0:i1 + 1], res.time[i0:i1 + 1]))
+
+
+def power_balance(res: Any, lay: Layout, i0: int, i1: int) -> tuple[float, float]:
+    """The driveline's power balance between samples ``i0`` and ``i1`` (see the module
+    docstring): (|W_engine - W_wheels - D_driveline - dK_driveline| / |W_engine|, W_engine
+    [J])."""
+    names = [str(n) for n in res.dataset.data_vars]
+    w_eng = _integral(res, res.values(f"{lay.engine}.power")
+                      + res.values(f"{lay.engine}_reaction.power"), i0, i1)
+    w_wheels = 0.0
+    for w, joint in lay.drives.items():
+        m = np.stack([res.values(f"{joint}.torque_{c}") for c in "xyz"], axis=1)
+        w_rel = (res.values(f"{lay.wheels[w]}.angular_velocity")
+                 - res.values(f"{lay.uprights[w]}.angular_velocity"))
+        w_wheels += _integral(res, np.einsum("ij,ij->i", m, w_rel), i0, i1)
+    d_dl = sum(float(res.values(n)[i1] - res.values(n)[i0]) for n in names
+               if n.endswith(".dissipated_energy") and n.startswith(DRIVELINE))
+    bodies = [n[:-len(".angular_momentum")] for n in names
+              if n.endswith(".angular_momentum") and n.startswith(DRIVELINE)]
+    w_c = res.values("carrier.angular_velocity")
+
+    def kinetic(i: int) -> float:
+        k = 0.0
+        for b in bodies:
+            w, h = res.values(f"{b}.angular_velocity")[i], res.values(f"{b}.angular_momentum")[i]
+            k += 0.5 * float(w @ h) - float(w_c[i] @ h)
+        return k
+
+    err = w_eng - w_wheels - d_dl - (kinetic(i1) - kinetic(i0))
+    return (abs(err) / abs(w_eng) if w_eng else float("nan")), w_eng
 
 
 def _ratio(a: float, b: float) -> float:
@@ -310,21 +281,19 @@ def checks(s: LaunchSummary, tol: float = 0.02) -> list[tuple[str, float, float,
         lim = s.tdr[1] * (1 + tol)
         r = s.axle_ratio["rear"]
         out.append(("torsen-b: rear torque ratio within the analytic TDR", r, lim, r <= lim))
+    out.append((f"{s.name}: driveline power balance", s.power_balance, 5e-3,
+                s.power_balance <= 5e-3))
+    out.append((f"{s.name}: energy audit (balance error / work in)", s.energy_error, 1e-2,
+                s.energy_error <= 1e-2))
     return out
 
 
 def compare(p: VehicleRWDFile, torsen: dict, configs: list[str], base_dir: str | Path = ".",
             t_end: float | None = None, progress=None) -> list[tuple[LaunchSummary, Any]]:
-    """The same launch with each configuration: [(summary, results)]."""
-    out = []
-    for c in configs:
-        q = configure(p, c)
-        t0 = time.perf_counter()
-        res, lay = run(q, torsen, base_dir, t_end=t_end, progress=progress)
-        s = summarize(res, lay, q.run.window)
-        s.wall = time.perf_counter() - t0
-        out.append((s, res))
-    return out
+    """The same vehicle with each configuration: [(summary, results)]
+    (:func:`drivedyn.analysis.vehicle_runs.compare`)."""
+    return vehicle_runs.compare(sys.modules[__name__], p, torsen, configs, base_dir,
+                                t_end=t_end, progress=progress)
 
 
 def table(summaries: list[LaunchSummary]) -> str:
@@ -349,6 +318,7 @@ __all__ = [
     "config_name",
     "configure",
     "drive_torque",
+    "power_balance",
     "run",
     "static",
     "static_checks",

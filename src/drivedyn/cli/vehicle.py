@@ -22,7 +22,6 @@ from drivedyn.cli.common import (
     bad_input,
     check_output_path,
     console,
-    err,
     jsonable,
 )
 
@@ -57,12 +56,11 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         drivedyn vehicle --set body.speed=2 --set run.window=[0.5,0.8] --t-end 0.8
     """
     import drivedyn.analysis.vehicle_4wd as V  # noqa: N812 - short name for the analysis
-    from drivedyn.cli.progress import progress_bar
+    from drivedyn.cli.vehicle_runs import check_dicts, print_checks, simulate_configurations
     from drivedyn.config import ModelFileError, UnitError, read_library_file
     from drivedyn.config.loader import read_vehicle_differentials, resolve_path
     from drivedyn.library import vehicles
     from drivedyn.model.spec import ModelError
-    from drivedyn.results.results import write_netcdf_atomic
 
     check_output_path(out, "--out", directory=True)
     source = model_file
@@ -104,35 +102,16 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         bad_input(f"{source}: run.window = {list(p.run.window)} s holds fewer than 3 of the "
                   f"samples recorded every {V.OUTPUT_DT * 1e3:g} ms (the window means need "
                   "3); widen it")
-    summaries, runs, failed = [], [], False
     outputs = OutputFiles()  # a folder that refuses the results now: they go to a fallback
-    for q in variants:
-        label = V.config_name(q)
-        err(f"simulating {p.model.name} [{label}] to t = {t_final:g} s")
-        try:
-            with progress_bar(t_final) as cb:
-                res, lay = V.run(q, torsen, base, t_end=t_final, progress=cb,
-                                 source=source, overrides=list(sets))
-        except ModelError as exc:
-            bad_input(f"{source}: {exc}")
-        if out is not None:
-            name = f"{p.model.name}-{label}" + (".nc" if res.success else ".partial.nc")
-            outputs.write(lambda d, res=res, name=name: write_netcdf_atomic(res.dataset, d / name),
-                          out, "--out", directory=True)
-        if not res.success:
-            err(f"[{label}] FAILED: {res.message}")
-            failed = True
-            continue
-        s = V.summarize(res, lay, q.run.window)
-        summaries.append(s)
-        runs.append((label, res))
+    summaries, runs, failed = simulate_configurations(
+        V, p.model.name, variants, torsen, base, t_final, lambda q: q.run.window, source,
+        sets, out, outputs)
     results = [{"configuration": s.name, "wheels": {w: vars(x) for w, x in s.wheels.items()},
                 "front_share": s.front_share, "axle_ratio": s.axle_ratio,
                 "central_ratio": s.central_ratio, "traction": s.traction, "speed": s.speed,
                 "torque_balance": s.torque_balance, "power_balance": s.power_balance,
                 "energy_error": s.energy_error, "wall": s.wall, "steps": s.steps,
-                "checks": [dict(zip(("check", "value", "limit", "passed"), c, strict=True))
-                           for c in V.checks(s)]} for s in summaries]
+                "checks": check_dicts(V.checks(s))} for s in summaries]
     ok = not failed and all(c["passed"] for r in results for c in r["checks"])
     if out is not None and runs:
         from drivedyn.plots.vehicle_4wd import comparison_figure, save, wheel_torques_figure
@@ -148,10 +127,7 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         con = console()
         con.print(f"window {p.run.window[0]:g}-{p.run.window[1]:g} s (means)\n")
         con.print(V.table(summaries))
-        for s in summaries:
-            for name, value, limit, passed in V.checks(s):
-                mark = "ok  " if passed else "FAIL"
-                con.print(f"  {mark} {name}: {value:.4g} (limit {limit:.4g})")
+        print_checks(con, V, summaries)
         if out is not None:
             where = outputs.path(out)
             con.print(f"\nresults and figures: {out}"

@@ -12,11 +12,6 @@ import click
 
 from drivedyn.cli.common import EXIT_FAILED, OutputFiles, bad_input, console, err, jsonable
 
-
-def _check_dicts(checks: list[tuple[str, float, float, bool]]) -> list[dict[str, Any]]:
-    return [dict(zip(("check", "value", "limit", "passed"), c, strict=True)) for c in checks]
-
-
 #: interval [s] of the rear wheel torques' time history in the JSON output
 HISTORY_DT = 0.05
 
@@ -38,13 +33,12 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
     """Run ``scenario`` of the RWD vehicle ``p`` (read from ``source``); print a table or
     one JSON object; exit 1 when a run fails or a check does not pass, 2 on bad input."""
     import drivedyn.analysis.vehicle_rwd as V  # noqa: N812 - short name for the analysis
-    from drivedyn.cli.progress import progress_bar
+    from drivedyn.cli.vehicle_runs import check_dicts, print_checks, simulate_configurations
     from drivedyn.config import ModelFileError, UnitError
     from drivedyn.config.loader import read_vehicle_differentials, resolve_path
     from drivedyn.library.vehicles.vehicle_rwd import check_parameters, tyre_notes
     from drivedyn.model.spec import ModelError
     from drivedyn.plots.dashboard import save_dashboard
-    from drivedyn.results.results import write_netcdf_atomic
     from drivedyn.solver.statics import StaticsError
 
     scenario = scenario or "split-mu-launch"
@@ -82,7 +76,7 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
                             "loads": s.loads, "rear_share": s.rear_share,
                             "rear_share_cg": s.rear_share_cg, "unknowns": s.unknowns,
                             "wall": s.wall, "note": s.note,
-                            "checks": _check_dicts(V.static_checks(s))})
+                            "checks": check_dicts(V.static_checks(s))})
         ok = all(c["passed"] for r in results for c in r["checks"])
         if as_json:
             click.echo(json.dumps(jsonable({"model": p.model.name, "scenario": scenario,
@@ -108,34 +102,19 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
             f"the means are taken over {window[0]:g}-{window[1]:g} s")
     else:
         window = p.run.window
-    summaries, failed = [], False
     outputs = OutputFiles()
-    for q in variants:
-        label = V.config_name(q)
-        err(f"simulating {p.model.name} [{label}] {scenario} to t = {t_final:g} s")
-        try:
-            with progress_bar(t_final) as cb:
-                res, lay = V.run(q, torsen, base, t_end=t_final, progress=cb, source=source,
-                                 overrides=list(sets))
-        except ModelError as exc:
-            bad_input(f"{source}: {exc}")
-        if out is not None:
-            name = f"{p.model.name}-{label}" + (".nc" if res.success else ".partial.nc")
-            outputs.write(lambda d, res=res, name=name: write_netcdf_atomic(res.dataset, d / name),
-                          out, "--out", directory=True)
-            stem = f"{p.model.name}-{label}"
-            outputs.write(lambda d, res=res, stem=stem: save_dashboard(res.dataset, d, stem),
-                          out, "--out", directory=True)
-        if not res.success:
-            err(f"[{label}] FAILED: {res.message}")
-            failed = True
-            continue
-        summaries.append(V.summarize(res, lay, window))
+    summaries, runs, failed = simulate_configurations(V, p.model.name, variants, torsen, base,
+                                                      t_final, window, source, sets, out,
+                                                      outputs, what=scenario)
+    for label, res in runs if out is not None else ():  # the dashboard beside each .nc
+        stem = f"{p.model.name}-{label}"
+        outputs.write(lambda d, res=res, stem=stem: save_dashboard(res.dataset, d, stem),
+                      out, "--out", directory=True)
     results = [{"configuration": s.name, "wheels": {w: vars(x) for w, x in s.wheels.items()},
                 "axle_ratio": s.axle_ratio, "left_share": s.left_share, "speed": s.speed,
                 "tdr": s.tdr, "wall": s.wall, "steps": s.steps, "rejected": s.rejected,
                 "unknowns": s.unknowns, "history": _thinned(s.history),
-                "checks": _check_dicts(V.checks(s))}
+                "checks": check_dicts(V.checks(s))}
                for s in summaries]
     ok = not failed and all(c["passed"] for r in results for c in r["checks"])
     if as_json:
@@ -145,10 +124,7 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
         con = console()
         con.print(f"window {window[0]:g}-{window[1]:g} s (means)\n")
         con.print(V.table(summaries))
-        for s in summaries:
-            for name, value, limit, passed in V.checks(s):
-                mark = "ok  " if passed else "FAIL"
-                con.print(f"  {mark} {name}: {value:.4g} (limit {limit:.4g})")
+        print_checks(con, V, summaries)
     if not ok:
         sys.exit(EXIT_FAILED)
     outputs.exit_if_failed()

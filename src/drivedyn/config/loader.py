@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 import tomllib
 import warnings
@@ -490,8 +491,13 @@ def _load_library_model(path: str | Path, overrides) -> Model:
         base = resolve_path(path).parent
         torsen = read_vehicle_differentials(params, source, base)
         try:
-            spec, layout = vehicles.get(lib).build_spec(params, torsen, base)
+            mod = vehicles.get(lib)
+            spec, layout = mod.build_spec(params, torsen, base)
             model = compile_model(spec)
+            start = getattr(mod, "INITIAL_STATE", None)
+            if start is not None:  # e.g. the static equilibrium the run starts from
+                model = dataclasses.replace(
+                    model, state0=start(params, torsen, base, model, layout))
         except ModelError as exc:
             raise ModelError(f"{source}: {exc}") from None
         model.meta["scenario"] = Scenario(

@@ -1,5 +1,5 @@
-"""Helpers shared by the validation cases: figures, failed-run results, zero crossings,
-peaks, small rotations."""
+"""Helpers shared by the validation cases: one-sided checks, figures, failed-run results,
+zero crossings, peaks, small rotations."""
 
 from __future__ import annotations
 
@@ -18,6 +18,22 @@ G = 9.81  # [m/s^2] gravitational acceleration used by all cases
 # ---------------------------------------------------------------------------------------------
 # helpers
 # ---------------------------------------------------------------------------------------------
+
+
+def at_most(case: str, quantity: str, value: float, limit: float, unit: str,
+            source: str) -> CaseResult:
+    """A check ``value <= limit``: error = relative excess (0 when it holds; a NaN value
+    fails)."""
+    err = max(0.0, (value - limit) / abs(limit)) if value == value else float("inf")
+    return CaseResult(case, quantity, limit, value, unit, err, 0.0, source)
+
+
+def at_least(case: str, quantity: str, value: float, limit: float, unit: str,
+             source: str) -> CaseResult:
+    """A check ``value >= limit``: error = relative shortfall (0 when it holds; a NaN value
+    fails)."""
+    err = max(0.0, (limit - value) / abs(limit)) if value == value else float("inf")
+    return CaseResult(case, quantity, limit, value, unit, err, 0.0, source)
 
 
 def rot_z(a: float) -> np.ndarray:

@@ -2,7 +2,10 @@
 a subpackage with a model-file schema (``SCHEMA``), a builder (``build_spec``) and the
 dashboard of its runs (``DASHBOARD``: params -> :class:`~drivedyn.library.dashboards.
 Dashboard`, drawn by ``drivedyn plot``) and the name of a run's configuration
-(``CONFIGURATION``: params -> str, recorded with the results).
+(``CONFIGURATION``: params -> str, recorded with the results); optionally the state a run
+of the compiled model starts from (``INITIAL_STATE``: (params, torsen, base_dir, model,
+layout) -> State, e.g. the static equilibrium; :func:`drivedyn.config.load_model` makes it
+the model's initial state).
 
 Adding a vehicle = one subpackage + one default model file + one line in :data:`TYPES`.
 """

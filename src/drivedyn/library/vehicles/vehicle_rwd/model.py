@@ -120,6 +120,7 @@ class Layout:
     Attributes:
         wheels: wheel -> wheel body name.
         tyres: wheel -> tyre element name.
+        uprights: wheel -> the body its hub bearing is on (the upright).
         drives: rear wheel -> the joint whose reaction torque on the wheel about its spin
             axis is the wheel's drive torque (the outboard universal joint).
         engine: engine torque element name; propshaft: its spring's name.
@@ -138,6 +139,7 @@ class Layout:
 
     wheels: dict[str, str] = field(default_factory=dict)
     tyres: dict[str, str] = field(default_factory=dict)
+    uprights: dict[str, str] = field(default_factory=dict)
     drives: dict[str, str] = field(default_factory=dict)
     engine: str = "engine"
     propshaft: str = "prop_spring"
@@ -397,6 +399,7 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
                            vertical_damping=p.wheels.vertical_damping))
         lay.wheels[w] = name
         lay.tyres[w] = f"tyre_{w}"
+        lay.uprights[w] = sp.markers[c.hub].body
         lay.wheel_x[w] = float(pos[0])
     # rear carrier on the frame, the differential on it
     x_rear = 0.5 * (corners["rl"].wheel_center[0] + corners["rr"].wheel_center[0])

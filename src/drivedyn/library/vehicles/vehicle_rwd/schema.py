@@ -6,7 +6,7 @@ relative to the model file), whose values ``[suspension_overrides]`` may replace
 (``suspension_overrides.front.hardpoints.wheel_center``). What cannot be checked key by key
 (the suspension set and its geometry, the steering's travel, the tyre file and its side, the
 TORSEN file, the final-drive mesh) is checked when the model is built
-(:func:`drivedyn.library.vehicles.vehicle_rwd.model.check_parameters`).
+(:func:`drivedyn.library.vehicles.vehicle_rwd.inputs.check_parameters`).
 """
 
 from __future__ import annotations
@@ -84,7 +84,7 @@ class Wheels(Strict):
     ``TYRESIDE`` (mirrored for the other side, with a note), or, for a file without it,
     as it is if its tyre is symmetric; a file without ``TYRESIDE`` whose tyre is not
     symmetric, and a ``tyre_side`` that contradicts the file's ``TYRESIDE``, are refused
-    (:func:`~drivedyn.library.vehicles.vehicle_rwd.model.load_tyre`)."""
+    (:func:`~drivedyn.library.vehicles.vehicle_rwd.inputs.load_tyre`)."""
 
     mass: Mass = 71.105
     inertia: Inertia = (4.345, 7.388, 4.345)
