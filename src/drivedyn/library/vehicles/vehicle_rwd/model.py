@@ -24,8 +24,10 @@ Parts and connections:
 * **wheels**: a rigid body per corner hinged on the corner's hub; a
   :class:`~drivedyn.elements.TyreContact` per wheel, the property file mirrored for the
   side it was not measured on;
-* **driveline**: the engine and gearbox as one shaft hinged on the frame (engine torque
-  ``throttle(t) * torque * gear_ratio``, reacted on the frame) -> torsional spring-damper
+* **driveline**: the engine and gearbox as one shaft hinged on the frame, driven by an
+  :class:`~drivedyn.elements.EngineTorque` reacted on the frame (the engine's maps at
+  ``gear_ratio`` times the shaft's speed relative to the frame, times ``gear_ratio``)
+  -> torsional spring-damper
   (the propeller shaft's compliance) -> rigid propeller shaft hinged on the rear carrier,
   coaxial with the pinion -> bevel :class:`~drivedyn.elements.GearPair` (the final drive)
   -> the rear differential (``open``, ``locked``, ``clutch``: the straight bevel
@@ -38,8 +40,10 @@ Parts and connections:
 
 Simplifications (stated in the model file too):
 
-* engine: constant full-load torque (the HMMWV map's value at 1000 rpm) times a throttle
-  ramp, first gear, torque converter locked, no engine speed dependence;
+* engine: Chrono's HMMWV torque maps (zero throttle + throttle x (full load - zero
+  throttle)) read as PCHIP curves (Chrono interpolates linearly), the speed clamped to the
+  maps' 0-2700 rpm as Chrono does; a throttle ramp; first gear, torque converter locked, no
+  shifts;
 * the propeller shaft's universal joints are not built: the shaft is coaxial with the
   pinion on the rear carrier and its compliance to the gearbox output is one torsional
   spring-damper (it passes torque whatever the small misalignment from frame bending);
@@ -61,13 +65,13 @@ import numpy as np
 
 from drivedyn.elements import (
     Bushing,
+    EngineTorque,
     Fixed,
     Force,
     GearPair,
     Hinge,
     Prismatic,
     RoadPatch,
-    Torque,
     TorsionalSpringDamper,
     TyreContact,
     Universal,
@@ -457,11 +461,11 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     eng_mount = marker_at(sp, "engine_bearing_frame", frame.nearest_node(eng_pos), eng_pos,
                           frame_from_axis(X))
     sp.add(Hinge("engine_bearing", eng_mount, "engine_out"))
-    T_out = e.torque * e.gear_ratio
-    f = SmoothStep(e.start, e.start + e.ramp, 0.0, e.throttle)
-    sp.add(Torque("engine", "engine_out", vector=(0, 0, T_out), function=f, frame="marker"))
-    sp.add(Torque("engine_reaction", eng_mount, vector=(0, 0, -T_out), function=f,
-                  frame="marker"))
+    sp.add(EngineTorque("engine", eng_mount, "engine_out", full_load=e.full_load,
+                        zero_throttle=e.zero_throttle,
+                        throttle_function=SmoothStep(e.start, e.start + e.ramp, 0.0,
+                                                     e.throttle),
+                        ratio=e.gear_ratio))
     # propeller shaft on the carrier, the pinion at its rear end
     fd_geo = _final_drive_geometry(fd)
     pin_pos = centre + fd_geo["d_pinion"] * X
