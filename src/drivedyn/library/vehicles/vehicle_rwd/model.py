@@ -65,6 +65,7 @@ import numpy as np
 
 from drivedyn.elements import (
     Bushing,
+    Cylindrical,
     EngineTorque,
     Fixed,
     Force,
@@ -466,22 +467,32 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
                         throttle_function=SmoothStep(e.start, e.start + e.ramp, 0.0,
                                                      e.throttle),
                         ratio=e.gear_ratio))
-    # propeller shaft on the carrier, the pinion at its rear end
+    # propeller shaft: a universal joint at the gearbox output, a slip yoke (sliding and
+    # turning on the shaft against its torsional compliance) and a universal joint at the
+    # pinion's flange; the pinion hinged on the carrier
     fd_geo = _final_drive_geometry(fd)
     pin_pos = centre + fd_geo["d_pinion"] * X
-    x_mid = 0.5 * (pin_pos[0] + x_eng)
-    prop_pos = np.array([x_mid, 0.0, h_wc])
-    sp.add_rigid_body("propshaft", sh.propshaft_mass, sh.propshaft_inertia, position=prop_pos,
-                      rotation=R_CENTRAL)
     brg = pin_pos + p.carrier.pinion_offset * X
-    sp.add(Hinge("prop_bearing", marker_at(sp, "carrier_prop", "carrier", brg,
-                                           frame_from_axis(X)),
-                 marker_at(sp, "prop_rear", "propshaft", brg, frame_from_axis(X))))
-    sp.add(TorsionalSpringDamper("prop_spring", "engine_out",
-                                 marker_at(sp, "prop_front", "propshaft", eng_pos,
-                                           frame_from_axis(X)),
+    Rx = frame_from_axis(X)
+    sp.add_rigid_body("propshaft", sh.propshaft_mass, sh.propshaft_inertia,
+                      position=0.5 * (eng_pos + brg), rotation=R_CENTRAL)
+    sp.add_rigid_body("propshaft_slip", sh.slip_mass, sh.slip_inertia, position=brg,
+                      rotation=R_CENTRAL)
+    sp.add_rigid_body("pinion_shaft", ca.pinion_mass, ca.pinion_inertia,
+                      position=0.5 * (pin_pos + brg), rotation=R_CENTRAL)
+    sp.add(Universal("prop_front_uj",
+                     marker_at(sp, "gearbox_flange", "engine_shaft", eng_pos, Rx),
+                     marker_at(sp, "prop_front_yoke", "propshaft", eng_pos, Rx)))
+    prop_rear = marker_at(sp, "prop_rear", "propshaft", brg, Rx)
+    slip = marker_at(sp, "prop_slip_in", "propshaft_slip", brg, Rx)
+    sp.add(Cylindrical("prop_slip", prop_rear, slip))
+    sp.add(TorsionalSpringDamper("prop_spring", prop_rear, slip,
                                  stiffness=sh.propshaft_stiffness, damping=sh.propshaft_damping))
-    marker_at(sp, "rear_pinion", "propshaft", pin_pos, frame_from_axis(X))
+    sp.add(Universal("prop_rear_uj", marker_at(sp, "prop_slip_out", "propshaft_slip", brg, Rx),
+                     marker_at(sp, "pinion_flange", "pinion_shaft", brg, Rx)))
+    sp.add(Hinge("pinion_bearing", marker_at(sp, "carrier_pinion", "carrier", brg, Rx),
+                 marker_at(sp, "pinion_bearing_shaft", "pinion_shaft", brg, Rx)))
+    marker_at(sp, "rear_pinion", "pinion_shaft", pin_pos, Rx)
     ring = centre - fd_geo["d_ring"] * Y  # the ring on the -y side drives forward
     marker_at(sp, "rear_ring", lay.housing, ring, frame_from_axis(Y))
     sp.add(GearPair("rear_bevel", "rear_pinion", "rear_ring", fd.teeth_pinion, fd.teeth_ring,
@@ -539,7 +550,7 @@ def _moving(sp: Spec, lay: Layout, diff_bodies: list[str], v0: float, w_wheel: f
     for w in lay.drives:
         for b in (f"halfshaft_{w}", f"plunger_{w}"):
             spin[b] = w_wheel * sp.bodies[b].rotation[:, 2]
-    for b in ("propshaft", "engine_shaft"):
+    for b in ("engine_shaft", "propshaft", "propshaft_slip", "pinion_shaft"):
         spin[b] = lay.ratio * w_wheel * X
     for name, bd in list(sp.bodies.items()):
         if name in diff_bodies:

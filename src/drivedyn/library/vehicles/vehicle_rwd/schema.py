@@ -155,14 +155,19 @@ class Engine(Strict):
 
 
 class Shafts(Strict):
-    """The propeller shaft (on the rear carrier, coaxial with the pinion) and its torsional
-    compliance to the gearbox output, and the rigid half-shafts (a universal joint at the
-    side gear, a plunging universal joint at the wheel)."""
+    """The propeller shaft from the gearbox output (on the frame) to the pinion (on the rear
+    carrier): a rigid tube with a universal joint at each end and a slip yoke at the rear
+    (a small body sliding and turning on the tube, held to it in rotation by the shaft's
+    torsional compliance ``propshaft_stiffness``, ``propshaft_damping``); and the rigid
+    half-shafts (a universal joint at the side gear, a plunging universal joint at the
+    wheel). Inertias in the shafts' own frames, z along the shaft."""
 
     propshaft_mass: Mass = 12.0
-    propshaft_inertia: Inertia = (0.05, 1.2, 1.2)
+    propshaft_inertia: Inertia = (1.2, 1.2, 0.05)
     propshaft_stiffness: TorsionalStiffness = 2.0e4
     propshaft_damping: TorsionalDamping = 100.0
+    slip_mass: Mass = 1.5
+    slip_inertia: Inertia = (2e-3, 2e-3, 2e-3)
     halfshaft_mass: Mass = 8.0
     halfshaft_inertia: Inertia = (0.4, 0.4, 0.01)
     plunger_mass: Mass = 0.5
@@ -171,11 +176,15 @@ class Shafts(Strict):
 
 class Carrier(Strict):
     """The rear axle's carrier (the differential's case mounted on the frame's rear cross
-    member, a rigid body fixed to the frame node there)."""
+    member, a rigid body fixed to the frame node there) and the pinion shaft hinged in it
+    (``pinion_offset`` ahead of the pinion, where the propeller shaft's rear universal joint
+    is; inertia in the shaft's frame, z along it)."""
 
     mass: Mass = 40.0
     inertia: Inertia = (0.6, 0.4, 0.6)
     pinion_offset: PositiveLength = 0.25
+    pinion_mass: Mass = 4.0
+    pinion_inertia: Inertia = (0.03, 0.03, 5e-3)
 
 
 class Differentials(Strict):
