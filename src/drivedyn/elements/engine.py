@@ -166,7 +166,8 @@ class EngineTorque(TwoMarkerSpec):
             if getattr(self, key) is None:
                 out.append(None)
                 continue
-            xa, ya = table_arrays(self, key, _DIMS, _COLUMNS, monotone=False)
+            xa, ya = table_arrays(self, key, _DIMS, _COLUMNS, monotone=False,
+                                  xname="engine speeds")
             if xa[0] < 0.0:
                 raise ModelError(f"{what_of(self)}.{key}: engine speeds must be >= 0 rad/s, "
                                  f"got {float(xa[0])!r}")

@@ -278,14 +278,15 @@ def coerce_tables(spec: Any, tables: dict[str, tuple[U.Dim, U.Dim]]) -> None:
 
 
 def table_arrays(spec: Any, key: str, dims: tuple[U.Dim, U.Dim], columns: str,
-                 origin: str | None = None, monotone: bool = True
-                 ) -> tuple[np.ndarray, np.ndarray]:
+                 origin: str | None = None, monotone: bool = True,
+                 xname: str = "abscissae") -> tuple[np.ndarray, np.ndarray]:
     """The abscissae and values of table parameter ``key`` of ``spec``, checked
     (:func:`~drivedyn.elements.framework.curves.check_table`: at least two points, abscissae
     increasing, values non-decreasing if ``monotone``); :class:`ModelError` naming the
     element, the key and the value otherwise. ``columns``: what a point is, for the message;
-    ``origin``: the unit of the abscissae of a table of magnitudes, which must start at
-    (0, 0) (no negative abscissa, no force at zero), None for any table."""
+    ``xname``: what the abscissae are, for the message; ``origin``: the unit of the
+    abscissae of a table of magnitudes, which must start at (0, 0) (no negative abscissa, no
+    force at zero), None for any table."""
     what = f"{what_of(spec)}.{key}"
     value = getattr(spec, key)
     try:
@@ -302,7 +303,7 @@ def table_arrays(spec: Any, key: str, dims: tuple[U.Dim, U.Dim], columns: str,
         raise ModelError(f"{what}: abscissae must be >= 0 {origin} (the table holds "
                          f"magnitudes), got {bad!r}")
     try:
-        xa, ya = check_table(x, y, what, monotone=monotone)
+        xa, ya = check_table(x, y, what, monotone=monotone, xname=xname)
     except ValueError as exc:
         raise ModelError(str(exc)) from None
     if origin is not None and (xa[0] != 0.0 or ya[0] != 0.0):
