@@ -27,9 +27,10 @@ Parts and connections:
 * **driveline**: the engine and gearbox as one shaft hinged on the frame, driven by an
   :class:`~drivedyn.elements.EngineTorque` reacted on the frame (the engine's maps at
   ``gear_ratio`` times the shaft's speed relative to the frame, times ``gear_ratio``)
-  -> torsional spring-damper
-  (the propeller shaft's compliance) -> rigid propeller shaft hinged on the rear carrier,
-  coaxial with the pinion -> bevel :class:`~drivedyn.elements.GearPair` (the final drive)
+  -> universal joint -> rigid propeller shaft -> slip yoke (a cylindrical joint along the
+  shaft with a torsional spring-damper, the shaft's compliance) -> universal joint -> pinion
+  shaft hinged in the rear carrier -> bevel :class:`~drivedyn.elements.GearPair` (the final
+  drive)
   -> the rear differential (``open``, ``locked``, ``clutch``: the straight bevel
   differential of :mod:`..bevel_differential`; ``torsen-b``: the full TORSEN Type B
   model), included with its ground replaced by the rear carrier, a rigid body fixed to the
@@ -44,9 +45,10 @@ Simplifications (stated in the model file too):
   throttle)) read as PCHIP curves (Chrono interpolates linearly), the speed clamped to the
   maps' 0-2700 rpm as Chrono does; a throttle ramp; first gear, torque converter locked, no
   shifts;
-* the propeller shaft's universal joints are not built: the shaft is coaxial with the
-  pinion on the rear carrier and its compliance to the gearbox output is one torsional
-  spring-damper (it passes torque whatever the small misalignment from frame bending);
+* the propeller shaft is straight at the static ride height (the gearbox output and the
+  pinion at the wheel centres' height): its universal joints and slip yoke take only the
+  carrier's motion with the frame's bending; its torsional compliance is one spring-damper
+  at the slip yoke;
 * the carried body's inertia is Chrono's chassis inertia as given (the frame's beams add
   their own on top, about 7 % in pitch);
 * gravity acts on everything except the gears inside the differential (their weight in the
