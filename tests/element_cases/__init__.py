@@ -43,6 +43,7 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "speed_difference_driver": [basic.speed_difference_case],
     "spring_damper": [basic.spring_case],
     "torsional_spring_damper": [basic.torsion_case],
+    "engine_torque": [basic.engine_case],
     "nonlinear_spring_damper": list(nonlinear_springs.SPRING_CASES),
     "bump_stop": list(nonlinear_springs.STOP_CASES),
     "force": [partial(basic.load_case, False, "global"), partial(basic.load_case, False, "marker")],

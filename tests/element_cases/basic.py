@@ -169,3 +169,30 @@ def load_case(is_torque: bool, frame: str) -> Spec:
     spec.add(cls("load", "m", vector=(3.0, -2.0, 5.0), function=Ramp(-1.0, 1.0, 0.5, 2.0),
                  frame=frame))
     return spec
+
+
+#: engine maps of the tangent case [(rad/s, N m)]: the relative speeds of the markers at the
+#: tangent test's perturbed state (seed 7: about -0.07 and 0.22 rad/s about A's z, the two
+#: directions) times the ratios fall below, inside and beyond them
+ENGINE_FULL = ((0.0, 40.0), (2.0, 75.0), (4.0, 120.0), (7.0, 110.0), (9.0, -30.0))
+ENGINE_ZERO = ((0.0, 0.0), (3.0, -5.0), (6.0, -9.0), (9.0, -40.0))
+
+
+def engine_case() -> Spec:
+    """Engine torques both ways between A and B (one of them turns forward), with and
+    without a zero-throttle curve, ratios that put the engine speed in the first segment, in
+    the middle of the tables and beyond either end, a throttle ramp under way at the test's
+    time."""
+    from drivedyn.elements.engine import EngineTorque
+    from drivedyn.timefunctions import Ramp
+
+    spec = Spec()
+    a, b = _two_bodies(spec)
+    u = Ramp(0.0, 0.8, 0.0, 1.0)
+    for i, (ratio, zero) in enumerate(((2.5, ENGINE_ZERO), (25.0, ENGINE_ZERO), (25.0, None),
+                                       (150.0, None))):
+        for j, (m1, m2) in enumerate(((a, b), (b, a))):
+            spec.add(EngineTorque(f"e{i}{j}", m1, m2, full_load=ENGINE_FULL,
+                                  zero_throttle=zero, throttle_function=u if zero else 0.6,
+                                  ratio=ratio))
+    return spec

@@ -42,13 +42,44 @@ def test_builds_and_rolls_forward():
     """Mutation: put the ring gear on the +y side of the housing (``ring = centre +
     d_ring * Y``) -> the engine drives the vehicle backwards and the speed check fails."""
     p, torsen = _params("open")
-    res, lay = V.run(p, torsen, MODELS_DIR, t_end=0.3)
+    # 0.5 s: the engine brakes with its friction until the throttle passes 2.5 % (0.1 s),
+    # the wheels' drive turns positive at 0.25 s
+    res, lay = V.run(p, torsen, MODELS_DIR, t_end=0.5)
     assert res.success, res.message
     assert 2500.0 < lay.total_mass < 2700.0
     v = res.values("wheel_fl.velocity")[:, 0]
     assert v[-1] > p.body.speed + 0.05  # pulled forward by the rear wheels
     for w in ("rl", "rr"):
         assert V.drive_torque(res, lay, w)[-1] > 50.0
+
+
+def test_engine_map_sees_the_engine_speed():
+    """The engine map reads the crankshaft's speed: first gear times the gearbox output's,
+    which is the final drive's ratio times the rear wheels' mean spin (an open
+    differential), on average over 0.1 s; its torque is the file's map at that speed.
+
+    Mutation: build the engine with ``ratio=1`` (the map read at the gearbox output's
+    speed) -> the engine speed is 5.855 times too low."""
+    p, torsen = _params("open")
+    res, lay = V.run(p, torsen, MODELS_DIR, t_end=0.1)
+    assert res.success, res.message
+    spins = []
+    for w in ("rl", "rr"):
+        axis = res.values(f"{lay.wheels[w]}.rotation")[:, :, 2]
+        spins.append(np.einsum("ij,ij->i", res.values(f"{lay.wheels[w]}.angular_velocity"),
+                               axis))
+    expected = p.engine.gear_ratio * lay.ratio * 0.5 * (spins[0] + spins[1])
+    w_e = res.values("engine.engine_speed")
+    # means: the wheels' spins swing by 2 % about the driveline's (its compliance)
+    assert np.mean(w_e) == pytest.approx(np.mean(expected), rel=0.01)
+    assert 90.0 < w_e[-1] < 110.0  # about 1000 rpm at the launch's 1.5 m/s
+    from drivedyn.elements import EngineTorque
+
+    e = EngineTorque("e", "a", "b", full_load=p.engine.full_load,
+                     zero_throttle=p.engine.zero_throttle)
+    u = res.values("engine.throttle")[-1]
+    assert res.values("engine.engine_torque")[-1] == pytest.approx(e.torque(w_e[-1], u),
+                                                                   rel=1e-9)
 
 
 def test_static_loads():
@@ -169,6 +200,21 @@ def test_cli_bad_input(args, message):
     r = CliRunner().invoke(main, ["vehicle", "vehicle-rwd", *args])
     assert r.exit_code == 2
     assert message in r.output
+
+
+@pytest.mark.parametrize("value, words", [
+    ("[[0, 400], [100, 900], [90, 1000]]",
+     ["engine.full_load", "increase strictly", "100.0 then 90.0 rad/s"]),
+    ("[[-10.472, 406.7], [83.776, 517.9]]", ["engine.full_load", ">= 0 rad/s", "-10.472"]),
+])
+def test_cli_bad_engine_map(value, words):
+    """Mutation: drop the schema's check of the maps' speeds -> the file is accepted (the
+    element refuses it later, naming the element instead of the file's key)."""
+    r = CliRunner().invoke(main, ["vehicle", "vehicle-rwd", "--scenario", "static",
+                                  "--compare", "open", "--set", f"engine.full_load={value}"])
+    assert r.exit_code == 2, r.output
+    for w in words:
+        assert w in r.output, r.output
 
 
 def test_every_number_of_the_model_file_has_its_provenance():

@@ -20,10 +20,11 @@ Checks:
 
 The driveline power balance is written relative to the rear carrier: the engine's power is
 its torque times the shaft's speed relative to its mount on the frame (the engine torque
-element and its reaction, ``engine.power + engine_reaction.power``), a rear wheel's power
+element's ``power``), a rear wheel's power
 the outboard joint's torque on the wheel times the wheel's angular velocity relative to its
 upright, and the driveline's kinetic energy ``sum(w.h/2 - w_c.h)`` over its bodies (engine
-and propeller shafts, the differential's bodies, half-shafts and plungers) with ``w_c`` the
+and propeller shafts, slip yoke, pinion shaft, the differential's bodies, half-shafts and
+plungers) with ``w_c`` the
 carrier's angular velocity. The bearings carry the driveline along with the vehicle; the
 work they do in that (translation, the frame's pitch and roll) is left out, and it is what
 the balance's error measures besides the integration's.
@@ -221,7 +222,7 @@ def summarize(res: Any, lay: Layout, window: tuple[float, float]) -> LaunchSumma
 
 
 #: name prefixes of the driveline's bodies and elements (see the module docstring)
-DRIVELINE = ("engine", "prop", "rear_", "halfshaft_", "plunger_")
+DRIVELINE = ("engine", "prop", "pinion", "rear_", "halfshaft_", "plunger_")
 
 
 def _integral(res: Any, p: np.ndarray, i0: int, i1: int) -> float:
@@ -233,8 +234,7 @@ def power_balance(res: Any, lay: Layout, i0: int, i1: int) -> tuple[float, float
     docstring): (|W_engine - W_wheels - D_driveline - dK_driveline| / |W_engine|, W_engine
     [J])."""
     names = [str(n) for n in res.dataset.data_vars]
-    w_eng = _integral(res, res.values(f"{lay.engine}.power")
-                      + res.values(f"{lay.engine}_reaction.power"), i0, i1)
+    w_eng = _integral(res, res.values(f"{lay.engine}.power"), i0, i1)
     w_wheels = 0.0
     for w, joint in lay.drives.items():
         m = np.stack([res.values(f"{joint}.torque_{c}") for c in "xyz"], axis=1)

@@ -3,6 +3,7 @@
 from drivedyn.elements import (  # noqa: F401
     bodies,
     drivers,
+    engine,
     joints,
     loads,
     nonlinear_springs,
@@ -27,6 +28,7 @@ from drivedyn.elements.contact import (
     UnilateralContact,
 )
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver, TravelDriver
+from drivedyn.elements.engine import EngineTorque
 from drivedyn.elements.flexible import FlexibleBody
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import REGISTRY, ElementSpec, Family, register
@@ -55,6 +57,7 @@ __all__ = [
     "BushingRotationalCurve",
     "Cylindrical",
     "ElementSpec",
+    "EngineTorque",
     "Family",
     "Fixed",
     "FlexibleBody",

@@ -264,7 +264,7 @@ def _pairs(value: Any, dims: tuple[U.Dim, U.Dim]) -> CurveTable:
     return tuple(out)
 
 
-def _coerce_tables(spec: Any, tables: dict[str, tuple[U.Dim, U.Dim]]) -> None:
+def coerce_tables(spec: Any, tables: dict[str, tuple[U.Dim, U.Dim]]) -> None:
     """Tables given as lists (model files) or with unit strings stored as tuples of SI pairs
     on a frozen spec; a table that does not read is left as given for ``validate``."""
     for key, dims in tables.items():
@@ -278,13 +278,15 @@ def _coerce_tables(spec: Any, tables: dict[str, tuple[U.Dim, U.Dim]]) -> None:
 
 
 def table_arrays(spec: Any, key: str, dims: tuple[U.Dim, U.Dim], columns: str,
-                 origin: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+                 origin: str | None = None, monotone: bool = True,
+                 xname: str = "abscissae") -> tuple[np.ndarray, np.ndarray]:
     """The abscissae and values of table parameter ``key`` of ``spec``, checked
     (:func:`~drivedyn.elements.framework.curves.check_table`: at least two points, abscissae
-    increasing, values non-decreasing); :class:`ModelError` naming the element, the key and
-    the value otherwise. ``columns``: what a point is, for the message; ``origin``: the unit
-    of the abscissae of a table of magnitudes, which must start at (0, 0) (no negative
-    abscissa, no force at zero), None for any table."""
+    increasing, values non-decreasing if ``monotone``); :class:`ModelError` naming the
+    element, the key and the value otherwise. ``columns``: what a point is, for the message;
+    ``xname``: what the abscissae are, for the message; ``origin``: the unit of the
+    abscissae of a table of magnitudes, which must start at (0, 0) (no negative abscissa, no
+    force at zero), None for any table."""
     what = f"{what_of(spec)}.{key}"
     value = getattr(spec, key)
     try:
@@ -301,7 +303,7 @@ def table_arrays(spec: Any, key: str, dims: tuple[U.Dim, U.Dim], columns: str,
         raise ModelError(f"{what}: abscissae must be >= 0 {origin} (the table holds "
                          f"magnitudes), got {bad!r}")
     try:
-        xa, ya = check_table(x, y, what, monotone=True)
+        xa, ya = check_table(x, y, what, monotone=monotone, xname=xname)
     except ValueError as exc:
         raise ModelError(str(exc)) from None
     if origin is not None and (xa[0] != 0.0 or ya[0] != 0.0):
@@ -360,7 +362,7 @@ class NonlinearSpringDamper(TwoMarkerSpec):
     }
 
     def __post_init__(self) -> None:
-        _coerce_tables(self, {"spring_curve": _length_dims(),
+        coerce_tables(self, {"spring_curve": _length_dims(),
                               "damper_curve_rebound": _speed_dims(),
                               "damper_curve_compression": _speed_dims()})
 
@@ -435,7 +437,7 @@ class BumpStop(TwoMarkerSpec):
     }
 
     def __post_init__(self) -> None:
-        _coerce_tables(self, {"stiffness_curve": _length_dims()})
+        coerce_tables(self, {"stiffness_curve": _length_dims()})
 
     def table(self) -> tuple[np.ndarray, np.ndarray]:
         """The checked stiffness table (deflections, forces)."""

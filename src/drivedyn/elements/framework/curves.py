@@ -57,10 +57,11 @@ def _end_slope(h0: float, h1: float, m0: float, m1: float) -> float:
 
 
 def check_table(x: Sequence[float], y: Sequence[float], what: str,
-                monotone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+                monotone: bool = True, xname: str = "abscissae"
+                ) -> tuple[np.ndarray, np.ndarray]:
     """The table as arrays; ``ValueError`` naming ``what`` for fewer than two points,
-    non-finite values, ``x`` not strictly increasing or (``monotone``) ``y`` decreasing
-    anywhere."""
+    non-finite values, ``x`` (``xname`` in the messages) not strictly increasing or
+    (``monotone``) ``y`` decreasing anywhere."""
     xa = np.asarray(x, dtype=float).ravel()
     ya = np.asarray(y, dtype=float).ravel()
     if xa.size != ya.size:
@@ -71,7 +72,7 @@ def check_table(x: Sequence[float], y: Sequence[float], what: str,
         raise ValueError(f"{what}: values must be finite")
     if np.any(np.diff(xa) <= 0.0):
         i = int(np.argmax(np.diff(xa) <= 0.0))
-        raise ValueError(f"{what}: abscissae must increase strictly, got {float(xa[i])!r} "
+        raise ValueError(f"{what}: {xname} must increase strictly, got {float(xa[i])!r} "
                          f"then {float(xa[i + 1])!r}")
     if monotone and np.any(np.diff(ya) < 0.0):
         i = int(np.argmax(np.diff(ya) < 0.0))

@@ -24,10 +24,13 @@ Parts and connections:
 * **wheels**: a rigid body per corner hinged on the corner's hub; a
   :class:`~drivedyn.elements.TyreContact` per wheel, the property file mirrored for the
   side it was not measured on (:func:`~.inputs.measured_side`);
-* **driveline**: the engine and gearbox as one shaft hinged on the frame (engine torque
-  ``throttle(t) * torque * gear_ratio``, reacted on the frame) -> torsional spring-damper
-  (the propeller shaft's compliance) -> rigid propeller shaft hinged on the rear carrier,
-  coaxial with the pinion -> bevel :class:`~drivedyn.elements.GearPair` (the final drive)
+* **driveline**: the engine and gearbox as one shaft hinged on the frame, driven by an
+  :class:`~drivedyn.elements.EngineTorque` reacted on the frame (the engine's maps at
+  ``gear_ratio`` times the shaft's speed relative to the frame, times ``gear_ratio``)
+  -> universal joint -> rigid propeller shaft -> slip yoke (a cylindrical joint along the
+  shaft with a torsional spring-damper, the shaft's compliance) -> universal joint -> pinion
+  shaft hinged in the rear carrier -> bevel :class:`~drivedyn.elements.GearPair` (the final
+  drive)
   -> the rear differential (``open``, ``locked``, ``clutch``: the straight bevel
   differential of :mod:`..bevel_differential`; ``torsen-b``: the full TORSEN Type B
   model), included with its ground replaced by the rear carrier, a rigid body fixed to the
@@ -38,11 +41,14 @@ Parts and connections:
 
 Simplifications (stated in the model file too):
 
-* engine: constant full-load torque (the HMMWV map's value at 1000 rpm) times a throttle
-  ramp, first gear, torque converter locked, no engine speed dependence;
-* the propeller shaft's universal joints are not built: the shaft is coaxial with the
-  pinion on the rear carrier and its compliance to the gearbox output is one torsional
-  spring-damper (it passes torque whatever the small misalignment from frame bending);
+* engine: Chrono's HMMWV torque maps (zero throttle + throttle x (full load - zero
+  throttle)) read as PCHIP curves (Chrono interpolates linearly), the speed clamped to the
+  maps' 0-2700 rpm as Chrono does; a throttle ramp; first gear, torque converter locked, no
+  shifts;
+* the propeller shaft is straight at the static ride height (the gearbox output and the
+  pinion at the wheel centres' height): its universal joints and slip yoke take only the
+  carrier's motion with the frame's bending; its torsional compliance is one spring-damper
+  at the slip yoke;
 * the carried body's inertia is Chrono's chassis inertia as given (the frame's beams add
   their own on top, about 7 % in pitch);
 * gravity acts on everything except the gears inside the differential (their weight in the
@@ -61,13 +67,14 @@ import numpy as np
 
 from drivedyn.elements import (
     Bushing,
+    Cylindrical,
+    EngineTorque,
     Fixed,
     Force,
     GearPair,
     Hinge,
     Prismatic,
     RoadPatch,
-    Torque,
     TorsionalSpringDamper,
     TyreContact,
     Universal,
@@ -434,28 +441,38 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     eng_mount = marker_at(sp, "engine_bearing_frame", frame.nearest_node(eng_pos), eng_pos,
                           frame_from_axis(X))
     sp.add(Hinge("engine_bearing", eng_mount, "engine_out"))
-    T_out = e.torque * e.gear_ratio
-    f = SmoothStep(e.start, e.start + e.ramp, 0.0, e.throttle)
-    sp.add(Torque("engine", "engine_out", vector=(0, 0, T_out), function=f, frame="marker"))
-    sp.add(Torque("engine_reaction", eng_mount, vector=(0, 0, -T_out), function=f,
-                  frame="marker"))
-    # propeller shaft on the carrier, the pinion at its rear end
+    sp.add(EngineTorque("engine", eng_mount, "engine_out", full_load=e.full_load,
+                        zero_throttle=e.zero_throttle,
+                        throttle_function=SmoothStep(e.start, e.start + e.ramp, 0.0,
+                                                     e.throttle),
+                        ratio=e.gear_ratio))
+    # propeller shaft: a universal joint at the gearbox output, a slip yoke (sliding and
+    # turning on the shaft against its torsional compliance) and a universal joint at the
+    # pinion's flange; the pinion hinged on the carrier
     fd_geo = _final_drive_geometry(fd)
     pin_pos = centre + fd_geo["d_pinion"] * X
-    x_mid = 0.5 * (pin_pos[0] + x_eng)
-    prop_pos = np.array([x_mid, 0.0, h_wc])
-    sp.add_rigid_body("propshaft", sh.propshaft_mass, sh.propshaft_inertia, position=prop_pos,
-                      rotation=R_CENTRAL)
     brg = pin_pos + p.carrier.pinion_offset * X
-    sp.add(Hinge("prop_bearing", marker_at(sp, "carrier_prop", "carrier", brg,
-                                           frame_from_axis(X)),
-                 marker_at(sp, "prop_rear", "propshaft", brg, frame_from_axis(X))))
-    sp.add(TorsionalSpringDamper("prop_spring", "engine_out",
-                                 marker_at(sp, "prop_front", "propshaft", eng_pos,
-                                           frame_from_axis(X)),
+    Rx = frame_from_axis(X)
+    sp.add_rigid_body("propshaft", sh.propshaft_mass, sh.propshaft_inertia,
+                      position=0.5 * (eng_pos + brg), rotation=R_CENTRAL)
+    sp.add_rigid_body("propshaft_slip", sh.slip_mass, sh.slip_inertia, position=brg,
+                      rotation=R_CENTRAL)
+    sp.add_rigid_body("pinion_shaft", ca.pinion_mass, ca.pinion_inertia,
+                      position=0.5 * (pin_pos + brg), rotation=R_CENTRAL)
+    sp.add(Universal("prop_front_uj",
+                     marker_at(sp, "gearbox_flange", "engine_shaft", eng_pos, Rx),
+                     marker_at(sp, "prop_front_yoke", "propshaft", eng_pos, Rx)))
+    prop_rear = marker_at(sp, "prop_rear", "propshaft", brg, Rx)
+    slip = marker_at(sp, "prop_slip_in", "propshaft_slip", brg, Rx)
+    sp.add(Cylindrical("prop_slip", prop_rear, slip))
+    sp.add(TorsionalSpringDamper("prop_spring", prop_rear, slip,
                                  stiffness=sh.propshaft_stiffness, damping=sh.propshaft_damping))
-    marker_at(sp, "rear_pinion", "propshaft", pin_pos, frame_from_axis(X))
-    sp.add_visual(link("prop_front", "prop_rear", 0.035, label="propshaft"))  # 70 mm tube
+    sp.add(Universal("prop_rear_uj", marker_at(sp, "prop_slip_out", "propshaft_slip", brg, Rx),
+                     marker_at(sp, "pinion_flange", "pinion_shaft", brg, Rx)))
+    sp.add(Hinge("pinion_bearing", marker_at(sp, "carrier_pinion", "carrier", brg, Rx),
+                 marker_at(sp, "pinion_bearing_shaft", "pinion_shaft", brg, Rx)))
+    marker_at(sp, "rear_pinion", "pinion_shaft", pin_pos, Rx)
+    sp.add_visual(link("prop_front_yoke", "prop_rear", 0.035, label="propshaft"))  # 70 mm tube
     sp.add_visual(cylinder("engine_out", 0.05, 0.3, label="engine_shaft"))
     sp.add_visual(box(eng_mount, 0.55, 0.6, 1.1, role="case", label="engine and gearbox"))
     ring = centre - fd_geo["d_ring"] * Y  # the ring on the -y side drives forward
@@ -517,7 +534,7 @@ def _moving(sp: Spec, lay: Layout, diff_bodies: list[str], v0: float, w_wheel: f
     for w in lay.drives:
         for b in (f"halfshaft_{w}", f"plunger_{w}"):
             spin[b] = w_wheel * sp.bodies[b].rotation[:, 2]
-    for b in ("propshaft", "engine_shaft"):
+    for b in ("engine_shaft", "propshaft", "propshaft_slip", "pinion_shaft"):
         spin[b] = lay.ratio * w_wheel * X
     for name, bd in list(sp.bodies.items()):
         if name in diff_bodies:

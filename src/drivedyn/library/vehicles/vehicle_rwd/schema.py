@@ -16,6 +16,7 @@ from typing import Any, Literal
 from pydantic import Field, field_validator, model_validator
 
 from drivedyn.library.differentials.schema_sections import (
+    AngularVelocity,
     PositiveTime,
     Provenance,
     Solver,
@@ -110,32 +111,76 @@ class Road(Strict):
     transition: PositiveLength = 0.05
 
 
-class Engine(Strict):
-    """Engine and gearbox as one shaft on the frame (the gearbox output): the engine torque
-    ``throttle(t) * torque`` times ``gear_ratio`` drives it, reacted on the frame; its
-    inertia about its axis is ``inertia * gear_ratio^2 + output_inertia`` (the crankshaft seen
-    through the gear, the torque converter locked). ``throttle`` rises smoothly from 0 at
-    ``start`` to ``throttle`` at ``start + ramp``."""
+#: a torque-speed map: ``[[engine speed rad/s, torque N m], ...]``
+EngineMap = list[tuple[AngularVelocity, TorqueValue]]
 
-    torque: TorqueValue = 926.0
+#: Chrono's HMMWV maps (``HMMWV_EngineSimpleMap.cpp``, commit 7689fbc) from 0 rad/s: the first
+#: point is the map's linear interpolation at 0 (Chrono clamps the speed to >= 0), the others
+#: are Chrono's points; the last one is the maximum engine speed, 2700 rpm
+HMMWV_FULL_LOAD = [(0.0, 419.06), (83.776, 517.9), (104.720, 926.0), (125.664, 1216.2),
+                   (146.608, 1300.2), (167.552, 1300.2), (188.496, 1227.0), (209.440, 1136.2),
+                   (230.383, 1041.3), (251.327, -271.2), (282.743, -800.0)]
+HMMWV_ZERO_THROTTLE = [(0.0, -2.222), (83.776, -20.0), (104.720, -20.0), (125.664, -30.0),
+                       (146.608, -30.0), (167.552, -30.0), (188.496, -40.0), (209.440, -50.0),
+                       (230.383, -70.0), (251.327, -100.0), (282.743, -800.0)]
+
+
+def check_map(table: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """``table`` if it is a map the engine can read (at least two points, speeds >= 0 and
+    strictly increasing); ``ValueError`` naming the offending point and value otherwise (the
+    schema's message puts the key in front)."""
+    if len(table) < 2:
+        raise ValueError(f"a map needs at least 2 points [engine speed rad/s, torque N m], "
+                         f"got {len(table)}")
+    for i, (w, _) in enumerate(table):
+        if w < 0.0:
+            raise ValueError(f"engine speeds must be >= 0 rad/s, got {w!r} at point {i}")
+        if i and not w > table[i - 1][0]:
+            raise ValueError(f"engine speeds must increase strictly, got {table[i - 1][0]!r} "
+                             f"then {w!r} rad/s at point {i}")
+    return table
+
+
+class Engine(Strict):
+    """Engine and gearbox as one shaft on the frame (the gearbox output), driven by an
+    :class:`~drivedyn.elements.EngineTorque` reacted on the frame: the engine's torque
+    ``T_0 + throttle(t) (T_F - T_0)`` [N m] from the ``full_load`` curve ``T_F`` and the
+    ``zero_throttle`` curve ``T_0`` (None: 0) at the engine speed, ``gear_ratio`` times the
+    gearbox output's speed relative to the frame; the output gets ``gear_ratio`` times the
+    torque. Its inertia about its axis is ``inertia * gear_ratio^2 + output_inertia`` (the
+    crankshaft seen through the gear, the torque converter locked). ``throttle`` rises
+    smoothly from 0 at ``start`` to ``throttle`` at ``start + ramp``."""
+
+    full_load: EngineMap = Field(default_factory=lambda: list(HMMWV_FULL_LOAD))
+    zero_throttle: EngineMap | None = Field(default_factory=lambda: list(HMMWV_ZERO_THROTTLE))
     inertia: float = Field(default=1.1, gt=0.0)
     output_inertia: float = Field(default=0.5, ge=0.0)
     shaft_mass: Mass = 20.0
     gear_ratio: float = Field(default=5.855, gt=0.0)
-    throttle: float = Field(default=0.08, ge=0.0, le=1.0)
+    throttle: float = Field(default=0.1, ge=0.0, le=1.0)
     start: Time = 0.0
     ramp: PositiveTime = 0.5
 
+    @field_validator("full_load", "zero_throttle")
+    @classmethod
+    def _map(cls, v: list[tuple[float, float]] | None) -> list[tuple[float, float]] | None:
+        return None if v is None else check_map(v)
+
 
 class Shafts(Strict):
-    """The propeller shaft (on the rear carrier, coaxial with the pinion) and its torsional
-    compliance to the gearbox output, and the rigid half-shafts (a universal joint at the
-    side gear, a plunging universal joint at the wheel)."""
+    """The propeller shaft from the gearbox output (on the frame) to the pinion (on the rear
+    carrier): a rigid tube with a universal joint at each end and a slip yoke at the rear
+    (a small body sliding and turning on the tube, held to it in rotation by the shaft's
+    torsional compliance ``propshaft_stiffness``, ``propshaft_damping``); and the rigid
+    half-shafts (a universal joint at the side gear, a plunging universal joint at the
+    wheel). Inertias in the shafts' own frames, z along the shaft."""
 
     propshaft_mass: Mass = 12.0
-    propshaft_inertia: Inertia = (0.05, 1.2, 1.2)
+    propshaft_inertia: Inertia = (1.2, 1.2, 0.05)
     propshaft_stiffness: TorsionalStiffness = 2.0e4
     propshaft_damping: TorsionalDamping = 100.0
+    slip_mass: Mass = 1.5
+    slip_inertia: Inertia = (2e-3, 2e-3, 2e-3)
     halfshaft_mass: Mass = 8.0
     halfshaft_inertia: Inertia = (0.4, 0.4, 0.01)
     plunger_mass: Mass = 0.5
@@ -144,11 +189,15 @@ class Shafts(Strict):
 
 class Carrier(Strict):
     """The rear axle's carrier (the differential's case mounted on the frame's rear cross
-    member, a rigid body fixed to the frame node there)."""
+    member, a rigid body fixed to the frame node there) and the pinion shaft hinged in it
+    (``pinion_offset`` ahead of the pinion, where the propeller shaft's rear universal joint
+    is; inertia in the shaft's frame, z along it)."""
 
     mass: Mass = 40.0
     inertia: Inertia = (0.6, 0.4, 0.6)
     pinion_offset: PositiveLength = 0.25
+    pinion_mass: Mass = 4.0
+    pinion_inertia: Inertia = (0.03, 0.03, 5e-3)
 
 
 class Differentials(Strict):

@@ -14,6 +14,7 @@ from drivedyn.library.vehicles.vehicle_rwd.configurations import CONFIGS
 from drivedyn.library.vehicles.vehicle_rwd.model import Layout, build_spec
 from drivedyn.library.vehicles.vehicle_rwd.schema import WHEELS, VehicleRWDFile
 from drivedyn.model.compile import compile_model
+from drivedyn.rotations import exp_so3
 from drivedyn.solver.statics import solve_static
 
 
@@ -36,8 +37,10 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
     from its unloaded shape (it sags by 10 mm under the body).
 
     Every body and node the two models share takes its static position and orientation,
-    except the differential's (``rear_*``: they move rigidly with the rear carrier, since a
-    TORSEN is solved as the open differential) and the half-shafts and plungers (turned
+    except the differential's and the pinion's (``rear_*``, ``pinion_shaft``: they move
+    rigidly with the rear carrier, since a TORSEN is solved as the open differential), the
+    propeller shaft's slip yoke (turned about its axis to square its joint with the pinion)
+    and the half-shafts and plungers (turned
     about their inner joint so that the shaft reaches its wheel's static centre; the plunger
     slides). Velocities stay the model's own (the vehicle's speed, the wheels' spins)."""
 
@@ -61,7 +64,7 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
     def axis(node: int, marker: str, col: int) -> np.ndarray:
         return st.R[node] @ model.marker_frames[marker][2][:, col]
 
-    rigid = ("rear_", "carrier", "propshaft")  # on the carrier, spins kept
+    rigid = ("rear_", "carrier", "pinion_shaft")  # on the carrier, spins kept
     for name, i in model.node_index.items():
         if name.startswith(rigid):
             st.x[i] = carried(x0[i])
@@ -77,6 +80,13 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
             Qn = st.R[n] @ R0[n].T
             st.x[i] = st.x[n] + Qn @ (x0[i] - x0[n])
             st.R[i] = Qn @ R0[i]
+    # the slip yoke turns about its axis so that the propeller shaft's rear joint to the
+    # carried pinion stays square (the shaft's torsional spring takes the difference)
+    sl = model.node_index["propshaft_slip"]
+    k = axis(sl, "prop_slip_out", 2)
+    u = axis(sl, "prop_slip_out", 0)
+    v = axis(model.node_index["pinion_shaft"], "pinion_flange", 1)
+    st.R[sl] = exp_so3(k * np.arctan(-(u @ v) / (np.cross(k, u) @ v))) @ st.R[sl]
     for w in WHEELS:  # the wheels turn with their uprights (their spins kept)
         wh = model.node_index[lay.wheels[w]]
         up = model.marker_frames[f"{lay.wheels[w]}_bearing_hub"][0]
