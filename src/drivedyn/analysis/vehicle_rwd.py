@@ -20,13 +20,12 @@ Checks:
 
 The driveline power balance is written relative to the rear carrier: the engine's power is
 its torque times the shaft's speed relative to its mount on the frame (the engine torque
-element's ``power``), a rear wheel's power
-the outboard joint's torque on the wheel times the wheel's angular velocity relative to its
-upright, and the driveline's kinetic energy ``sum(w.h/2 - w_c.h)`` over its bodies (engine
-and propeller shafts, slip yoke, pinion shaft, the differential's bodies, half-shafts and
-plungers) with ``w_c`` the
-carrier's angular velocity. The bearings carry the driveline along with the vehicle; the
-work they do in that (translation, the frame's pitch and roll) is left out, and it is what
+element's ``power``), a rear wheel's power the outboard joint's torque on the wheel times
+the wheel's angular velocity relative to its upright, and the driveline's kinetic energy
+``sum(w.h/2 - w_c.h)`` over its bodies (engine and propeller shafts, slip yoke, pinion
+shaft, the differential's bodies, half-shafts and plungers) with ``w_c`` the carrier's
+angular velocity. The bearings carry the driveline along with the vehicle; the work they do
+in that (translation, the frame's pitch and roll) is left out, and it is what
 the balance's error measures besides the integration's.
 """
 
@@ -119,7 +118,8 @@ def static(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".") -> Stati
     from drivedyn.solver.statics import solve_static
     from drivedyn.solver.system import element_outputs
 
-    q = p.model_copy(update={"engine": p.engine.model_copy(update={"throttle": 0.0})})
+    q = p.model_copy(update={"engine": p.engine.model_copy(update={"throttle": 0.0,
+                                                                   "idle_throttle": 0.0})})
     note = ""
     if q.differentials.rear == "torsen-b":
         # the TORSEN's floating gears have no stiffness at rest (a singular static matrix)

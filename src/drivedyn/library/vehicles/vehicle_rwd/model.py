@@ -443,8 +443,8 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     sp.add(Hinge("engine_bearing", eng_mount, "engine_out"))
     sp.add(EngineTorque("engine", eng_mount, "engine_out", full_load=e.full_load,
                         zero_throttle=e.zero_throttle,
-                        throttle_function=SmoothStep(e.start, e.start + e.ramp, 0.0,
-                                                     e.throttle),
+                        throttle_function=SmoothStep(e.start, e.start + e.ramp,
+                                                     e.idle_throttle, e.throttle),
                         ratio=e.gear_ratio))
     # propeller shaft: a universal joint at the gearbox output, a slip yoke (sliding and
     # turning on the shaft against its torsional compliance) and a universal joint at the

@@ -148,8 +148,10 @@ class Engine(Strict):
     ``zero_throttle`` curve ``T_0`` (None: 0) at the engine speed, ``gear_ratio`` times the
     gearbox output's speed relative to the frame; the output gets ``gear_ratio`` times the
     torque. Its inertia about its axis is ``inertia * gear_ratio^2 + output_inertia`` (the
-    crankshaft seen through the gear, the torque converter locked). ``throttle`` rises
-    smoothly from 0 at ``start`` to ``throttle`` at ``start + ramp``."""
+    crankshaft seen through the gear, the torque converter locked). The throttle is
+    ``idle_throttle`` until ``start`` and rises smoothly to ``throttle`` at ``start + ramp``
+    (``idle_throttle``: the driver holding the engine off its friction curve before the
+    ramp, so that the driveline does not start in engine braking)."""
 
     full_load: EngineMap = Field(default_factory=lambda: list(HMMWV_FULL_LOAD))
     zero_throttle: EngineMap | None = Field(default_factory=lambda: list(HMMWV_ZERO_THROTTLE))
@@ -158,6 +160,7 @@ class Engine(Strict):
     shaft_mass: Mass = 20.0
     gear_ratio: float = Field(default=5.855, gt=0.0)
     throttle: float = Field(default=0.1, ge=0.0, le=1.0)
+    idle_throttle: float = Field(default=0.0, ge=0.0, le=1.0)
     start: Time = 0.0
     ramp: PositiveTime = 0.5
 

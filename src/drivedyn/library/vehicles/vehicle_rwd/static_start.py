@@ -44,7 +44,8 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
     about their inner joint so that the shaft reaches its wheel's static centre; the plunger
     slides). Velocities stay the model's own (the vehicle's speed, the wheels' spins)."""
 
-    q = p.model_copy(update={"engine": p.engine.model_copy(update={"throttle": 0.0})})
+    q = p.model_copy(update={"engine": p.engine.model_copy(update={"throttle": 0.0,
+                                                                   "idle_throttle": 0.0})})
     if q.differentials.rear == "torsen-b":  # floating gears: no stiffness at rest
         d = q.differentials.model_copy(update={"rear": CONFIGS["open"]})
         q = q.model_copy(update={"differentials": d})
