@@ -2,6 +2,7 @@
 
 from drivedyn.elements import (  # noqa: F401
     bodies,
+    controllers,
     drivers,
     joints,
     loads,
@@ -26,6 +27,7 @@ from drivedyn.elements.contact import (
     ThrustWasherContact,
     UnilateralContact,
 )
+from drivedyn.elements.controllers import SpeedController
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver, TravelDriver
 from drivedyn.elements.flexible import FlexibleBody
 from drivedyn.elements.framework.group import Group
@@ -77,6 +79,7 @@ __all__ = [
     "RoadPatch",
     "RotationalMaxwellBranch",
     "Screw",
+    "SpeedController",
     "SpeedDifferenceDriver",
     "Spherical",
     "SpringDamper",
