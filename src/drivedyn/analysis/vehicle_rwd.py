@@ -30,7 +30,7 @@ from drivedyn.library.vehicles.vehicle_rwd.configurations import CONFIGS, config
 from drivedyn.library.vehicles.vehicle_rwd.schema import WHEELS
 
 G = 9.81
-SCENARIOS = ("static", "split-mu-launch")
+SCENARIOS = ("static", "split-mu-launch", "power-on-cornering")
 #: recording interval [s] of a launch
 OUTPUT_DT = 5e-3
 
