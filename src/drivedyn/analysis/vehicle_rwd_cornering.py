@@ -25,8 +25,11 @@ Checks:
 * steady circle: ``V r`` equals the tyres' force across the path over the mass within
   :data:`AY_TOLERANCE` (relative);
 * ``open``: the rear wheel torques equal within 1 % over the power window;
-* ``locked``, ``clutch``, ``torsen-b``: the outer rear wheel (the loaded one) gets more
-  torque over the power window;
+* ``locked``: the rear wheels turn together (spins equal within 1e-3, relative) over the
+  power window (the inner wheel, which has the shorter path, then drives and the outer one
+  is dragged: the torque goes to the inner wheel);
+* ``clutch``, ``torsen-b``: the slower rear wheel gets more torque over the power window
+  (the differential's friction opposes the wheels' relative motion);
 * ``torsen-b``: the rear torque ratio within the differential's analytic TDR range (+2 %).
 """
 
@@ -233,11 +236,15 @@ def checks(s: CorneringSummary, tol: float = 0.02) -> list[tuple[str, float, flo
         d = abs(left.torque - right.torque) / (0.5 * abs(left.torque + right.torque))
         out.append(("open: rear wheel torques equal, power on (relative difference)", d, 0.01,
                     d <= 0.01))
+    elif s.name == "locked":
+        d = abs(left.spin - right.spin) / (0.5 * abs(left.spin + right.spin))
+        out.append(("locked: rear wheels turn together, power on (relative spin difference)",
+                    d, 1e-3, d <= 1e-3))
     else:
-        outer, inner = (right, left) if pw.yaw_rate >= 0.0 else (left, right)
-        out.append((f"{s.name}: the outer (loaded) rear wheel gets more torque, power on",
-                    abs(outer.torque) / max(abs(inner.torque), 1e-300), 1.0,
-                    abs(outer.torque) > abs(inner.torque)))
+        slow, fast = (left, right) if left.spin < right.spin else (right, left)
+        out.append((f"{s.name}: the slower rear wheel gets more torque, power on",
+                    slow.torque / fast.torque if fast.torque else float("inf"), 1.0,
+                    slow.torque > fast.torque))
     if s.name == "torsen-b" and s.tdr:
         lim = s.tdr[1] * (1 + tol)
         ratio = pw.axle_ratio["rear"]
