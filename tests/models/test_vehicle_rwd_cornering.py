@@ -77,7 +77,7 @@ def test_zero_steer_gives_zero_yaw_rate():
         f"{KEY}.throttle_ramp=0.2", f"{KEY}.power_window=[0.85, 1.0]", f"{KEY}.t_end=1.0"])
     p = V.configure(p, "open")
     torsen = read_vehicle_differentials(p, source, MODELS_DIR)
-    res, lay, cor = C.run(p, torsen, MODELS_DIR)
+    res, lay, cor = C.run(p, torsen, MODELS_DIR, variables=C.WINDOW_VARIABLES)
     assert res.success, res.message
     s = C.summarize(res, lay, cor, p.scenarios.power_on_cornering)
     for w in (s.steady, s.power):

@@ -55,6 +55,10 @@ SPEED_TOLERANCE = 5e-3
 AY_TOLERANCE = 0.02
 #: recording interval [s]
 OUTPUT_DT = 5e-3
+#: the outputs :func:`window_means` and :func:`summarize` read (for ``run(variables=...)``)
+WINDOW_VARIABLES = ["frame.*.velocity", "frame.*.angular_velocity", "wheel_*.rotation",
+                    "wheel_*.angular_velocity", "tyre_*.*", "halfshaft_*_outer.torque_*",
+                    "speed_control.*"]
 
 
 @dataclass
@@ -115,10 +119,12 @@ class CorneringSummary:
 def run(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
         c: PowerOnCornering | None = None, output_dt: float = OUTPUT_DT, progress=None,
         source: str = "", overrides: list[str] | tuple = (), steer: Any = None,
-        reference: Any = None) -> tuple[Any, Layout, Cornering]:
+        reference: Any = None, variables: list[str] | None = None
+        ) -> tuple[Any, Layout, Cornering]:
     """Build, compile and simulate the scenario ``c`` (default the file's): (results,
     layout, cornering). ``steer``: the pinion angle's time function, ``reference``: the
-    reference speed's (defaults: the scenario's)."""
+    reference speed's (defaults: the scenario's); ``variables``: the outputs to keep (glob
+    patterns, default all; :data:`WINDOW_VARIABLES` keeps what the summaries read)."""
     import json
 
     from drivedyn.analysis.vehicle_rwd import static_start
@@ -132,7 +138,7 @@ def run(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     model = compile_model(spec)
     state = static_start(q, torsen, base_dir, model, lay)
     res = simulate(model, c.t_end, state=state, output_dt=output_dt, progress=progress,
-                   **p.solver.settings(h_max=c.h_max))
+                   variables=variables, **p.solver.settings(h_max=c.h_max))
     record_provenance(res.dataset,
                       model_file=json.dumps(p.model_dump(mode="json", warnings=False),
                                             indent=1, default=str),

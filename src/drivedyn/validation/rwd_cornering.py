@@ -94,7 +94,7 @@ def rwd_steady_cornering(quick: bool = False, figure_dir: str | None = None
            "model under the steady-state loads)")
     quantity = f"understeer gradient K, V = {SPEED:g} m/s, constant steer"
     p, c, torsen, base = scenario(quick)
-    res, lay, cor = C.run(p, torsen, base, c)
+    res, lay, cor = C.run(p, torsen, base, c, variables=C.WINDOW_VARIABLES)
     if not res.success:
         return finish_case([failed_check(CASE, quantity, "rad/(m/s^2)", TOLERANCE, src,
                                          res)], t0, [])
