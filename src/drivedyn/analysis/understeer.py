@@ -80,6 +80,8 @@ FRONT, REAR = ("fl", "fr"), ("rl", "rr")
 #: Newton steps on a wheel's longitudinal slip for its longitudinal force (the slip
 #: stiffness at zero slip as the derivative; 1e-4 N after three)
 KAPPA_ITERATIONS = 3
+#: pure roll moment [N m] of the roll-steer solution (about the steady circle's at 0.2 g)
+ROLL_MOMENT = 2000.0
 
 
 @dataclass
@@ -102,7 +104,8 @@ class Loads:
     and longitudinal accelerations [m/s^2], per wheel lateral force [N] (along the wheel's
     y), aligning moment [N m], longitudinal force [N] (along its heading, at the centre),
     gyroscopic moment about x [N m]; ``drive``: the drive torque on each rear wheel
-    [N m]."""
+    [N m]; ``roll_moment``: a pure roll moment about x [N m] on the body (vertical forces
+    on its carriers; for the roll steer, :func:`steer_split`)."""
 
     ay: float = 0.0
     ax: float = 0.0
@@ -111,6 +114,18 @@ class Loads:
     fx: dict[str, float] = field(default_factory=lambda: dict.fromkeys(WHEELS, 0.0))
     gyro: float = 0.0
     drive: float = 0.0
+    roll_moment: float = 0.0
+
+
+@dataclass
+class Parked:
+    """A static solution of the parked vehicle: the wheels' states, the frame's roll angle
+    [rad] (about x, left side up positive; at the node of the speed sensor) and the
+    layout."""
+
+    wheels: dict[str, WheelState]
+    roll: float
+    layout: Layout
 
 
 def _parked(p: VehicleRWDFile) -> VehicleRWDFile:
@@ -120,9 +135,10 @@ def _parked(p: VehicleRWDFile) -> VehicleRWDFile:
 
 
 def quasi_static_state(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, theta: float,
-                       loads: Loads | None = None) -> tuple[dict[str, WheelState], Layout]:
+                       loads: Loads | None = None) -> Parked:
     """The parked vehicle's static solution with the pinion at ``theta`` [rad] under
-    ``loads`` (None: gravity only): each wheel's :class:`WheelState` and the layout."""
+    ``loads`` (None: gravity only)."""
+    from drivedyn.library.vehicles.vehicle_rwd.cornering import sensor_node
     from drivedyn.model.compile import compile_model
     from drivedyn.solver.statics import solve_static
     from drivedyn.solver.system import element_outputs
@@ -151,6 +167,15 @@ def quasi_static_state(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, th
     if loads is not None and ld.drive:
         sp.add_marker("carrier_drive", "carrier")
         sp.add(Torque("drive_reaction", "carrier_drive", vector=(0.0, -2.0 * ld.drive, 0.0)))
+    if ld.roll_moment:
+        carriers = [n for n in sp.bodies if n.startswith("frame.body.")]
+        arm = sum(abs(sp.bodies[n].position[1]) for n in carriers)
+        for n in carriers:
+            side = math.copysign(1.0, sp.bodies[n].position[1])
+            sp.add_marker(f"{n}.roll", n)
+            sp.add(Force(f"{n}.roll", f"{n}.roll", vector=(0.0, 0.0,
+                                                            side * ld.roll_moment / arm)))
+    node = sensor_node(sp, lay.cg)
     model = compile_model(sp)
     st = solve_static(model, max_iter=100)
     out = element_outputs(model, st)
@@ -162,7 +187,9 @@ def quasi_static_state(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, th
         wheels[w] = WheelState(steer=float(math.atan2(-a[0], a[1])), camber=ty["camber"],
                                fz=ty["fz"], x=float(st.x[j][0]), y=float(st.x[j][1]),
                                height=ty["height"])
-    return wheels, lay
+    j = model.node_index[node]
+    Q = st.R[j] @ sp.nodes[node].rotation.T
+    return Parked(wheels, float(math.atan2(Q[2, 1], Q[2, 2])), lay)
 
 
 @dataclass
@@ -294,11 +321,14 @@ class Reference:
         ay: lateral acceleration [m/s^2]; speed [m/s]; theta: pinion angle [rad].
         ratio: road-wheel steer per pinion angle [rad/rad] (mean of the front wheels, from
             the parked vehicle's static solutions at 0 and ``theta``); delta [rad].
-        wheelbase: [m]; a, b: the centre of gravity from the front and rear axles [m].
+        wheelbase: [m]; a, b: the centre of gravity from the front and rear axles [m];
+            x_cg: its x [m].
         mass: [kg]; m_f, m_r: static axle masses [kg]; c_f, c_r: axle cornering
             stiffnesses [N/rad] at the static loads.
         static, loaded: the wheels' states at rest (steered) and under the cornering loads.
         solution: the full reference's :class:`Solution`.
+        tyres: the wheels' tyres (as the reference used them).
+        roll_static, roll_loaded: the frame's roll angle at rest and under the loads [rad].
         solves: static solutions computed.
     """
 
@@ -312,6 +342,7 @@ class Reference:
     wheelbase: float
     a: float
     b: float
+    x_cg: float
     mass: float
     m_f: float
     m_r: float
@@ -320,7 +351,18 @@ class Reference:
     static: dict[str, WheelState]
     loaded: dict[str, WheelState]
     solution: Solution
+    tyres: dict[str, Tyre] = field(default_factory=dict)
+    roll_static: float = 0.0
+    roll_loaded: float = 0.0
     solves: int = 0
+
+
+def _mix(fz: dict[str, WheelState], steer: dict[str, WheelState],
+         camber: dict[str, WheelState]) -> dict[str, WheelState]:
+    """Wheel states with the loads (and positions) of ``fz``, the steer of ``steer`` and
+    the camber of ``camber``."""
+    return {w: WheelState(steer[w].steer, camber[w].camber, fz[w].fz, fz[w].x, fz[w].y,
+                          fz[w].height) for w in WHEELS}
 
 
 def steering_ratio(zero: dict[str, WheelState], steered: dict[str, WheelState],
@@ -343,8 +385,9 @@ def reference_gradient(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, th
     if rear_stiffness != 1.0:
         for w in REAR:
             tyres[w] = tyres[w].scaled(LKY=rear_stiffness)
-    zero, lay = quasi_static_state(p, torsen, base_dir, 0.0)
-    static, _ = quasi_static_state(p, torsen, base_dir, theta)
+    zero_p = quasi_static_state(p, torsen, base_dir, 0.0)
+    static_p = quasi_static_state(p, torsen, base_dir, theta)
+    zero, static, lay = zero_p.wheels, static_p.wheels, zero_p.layout
     ratio = steering_ratio(zero, static, theta)
     delta = ratio * theta
     m, x_cg = lay.total_mass, float(lay.cg[0])
@@ -363,26 +406,25 @@ def reference_gradient(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, th
     r = ay / speed
     base = Inputs(m, x_cg, delta, speed, static, tyres)
     sol = solve_axles(base, ay)
-    loaded = static
+    loaded_p = static_p
     for _ in range(iterations):
         loads = Loads(ay=ay, ax=sol.ax, fy=sol.fy, mz=sol.mz, fx=sol.fx, gyro=J * omega * r,
                       drive=sol.drive)
-        loaded, _ = quasi_static_state(p, torsen, base_dir, theta, loads)
-        sol = solve_axles(Inputs(m, x_cg, delta, speed, loaded, tyres), ay)
+        loaded_p = quasi_static_state(p, torsen, base_dir, theta, loads)
+        sol = solve_axles(Inputs(m, x_cg, delta, speed, loaded_p.wheels, tyres), ay)
+    loaded = loaded_p.wheels
     # the terms, added one after the other
     # at rest: no steer offsets (the front wheels at the nominal steer), no camber
     rest = {w: WheelState(delta if w in FRONT else 0.0, 0.0, zero[w].fz, static[w].x,
                           static[w].y, static[w].height) for w in WHEELS}
 
-    def mix(fz: dict, steer: dict, camber: dict) -> dict[str, WheelState]:
-        return {w: WheelState(steer[w].steer, camber[w].camber, fz[w].fz, loaded[w].x,
-                              loaded[w].y, loaded[w].height) for w in WHEELS}
-
     steps = [
         Inputs(m, x_cg, delta, speed, rest, tyres, mz=False, fx=False),
-        Inputs(m, x_cg, delta, speed, mix(loaded, rest, rest), tyres, mz=False, fx=False),
-        Inputs(m, x_cg, delta, speed, mix(loaded, static, static), tyres, mz=False, fx=False),
-        Inputs(m, x_cg, delta, speed, mix(loaded, loaded, static), tyres, mz=False, fx=False),
+        Inputs(m, x_cg, delta, speed, _mix(loaded, rest, rest), tyres, mz=False, fx=False),
+        Inputs(m, x_cg, delta, speed, _mix(loaded, static, static), tyres, mz=False,
+               fx=False),
+        Inputs(m, x_cg, delta, speed, _mix(loaded, loaded, static), tyres, mz=False,
+               fx=False),
         Inputs(m, x_cg, delta, speed, loaded, tyres, mz=False, fx=False),
         Inputs(m, x_cg, delta, speed, loaded, tyres, fx=False),
         Inputs(m, x_cg, delta, speed, loaded, tyres),
@@ -394,9 +436,47 @@ def reference_gradient(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, th
     terms = [(TERMS[0], k0)] + [(TERMS[i], gradients[i] - gradients[i - 1])
                                 for i in range(1, len(TERMS))]
     return Reference(gradient=gradients[-1], terms=terms, ay=ay, speed=speed, theta=theta,
-                     ratio=ratio, delta=delta, wheelbase=L, a=a, b=b, mass=m, m_f=m_f,
+                     ratio=ratio, delta=delta, wheelbase=L, a=a, b=b, x_cg=x_cg, mass=m, m_f=m_f,
                      m_r=m_r, c_f=c_f, c_r=c_r, static=static, loaded=loaded, solution=sol,
+                     tyres=tyres, roll_static=static_p.roll, roll_loaded=loaded_p.roll,
                      solves=2 + iterations)
+
+
+@dataclass
+class SteerSplit:
+    """The ``roll and compliance steer`` term split: per wheel the steer per roll angle
+    under a pure roll moment [rad/rad] (the roll steer), the frame's roll under the
+    cornering loads [rad], the kinematic roll steer there [rad], and the term's shares
+    [rad/(m/s^2)]: the roll steer's (the reference with only it added to the static
+    alignment) and the rest's (compliance steer: the bushings under the tyres' forces and
+    moments)."""
+
+    coefficient: dict[str, float]
+    roll: float
+    steer: dict[str, float]
+    roll_steer: float
+    compliance_steer: float
+
+
+def steer_split(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, ref: Reference,
+                moment: float = ROLL_MOMENT) -> SteerSplit:
+    """:class:`SteerSplit` of ``ref`` (one more static solution: the parked vehicle with
+    ``moment`` [N m] of pure roll on its body, the pinion at ``ref.theta``)."""
+    rolled = quasi_static_state(p, torsen, base_dir, ref.theta, Loads(roll_moment=moment))
+    d_roll = rolled.roll - ref.roll_static
+    coef = {w: (rolled.wheels[w].steer - ref.static[w].steer) / d_roll for w in WHEELS}
+    roll = ref.roll_loaded - ref.roll_static
+    kin = {w: WheelState(ref.static[w].steer + coef[w] * roll, 0.0, 0.0, 0.0, 0.0, 0.0)
+           for w in WHEELS}
+    args = (ref.mass, ref.x_cg, ref.delta, ref.speed)
+    k = []
+    for steer in (ref.static, kin):
+        s = solve_axles(Inputs(*args, _mix(ref.loaded, steer, ref.static), ref.tyres, mz=False,
+                               fx=False), ref.ay)
+        k.append((s.alpha_f - s.alpha_r) / ref.ay)
+    term = dict(ref.terms)[TERMS[4]]
+    return SteerSplit(coef, roll, {w: coef[w] * roll for w in WHEELS}, k[1] - k[0],
+                      term - (k[1] - k[0]))
 
 
 @dataclass

@@ -21,15 +21,18 @@
   the static wheel loads, the static axle loads, the wheelbase, the steering ratio) plus
   the effects the 3-D vehicle has, each measured on the model (the parked vehicle's static
   solutions under the steady state's loads) and declared as a term
-  (:data:`drivedyn.analysis.understeer.TERMS`). The linear model alone gives a nearly
-  neutral vehicle (the tyre file's cornering stiffness is nearly proportional to the load
-  at the HMMWV's loads, and the axle loads are nearly equal); the 3-D vehicle understeers,
-  mostly from compliance steer of the front corners (bushings under the tyres' lateral
-  forces and aligning moments) and from the lateral load transfer with the static toe.
+  (:data:`drivedyn.analysis.understeer.TERMS`; the steer term split into the kinematic
+  roll steer and the compliance steer by one more static solution,
+  :func:`~drivedyn.analysis.understeer.steer_split`). The linear model alone gives a
+  nearly neutral vehicle (the tyre file's cornering stiffness is nearly proportional to the
+  load at the HMMWV's loads, and the axle loads are nearly equal); the 3-D vehicle
+  understeers, mostly from the front corners' compliance steer (their bushings under the
+  tyres' lateral forces and aligning moments), the aligning moments, the roll steer and
+  the lateral load transfer.
 
   The check can fail: doubling the rear tyres' cornering stiffness in the reference
   (``reference_gradient(..., rear_stiffness=2.0)``) turns ``K`` into about
-  ``m_f / C_f - m_r / (2 C_r)`` plus the terms, six times the measured value.
+  ``m_f / C_f - m_r / (2 C_r)`` plus the terms, nearly eight times the measured value.
 """
 
 from __future__ import annotations
@@ -103,10 +106,15 @@ def rwd_steady_cornering(quick: bool = False, figure_dir: str | None = None
     ref = U.reference_gradient(cornering_parameters(p, c), torsen, base, c.pinion_angle,
                                w.ground_speed, ay, iterations=2 if quick else U.ITERATIONS)
     meas = U.measured_gradient(w.ground_speed, w.yaw_rate, ref.delta, ref.wheelbase)
+    split = U.steer_split(cornering_parameters(p, c), torsen, base, ref)
     deg_g = 180.0 / math.pi * G
+    terms = [*ref.terms[:4], ("roll steer", split.roll_steer),
+             ("compliance steer", split.compliance_steer), *ref.terms[5:]]
     out = [compare(CASE, f"{quantity}, a_y = {ay:.3f} m/s^2 ({ay / G:.3f} g <= 0.2 g)",
                    ref.gradient, meas.gradient, "rad/(m/s^2)", TOLERANCE,
-                   src + "; terms: " + "; ".join(U.describe(ref))),
+                   src + "; terms: " + "; ".join(U.describe(ref)) + "; of the steer term: "
+                   f"roll steer {split.roll_steer:+.4e}, compliance steer "
+                   f"{split.compliance_steer:+.4e} rad/(m/s^2)"),
            compare(CASE, "speed held by the controller over the window (mean)", SPEED,
                    w.speed, "m/s", C.SPEED_TOLERANCE, "the controller's reference")]
     if ay > LINEAR_RANGE:
@@ -115,8 +123,8 @@ def rwd_steady_cornering(quick: bool = False, figure_dir: str | None = None
 
     def draw(fig) -> None:
         ax = fig.add_subplot(111)
-        names = [n for n, _ in ref.terms]
-        vals = np.array([v for _, v in ref.terms]) * deg_g
+        names = [n for n, _ in terms]
+        vals = np.array([v for _, v in terms]) * deg_g
         base_ = np.concatenate([[0.0], np.cumsum(vals)[:-1]])
         ax.barh(range(len(vals)), vals, left=base_, color=["C0"] + ["C1"] * (len(vals) - 1))
         ax.barh(len(vals), ref.gradient * deg_g, color="C2")
