@@ -138,3 +138,23 @@ def test_cli_t_end_before_the_windows_is_bad_input():
                                   "--t-end", "1"])
     assert r.exit_code == 2
     assert "scenarios.power_on_cornering" in r.output and "t_end" in r.output
+
+
+@pytest.mark.slow  # about 35 s: the steady circle (2.6 s at 20 m/s) and 9 static solutions
+def test_steady_cornering_case_passes_and_can_fail():
+    """``rwd_steady_cornering`` (quick): the 3-D model's understeer gradient within 10 % of
+    the reference; the reference with the rear tyres' cornering stiffness doubled (the
+    mutation its docstring names) misses it by far."""
+    from drivedyn.library.vehicles.vehicle_rwd.cornering import cornering_parameters
+    from drivedyn.validation import CASES
+    from drivedyn.validation.rwd_cornering import CASE, scenario
+
+    results = CASES[CASE](quick=True)
+    assert all(r.passed for r in results), [(r.quantity, r.error) for r in results]
+    k = results[0]
+    assert 5e-4 < k.simulated < 3e-3  # understeer, about 0.7 deg/g
+    p, c, torsen, base = scenario(True)
+    ay = float(k.quantity.split("a_y = ")[1].split(" ")[0])
+    wrong = U.reference_gradient(cornering_parameters(p, c), torsen, base, c.pinion_angle,
+                                 c.speed, ay, rear_stiffness=2.0, iterations=1)
+    assert abs(wrong.gradient - k.simulated) / abs(wrong.gradient) > 0.5  # tolerance 0.1
