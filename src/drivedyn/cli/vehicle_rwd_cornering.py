@@ -105,11 +105,12 @@ def run_cornering(p: Any, source: str, variants: list[Any], torsen: dict, base: 
                                         "runs": results, "passed": ok})))
     else:
         con = console()
-        con.print(C.table(summaries))
+        con.print(C.table(summaries), markup=False)  # the units' brackets are not markup
         for s in summaries:
             for name, value, limit, passed in C.checks(s):
                 mark = "ok  " if passed else "FAIL"
-                con.print(f"  {mark} [{s.name}] {name}: {value:.4g} (limit {limit:.4g})")
+                con.print(f"  {mark} [{s.name}] {name}: {value:.4g} (limit {limit:.4g})",
+                          markup=False)
     if not ok:
         sys.exit(EXIT_FAILED)
     outputs.exit_if_failed()
