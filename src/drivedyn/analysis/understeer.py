@@ -31,13 +31,15 @@ added to the ones before; :data:`TERMS`):
    ride height, with the steer;
 4. ``roll and compliance steer``: the change of each wheel's steer angle under the
    cornering loads (suspension kinematics in roll, bushings under the tyres' forces and
-   aligning moments);
+   aligning moments; :func:`steer_split` separates the roll steer, measured under a pure
+   roll moment, from the rest);
 5. ``camber change``: the change of each wheel's camber under the cornering loads;
 6. ``aligning moments``: the tyres' aligning moments in the yaw balance;
 7. ``longitudinal forces``: rolling resistance (the tyre model's ``My``) and the drive
    force (the open differential's equal torques on the rear wheels, their sum from the
    longitudinal balance) in the balances: with the loads transferred across the axle they
-   yaw the vehicle.
+   yaw the vehicle; and the longitudinal slips these forces take, which change the lateral
+   forces (combined slip).
 
 The cornering loads applied to the parked vehicle (front brakes, ground bushing in plane;
 :func:`~drivedyn.library.vehicles.vehicle_rwd.model.build_spec`) are the steady state's:
@@ -50,9 +52,8 @@ spinning wheels' gyroscopic moments (``J omega r`` about x) and the lifts that c
 weight of the differential's gears as in the rolling vehicle. The tyres' forces come from
 the reference's own solution, so the parked solution and the reference are iterated
 (:data:`ITERATIONS`). Not included (each below 1 % of ``K``, estimated): the track's
-effect on each wheel's slip angle (``y r / V``), the slip-dependent (combined) tyre forces
-of the rear wheels' small drive slip, the centripetal field's variation over the vehicle
-(``r^2``), the yaw-rate terms of the rotating driveline (pitch only).
+effect on each wheel's slip angle (``y r / V``), the centripetal field's variation over the
+vehicle (``r^2``), the yaw-rate terms of the rotating driveline (pitch only).
 """
 
 from __future__ import annotations
