@@ -20,7 +20,8 @@ Parts and connections:
   :func:`~drivedyn.library.vehicles.suspensions.free_length_for_load` for the static load
   of each corner, so that the vehicle starts at its ride height;
 * **steering**: :func:`~drivedyn.library.vehicles.suspensions.add_rack_steering`, the
-  pinion angle held at ``steering.pinion_angle``;
+  pinion angle held at ``steering.pinion_angle`` or given as a time function
+  (:func:`build_spec`'s ``steer``: the cornering scenario);
 * **wheels**: a rigid body per corner hinged on the corner's hub; a
   :class:`~drivedyn.elements.TyreContact` per wheel, the property file mirrored for the
   side it was not measured on;
