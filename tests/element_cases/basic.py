@@ -134,6 +134,23 @@ def speed_difference_case() -> Spec:
     return spec
 
 
+def speed_controller_case(saturated: bool = False, ground_a: bool = False) -> Spec:
+    """A speed controller sensing body B's marker (offset from its node, so every term of
+    the speed's derivative is active) and driving B against A; ``saturated``: limits that
+    clip the output (the clipped tangent is zero), else limits wide enough to stay inside."""
+    from drivedyn.elements.controllers import SpeedController
+    from drivedyn.timefunctions import SmoothStep
+
+    spec = Spec()
+    a, b = _two_bodies(spec, ground_a)
+    spec.add_marker("sense", "B", position=(0.3, -0.1, 0.2), rotation=_RA.T @ _RM)
+    lim = 0.5 if saturated else 50.0
+    spec.add(SpeedController("c", "sense", a, b, SmoothStep(0.0, 1.0, 1.0, 3.0), gain=4.0,
+                             integral_gain=2.5, torque_min=-lim, torque_max=lim,
+                             initial_torque=0.2, gate_function=SmoothStep(0.0, 1.0, 0.5, 0.9)))
+    return spec
+
+
 def spring_case() -> Spec:
     from drivedyn.elements.springs import SpringDamper
 

@@ -46,7 +46,7 @@ from drivedyn.library.vehicles.vehicle_rwd.schema import WHEELS
 from drivedyn.library.vehicles.vehicle_rwd.static_start import static_start
 
 G = 9.81
-SCENARIOS = ("static", "split-mu-launch")
+SCENARIOS = ("static", "split-mu-launch", "power-on-cornering")
 #: recording interval [s] of a launch
 OUTPUT_DT = 5e-3
 

@@ -1,6 +1,7 @@
 """``drivedyn vehicle``: a vehicle model with one or several differential configurations,
 a wheel-torque table and the acceptance checks: the 4WD vehicle on split-mu (and its
-figures), or the RWD vehicle's scenarios (``--scenario static`` or ``split-mu-launch``).
+figures), or the RWD vehicle's scenarios (``--scenario static``, ``split-mu-launch`` or
+``power-on-cornering``).
 
 Exit codes: 0 success (every check passed), 1 a run failed or a check did not pass, 2 bad
 input (file, key, value, configuration name).
@@ -44,7 +45,7 @@ from drivedyn.cli.common import (
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 @click.option("--scenario", default=None, metavar="NAME",
               help="Scenario of a vehicle that has several (vehicle-rwd: static, "
-                   "split-mu-launch; default split-mu-launch).")
+                   "split-mu-launch, power-on-cornering; default split-mu-launch).")
 def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tuple[str, ...],
             out: Path | None, as_json: bool, scenario: str | None) -> None:
     """Simulate a vehicle model FILE (default: the shipped vehicle-4wd) on its road and print

@@ -64,6 +64,10 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
         bad_input(f"{source}: {exc}")
     for note in notes:
         err(f"note: {note}")
+    if scenario == "power-on-cornering":
+        from drivedyn.cli.vehicle_rwd_cornering import run_cornering
+
+        return run_cornering(p, source, variants, torsen, base, t_end, sets, out, as_json)
     if scenario == "static":
         results = []
         for q in variants:

@@ -2,6 +2,7 @@
 
 from drivedyn.elements import (  # noqa: F401
     bodies,
+    controllers,
     drivers,
     engine,
     joints,
@@ -27,6 +28,7 @@ from drivedyn.elements.contact import (
     ThrustWasherContact,
     UnilateralContact,
 )
+from drivedyn.elements.controllers import SpeedController
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver, TravelDriver
 from drivedyn.elements.engine import EngineTorque
 from drivedyn.elements.flexible import FlexibleBody
@@ -80,6 +82,7 @@ __all__ = [
     "RoadPatch",
     "RotationalMaxwellBranch",
     "Screw",
+    "SpeedController",
     "SpeedDifferenceDriver",
     "Spherical",
     "SpringDamper",

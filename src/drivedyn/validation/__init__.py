@@ -6,8 +6,8 @@ exact or published reference. One module per subject registers its cases:
 :mod:`~drivedyn.validation.beams`, :mod:`~drivedyn.validation.fe`,
 :mod:`~drivedyn.validation.torsen`, :mod:`~drivedyn.validation.torsen_b`,
 :mod:`~drivedyn.validation.vehicles`, :mod:`~drivedyn.validation.bushings`,
-:mod:`~drivedyn.validation.chassis`, :mod:`~drivedyn.validation.suspensions` and
-:mod:`~drivedyn.validation.vehicle_rwd`."""
+:mod:`~drivedyn.validation.chassis`, :mod:`~drivedyn.validation.suspensions`,
+:mod:`~drivedyn.validation.vehicle_rwd` and :mod:`~drivedyn.validation.rwd_cornering`."""
 
 from __future__ import annotations
 
@@ -28,6 +28,7 @@ from drivedyn.validation import bushings  # noqa: F401
 from drivedyn.validation import chassis  # noqa: F401
 from drivedyn.validation import suspensions  # noqa: F401
 from drivedyn.validation import vehicle_rwd  # noqa: F401
+from drivedyn.validation import rwd_cornering  # noqa: F401
 # isort: on
 from drivedyn.validation.base import CASES, CaseResult, compare, register_case
 

@@ -20,7 +20,8 @@ Parts and connections:
   :func:`~drivedyn.library.vehicles.suspensions.free_length_for_load` for the static load
   of each corner, so that the vehicle starts at its ride height;
 * **steering**: :func:`~drivedyn.library.vehicles.suspensions.add_rack_steering`, the
-  pinion angle ``steering.pinion_angle`` (held, or a time function);
+  pinion angle held at ``steering.pinion_angle`` or given as a time function
+  (:func:`build_spec`'s ``steer``: the cornering scenario);
 * **wheels**: a rigid body per corner hinged on the corner's hub; a
   :class:`~drivedyn.elements.TyreContact` per wheel, the property file mirrored for the
   side it was not measured on (:func:`~.inputs.measured_side`);
@@ -227,7 +228,8 @@ def mass_properties(sp: Spec) -> tuple[float, np.ndarray]:
 
 
 def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
-               tyre: Tyre | None = None, parked: bool = False) -> tuple[Spec, Layout]:
+               tyre: Tyre | None = None, parked: bool = False,
+               steer: Any = None) -> tuple[Spec, Layout]:
     """The vehicle at its static ride height.
 
     ``parked`` adds what a static solution needs and a rolling vehicle does not have: a
@@ -242,6 +244,8 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
         torsen: ``"torsen-b"`` -> its validated parameters (when the rear uses it).
         base_dir: directory a relative tyre path is read from.
         tyre: the tyre of every wheel (default: :func:`load_tyre` per side).
+        steer: the pinion angle [rad] as a time function (number, TimeFunction or dict);
+            default ``steering.pinion_angle``, held.
     Returns:
         (spec, layout).
     """
@@ -280,7 +284,8 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     rho = float(np.mean([f / tyres["l"].vertical_stiffness for f in loads.values()]))
     re = tyres["l"].effective_radius(rho)
     sp, lay = _assemble(p, torsen, susp, tyres, r0 - rho, loads, body_m,
-                        body_cg - [0, 0, z_lift], lift=not parked, rolling_radius=re)
+                        body_cg - [0, 0, z_lift], lift=not parked, rolling_radius=re,
+                        steer=steer)
     if parked:
         _park(sp, lay)
     lay.static_load = loads
@@ -338,14 +343,15 @@ def _unsprung(corner_p: Any, wheel_mass: float, shaft_mass: float) -> float:
 
 def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[str, Tyre],
               h_wc: float, loads: dict[str, float] | None, body_mass: float,
-              body_cg: Any, lift: bool = True, rolling_radius: float = 1.0
-              ) -> tuple[Spec, Layout]:
+              body_cg: Any, lift: bool = True, rolling_radius: float = 1.0,
+              steer: Any = None) -> tuple[Spec, Layout]:
     """The vehicle with its wheel centres at height ``h_wc`` [m], the springs' free lengths
     for the corner ``loads`` [N] (None: the file's), the carried body's mass and centre of
     gravity (``body_cg`` in Chrono's vehicle frame); ``lift`` cancels the weight of the
     gears inside the differential (a rolling vehicle; a static solution keeps it, so that
     the tyres carry the whole weight). The vehicle moves forward at ``body.speed``, the
-    wheels rolling on ``rolling_radius`` [m]."""
+    wheels rolling on ``rolling_radius`` [m]; ``steer``: the pinion angle's time function
+    (None: ``steering.pinion_angle``)."""
     lay = Layout(ratio=p.final_drive.teeth_ring / p.final_drive.teeth_pinion,
                  rear_type=p.differentials.rear)
     dz = h_wc - susp.rear.point("wheel_center")[2]
@@ -366,8 +372,9 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     def mount(name: str, point: np.ndarray) -> str:
         return frame.mount(name, point)
 
-    # steering, held
-    rack = add_rack_steering(sp, "steer", s.steering, mount, p.steering.pinion_angle)
+    # steering: held, or the given pinion angle's time function
+    rack = add_rack_steering(sp, "steer", s.steering, mount,
+                             p.steering.pinion_angle if steer is None else steer)
     # corners with the free lengths of their static loads
     corners = {}
     for w in WHEELS:

@@ -31,6 +31,7 @@ from drivedyn.library.vehicles.vehicle_4wd.schema import (
     Time,
     Velocity,
 )
+from drivedyn.library.vehicles.vehicle_rwd.scenario_schema import Scenarios
 from drivedyn.schema_base import (
     Angle,
     Damping,
@@ -265,5 +266,6 @@ class VehicleRWDFile(Strict):
     differentials: Differentials = Field(default_factory=Differentials)
     steering: Steering = Field(default_factory=Steering)
     run: Run = Field(default_factory=Run)
+    scenarios: Scenarios = Field(default_factory=Scenarios)
     solver: Solver = Field(default_factory=Solver)
     provenance: Provenance = Field(default_factory=Provenance)
