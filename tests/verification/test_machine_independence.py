@@ -1,7 +1,8 @@
 """Validation figures that do not depend on the machine's round-off.
 
 The cases whose results once moved with the LU's round-off (the TORSEN Type B in vehicle
-configuration, the 4WD vehicle with three TORSENs, both benches) run in two processes under
+configuration, the 4WD vehicle with three TORSENs, both benches) and the RWD vehicle's
+(a flexible frame on bushings: 800 unknowns, sparse LU) run in two processes under
 two OpenBLAS settings: the library's own kernel choice with two threads, and the Sandy
 Bridge kernels with one thread (``OPENBLAS_CORETYPE``, ``OPENBLAS_NUM_THREADS``: other
 blockings and summation orders inside ``dgetrf``). Every figure must agree within 0.1 %
@@ -17,7 +18,8 @@ import sys
 
 import pytest
 
-CASES = ("torsen_b_vehicle", "vehicle_4wd_split_mu", "torsen_b_bench", "torsen_c_tdr")
+CASES = ("torsen_b_vehicle", "vehicle_4wd_split_mu", "torsen_b_bench", "torsen_c_tdr",
+         "rwd_static_loads", "rwd_split_mu", "rwd_steady_cornering")
 SETTINGS = (
     {"OPENBLAS_NUM_THREADS": "2"},
     {"OPENBLAS_CORETYPE": "SANDYBRIDGE", "OPENBLAS_NUM_THREADS": "1"},
