@@ -334,7 +334,9 @@ class TopMount(BushingRates):
     """The strut's rubber top mount, in its frame on the chassis: z along the strut axis
     (``strut_top`` minus ``strut_lower``), x and y across it. The rate about z must be
     positive: the mount is what holds the strut rod's spin about its own axis (the upright
-    turns about the rod in the damper tube)."""
+    turns about the rod in the damper tube), so ``rotational_stiffness`` has no default."""
+
+    rotational_stiffness: RotStiffnessVec
 
     @field_validator("rotational_stiffness")
     @classmethod
