@@ -1,5 +1,6 @@
 """The MacPherson strut corner: it builds (bodies, joints, the corner's names, left/right
-mirror images, the rack steering both wheels), its static equilibrium under a wheel load
+mirror images, the rack steering both wheels, an anti-roll bar on the lower arms), its
+static equilibrium under a wheel load
 (rigid and on bushings), its wheel rate, its kinematics against the validation case's loop
 closure (left and right), the shipped data set, the RWD vehicle on a MacPherson front, and
 bad input. Each test's docstring states the mutation that makes it fail."""
@@ -19,8 +20,10 @@ from drivedyn.elements import Force
 from drivedyn.errors import ModelError
 from drivedyn.library.vehicles.suspensions import (
     SHIPPED,
+    AntiRollBarFile,
     MacPhersonCorner,
     MacPhersonFile,
+    add_anti_roll_bar,
     add_corner,
     add_macpherson,
     add_rack_steering,
@@ -168,6 +171,35 @@ def test_rack_travel_steers_both_wheels_the_same_way():
         assert steer[1.0][s] < -0.02 and steer[2.0][s] > 0.02
         assert np.degrees(abs(steer[1.0][s])) < 6.0
     assert 0.75 < steer[1.0]["left"] / steer[1.0]["right"] < 1.33
+
+
+def test_anti_roll_bar_on_the_lower_arms_resists_roll():
+    """An anti-roll bar on the struts' lower arms (rigid pivots, opposite 2 kN loads on the
+    wheel centres): the wheels' height difference is smaller with the bar than without it
+    and the bar carries a torque. Fails if the bar's drop links are not joined to the
+    MacPherson corners' lower arms (the bar then carries nothing)."""
+    h = load_suspensions("hmmwv").front.anti_roll_bar
+    bar = AntiRollBarFile(rate=1e4, pivot=(-0.35, 0.70, -0.10), lever_end=(-0.10, 0.80, -0.10),
+                          drop_link_arm=(-0.10, 0.80, -0.16), half=h.half, drop_link=h.drop_link)
+    length = float(np.linalg.norm(FRONT.point("strut_top") - FRONT.point("strut_lower")))
+    p = FRONT.model_copy(update={"spring": Spring(rate=1.5e5, free_length=length),
+                                 "stops": None, "anti_roll_bar": bar})
+    heights = {}
+    for with_bar in (False, True):
+        sp = Spec()
+        mount = ground_mount(sp)
+        c = {s: add_corner(sp, f"f{s[0]}", s, p, mount, rigid_bushings=True)
+             for s in ("left", "right")}
+        if with_bar:
+            add_anti_roll_bar(sp, "arb", p, mount, c["left"], c["right"])
+        for s, f in (("left", 2.0e3), ("right", -2.0e3)):
+            sp.add(Force(f"load_{s}", c[s].hub, vector=(0.0, 0.0, f), frame="global"))
+        model = compile_model(sp)
+        st = solve_static(model)
+        z = {s: marker_global(model, st, c[s].hub)[0][2] for s in ("left", "right")}
+        heights[with_bar] = z["left"] - z["right"]
+    assert 0.0 < heights[True] < 0.9 * heights[False]
+    assert abs(element_outputs(model, st)["arb_torsion"]["torque"]) > 50.0
 
 
 def test_static_equilibrium_under_a_wheel_load():
