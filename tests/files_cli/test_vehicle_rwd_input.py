@@ -38,7 +38,7 @@ def _suspension_file(tmp_path):
     """The shipped suspension set with the rear axle's type changed."""
     path = tmp_path / "my_suspensions.toml"
     text = SHIPPED["hmmwv"].read_text()
-    path.write_text(text.replace('[rear]\ntype = "double_wishbone"', '[rear]\ntype = "macpherson"',
+    path.write_text(text.replace('[rear]\ntype = "double_wishbone"', '[rear]\ntype = "multi_link"',
                                  1))
     return path
 
@@ -59,7 +59,7 @@ CASES = {
         ["suspension_overrides.rear.hardpoints.wheel_center=[0.03556, 0.508, -0.026289]"],
         "suspension_overrides.rear.hardpoints.wheel_center", "[0.03556, 0.508, -0.026289]"),
     "unknown suspension type": (
-        ['suspensions="<suspensions>"'], "rear.type", "macpherson"),
+        ['suspensions="<suspensions>"'], "rear.type", "multi_link"),
     "asymmetric tyre file without a side": (
         ['wheels.tyre="<unsided>"'], "wheels.tyre", "tyre_unsided.tir"),
     "right-side tyre file declared left": (

@@ -279,11 +279,12 @@ def test_rack_travel_steers_both_wheels_the_same_way():
     assert 0.75 < ratio < 1.33
 
 
-def test_shipped_file_gives_every_number_its_provenance():
-    """Every value line of the shipped data set carries "source" or "chosen" in its own
+@pytest.mark.parametrize("name", sorted(SHIPPED))
+def test_shipped_file_gives_every_number_its_provenance(name):
+    """Every value line of each shipped data set carries "source" or "chosen" in its own
     comment or in the comment block or table header just above it. Fails if a number is
     added without its provenance."""
-    lines = SHIPPED["hmmwv"].read_text().splitlines()
+    lines = SHIPPED[name].read_text().splitlines()
     note, table_note, in_info, depth, after_comment = "", "", False, 0, False
     for n, line in enumerate(lines, 1):
         code, _, comment = line.partition("#")
@@ -339,7 +340,7 @@ def test_bad_input_names_the_key_and_value(tmp_path):
         add_rack_steering(sp, "steer", HMMWV.steering, ground_mount(sp),
                           Ramp(0.5, 1.5, 0.0, 0.03) * 2.0, quantity="travel")
     text = SHIPPED["hmmwv"].read_text()
-    for old, new, key in (('[rear]\ntype = "double_wishbone"', '[rear]\ntype = "macpherson"',
+    for old, new, key in (('[rear]\ntype = "double_wishbone"', '[rear]\ntype = "multi_link"',
                            "rear.type"),
                           ('free_length = "0.339 m"', 'free_length = "-0.339 m"',
                            "front.spring.free_length")):

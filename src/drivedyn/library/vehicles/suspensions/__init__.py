@@ -3,6 +3,11 @@
 * :func:`add_double_wishbone` builds one corner of a :class:`DoubleWishboneFile` (arms,
   upright, tie rod, coil-over, stops; bushings or ideal pivots at the chassis pickups) and
   returns a :class:`Corner` (its upright, hub marker, wheel centre and element names);
+* :func:`add_macpherson` builds one corner of a :class:`MacPhersonFile` (lower arm, upright
+  with the damper tube, strut rod sliding in it, top mount, tie rod, spring and damper on the
+  strut axis, stops) and returns a :class:`MacPhersonCorner` with the same names;
+  :func:`add_corner` builds either by the section's ``type`` (:func:`check_suspension`
+  checks either's geometry);
 * :func:`add_rack_steering` builds a :class:`SteeringFile`'s rack on a prismatic joint
   driven by a steering function and returns a :class:`Rack` (whose markers the front
   corners' tie rods attach to);
@@ -13,7 +18,8 @@
   wanted wheel load there (the ride height);
 * :func:`load_suspensions` reads a :class:`SuspensionSet` (front, rear, steering) from a
   TOML file or a shipped name (:data:`SHIPPED`: ``"hmmwv"``, the data set of Project
-  Chrono's HMMWV with the provenance of each number in the file).
+  Chrono's HMMWV, double wishbones; ``"generic_macpherson"``, Chrono's generic MacPherson
+  struts; the provenance of each number in the file).
 
 Each builder takes ``mount(name, point)``, a function of the vehicle that creates a marker on
 the chassis at a global point and returns its name: the library does not know whether the
@@ -30,12 +36,19 @@ from pydantic import ValidationError
 
 from drivedyn.errors import ModelError
 from drivedyn.library.vehicles.suspensions.anti_roll_bar import AntiRollBar, add_anti_roll_bar
+from drivedyn.library.vehicles.suspensions.corner import (
+    AnyCorner,
+    AnySuspension,
+    add_corner,
+    check_suspension,
+)
 from drivedyn.library.vehicles.suspensions.double_wishbone import (
     Corner,
     add_double_wishbone,
     check_geometry,
 )
 from drivedyn.library.vehicles.suspensions.geometry import Mount, wheel_angles
+from drivedyn.library.vehicles.suspensions.macpherson import MacPhersonCorner, add_macpherson
 from drivedyn.library.vehicles.suspensions.rig import (
     DesignPoint,
     corner_rig,
@@ -45,13 +58,16 @@ from drivedyn.library.vehicles.suspensions.rig import (
 from drivedyn.library.vehicles.suspensions.schema import (
     AntiRollBarFile,
     DoubleWishboneFile,
+    MacPhersonFile,
     SteeringFile,
+    SuspensionFile,
     SuspensionSet,
 )
 from drivedyn.library.vehicles.suspensions.steering import Rack, add_rack_steering
 
 #: shipped data sets: name -> file beside this module
-SHIPPED = {"hmmwv": Path(__file__).with_name("hmmwv.toml")}
+SHIPPED = {"hmmwv": Path(__file__).with_name("hmmwv.toml"),
+           "generic_macpherson": Path(__file__).with_name("generic_macpherson.toml")}
 
 
 def load_suspensions(source: str | Path, overrides: dict[str, Any] | None = None,
@@ -110,17 +126,25 @@ __all__ = [
     "SHIPPED",
     "AntiRollBar",
     "AntiRollBarFile",
+    "AnyCorner",
+    "AnySuspension",
     "Corner",
     "DesignPoint",
     "DoubleWishboneFile",
+    "MacPhersonCorner",
+    "MacPhersonFile",
     "Mount",
     "Rack",
     "SteeringFile",
+    "SuspensionFile",
     "SuspensionSet",
     "add_anti_roll_bar",
+    "add_corner",
     "add_double_wishbone",
+    "add_macpherson",
     "add_rack_steering",
     "check_geometry",
+    "check_suspension",
     "corner_rig",
     "design_point",
     "free_length_for_load",

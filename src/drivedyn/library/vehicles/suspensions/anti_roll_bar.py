@@ -29,7 +29,8 @@ from drivedyn.library.vehicles.suspensions.geometry import (
     rod_frame,
     unit,
 )
-from drivedyn.library.vehicles.suspensions.schema import DoubleWishboneFile
+from drivedyn.library.vehicles.suspensions.macpherson import MacPhersonCorner
+from drivedyn.library.vehicles.suspensions.schema import DoubleWishboneFile, MacPhersonFile
 from drivedyn.model.spec import Spec
 
 Y = np.array([0.0, 1.0, 0.0])
@@ -54,10 +55,11 @@ class AntiRollBar:
     hinges: tuple[str, str]
 
 
-def add_anti_roll_bar(sp: Spec, prefix: str, p: DoubleWishboneFile, mount: Mount,
-                      left: Corner, right: Corner) -> AntiRollBar:
-    """Build the anti-roll bar of suspension ``p`` between the lower arms of its ``left``
-    and ``right`` corners (see the module docstring).
+def add_anti_roll_bar(sp: Spec, prefix: str, p: DoubleWishboneFile | MacPhersonFile,
+                      mount: Mount, left: Corner | MacPhersonCorner,
+                      right: Corner | MacPhersonCorner) -> AntiRollBar:
+    """Build the anti-roll bar of suspension ``p`` (either type) between the lower arms of
+    its ``left`` and ``right`` corners (see the module docstring).
 
     Raises:
         ModelError: ``p`` has no anti-roll bar, or its geometry is degenerate (a drop link

@@ -57,7 +57,7 @@ from drivedyn.library.vehicles.suspensions.geometry import (
     spin_axis,
     unit,
 )
-from drivedyn.library.vehicles.suspensions.schema import DoubleWishboneFile, Link
+from drivedyn.library.vehicles.suspensions.schema import DoubleWishboneFile, Link, Stops
 from drivedyn.model.spec import Spec
 
 #: hardpoints of a corner, in the order of :class:`DoubleWishboneHardpoints`
@@ -125,11 +125,9 @@ def _body(sp: Spec, name: str, link_: Link, com: np.ndarray, R: np.ndarray,
                              position=com, rotation=R)
 
 
-def _stop_gaps(p: DoubleWishboneFile, length: float) -> tuple[float, float]:
-    """Bump and rebound gaps [m] from the spring's design ``length``; a design length
-    outside the stops is refused naming the key and the value."""
-    st = p.stops
-    assert st is not None
+def stop_gaps(st: Stops, length: float) -> tuple[float, float]:
+    """Bump and rebound gaps [m] of the stops ``st`` from the spring's design ``length``; a
+    design length outside the stops is refused naming the key and the value."""
     if not st.bump_length < length:
         raise ModelError(f"stops.bump_length: {st.bump_length:g} m is not below the spring's "
                          f"design length {length:.6g} m (the stop would be compressed in the "
@@ -312,8 +310,8 @@ def add_double_wishbone(sp: Spec, prefix: str, side: Literal["left", "right"],
         damper_curve_compression=p.damper.table("compression"))).name
     bump = rebound = None
     if p.stops is not None:
-        g_bump, g_reb = _stop_gaps(p, float(np.linalg.norm(pts["spring_chassis"]
-                                                           - pts["spring_arm"])))
+        g_bump, g_reb = stop_gaps(p.stops, float(np.linalg.norm(pts["spring_chassis"]
+                                                                - pts["spring_arm"])))
         bump = sp.add(BumpStop(name("bump_stop"), s_c, s_a, p.stops.bump_curve, g_bump,
                                transition=p.stops.transition)).name
         rebound = sp.add(BumpStop(name("rebound_stop"), s_c, s_a, p.stops.rebound_curve,

@@ -21,8 +21,7 @@ from scipy.optimize import brentq
 from drivedyn.elements import Prismatic, Spherical, TravelDriver
 from drivedyn.elements.framework.curves import curve_value, pack_curves
 from drivedyn.errors import ModelError
-from drivedyn.library.vehicles.suspensions.double_wishbone import Corner, add_double_wishbone
-from drivedyn.library.vehicles.suspensions.schema import DoubleWishboneFile
+from drivedyn.library.vehicles.suspensions.corner import AnyCorner, AnySuspension, add_corner
 from drivedyn.model import Model, Spec, compile_model
 from drivedyn.solver import element_outputs, solve_static
 from drivedyn.timefunctions import Table
@@ -33,17 +32,17 @@ RIG_MASS, RIG_INERTIA = 1.0, (1e-3, 1e-3, 1e-3)
 STEP = 1e-4
 
 
-def corner_rig(p: DoubleWishboneFile, travel: Any, side: str = "left",
-               rigid_bushings: bool = True) -> tuple[Model, Corner]:
-    """A corner (``prefix`` ``"corner"``) of ``p`` on the ground with the wheel pad rig, the
-    pad's vertical travel [m] from the design position given by the time function
-    ``travel``; the tie rod's inner joint on the chassis (the rack held)."""
+def corner_rig(p: AnySuspension, travel: Any, side: str = "left",
+               rigid_bushings: bool = True) -> tuple[Model, AnyCorner]:
+    """A corner (``prefix`` ``"corner"``) of ``p`` (either type) on the ground with the wheel
+    pad rig, the pad's vertical travel [m] from the design position given by the time
+    function ``travel``; the tie rod's inner joint on the chassis (the rack held)."""
     sp = Spec()
 
     def mount(name: str, point: np.ndarray) -> str:
         return sp.add_marker(name, "ground", position=point)
 
-    c = add_double_wishbone(sp, "corner", side, p, mount, rigid_bushings=rigid_bushings)
+    c = add_corner(sp, "corner", side, p, mount, rigid_bushings=rigid_bushings)
     w = c.wheel_center
     axes = {"z": (0.0, 0.0, 1.0), "x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0)}
     carrier = "ground"
@@ -80,7 +79,7 @@ class DesignPoint:
     wheel_rate: float
 
 
-def design_point(p: DoubleWishboneFile) -> DesignPoint:
+def design_point(p: AnySuspension) -> DesignPoint:
     """The :class:`DesignPoint` of the left corner of ``p`` (central differences over
     +-:data:`STEP` of wheel travel)."""
     model, c = corner_rig(p, Table((0.0, 1.0, 2.0), (0.0, STEP, -STEP)))
@@ -95,7 +94,7 @@ def design_point(p: DoubleWishboneFile) -> DesignPoint:
                        -(length[1] - length[2]) / (2.0 * STEP), (f[1] - f[2]) / (2.0 * STEP))
 
 
-def free_length_for_load(p: DoubleWishboneFile, wheel_load: float) -> float:
+def free_length_for_load(p: AnySuspension, wheel_load: float) -> float:
     """The spring's free length [m] with which the corner carries ``wheel_load`` [N] at its
     design position (its ride height): the spring pushes ``wheel_load / IR`` there.
 

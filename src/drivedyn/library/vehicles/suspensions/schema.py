@@ -1,14 +1,17 @@
 """Model-file sections of the suspension and steering library.
 
-A :class:`DoubleWishboneFile` describes one axle's double-wishbone suspension (both corners:
-the file gives the LEFT side, the right side is its mirror image ``y -> -y``), a
-:class:`SteeringFile` a rack-and-pinion steering, a :class:`SuspensionSet` the two axles and
-the steering of a vehicle as one file (``[front]``, ``[rear]``, ``[steering]``). Every value
+A :class:`DoubleWishboneFile` describes one axle's double-wishbone suspension, a
+:class:`MacPhersonFile` one axle's MacPherson struts (both corners: the file gives the LEFT
+side, the right side is its mirror image ``y -> -y``; ``type`` tells which, see
+:data:`SuspensionFile`), a :class:`SteeringFile` a rack-and-pinion steering, a
+:class:`SuspensionSet` the two axles and the steering of a vehicle as one file (``[front]``,
+``[rear]``, ``[steering]``). Every value
 is SI or a string with a unit (``"17.5575 in"``, ``"35 kN/mm"``); unknown keys are refused,
 curves must be monotone, and every problem is reported with its key path. What needs the
 whole geometry (a link of zero length, a wheel centre inboard of the knuckle, hardpoints
 that do not assemble, a design length outside the stops) is checked when the suspension is
-built (:mod:`drivedyn.library.vehicles.suspensions.double_wishbone`).
+built (:mod:`drivedyn.library.vehicles.suspensions.double_wishbone`,
+:mod:`drivedyn.library.vehicles.suspensions.macpherson`).
 
 Points are in the vehicle frame (x forward, y left, z up) [m], given relative to
 ``location`` (a point in the vehicle frame: the position of the suspension's own reference,
@@ -21,7 +24,15 @@ from __future__ import annotations
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BeforeValidator, Field, model_validator
+from pydantic import (
+    BeforeValidator,
+    Field,
+    ValidationInfo,
+    ValidatorFunctionWrapHandler,
+    WrapValidator,
+    field_validator,
+    model_validator,
+)
 
 import drivedyn.units as U  # noqa: N812 - short name for units
 from drivedyn.elements.framework.curves import check_table
@@ -237,7 +248,23 @@ class AntiRollBarFile(Strict):
     drop_link: Link
 
 
-class DoubleWishboneFile(Strict):
+class _Placed:
+    """Points of an axle's section (a model with ``location`` and ``hardpoints``): the
+    hardpoints are relative to ``location``."""
+
+    def point(self, name: str) -> np.ndarray:
+        """Hardpoint ``name`` of the left corner in the vehicle frame [m] (3,)."""
+        me: Any = self
+        return np.asarray(me.location) + np.asarray(getattr(me.hardpoints, name))
+
+    def translated(self, offset: Any) -> Any:
+        """The same suspension moved by ``offset`` (3,) [m] in the vehicle frame."""
+        me: Any = self
+        loc = tuple(float(a + b) for a, b in zip(me.location, offset, strict=True))
+        return me.model_copy(update={"location": loc})
+
+
+class DoubleWishboneFile(_Placed, Strict):
     """One axle's double-wishbone suspension (the left corner; the right one mirrored).
 
     Attributes:
@@ -273,14 +300,117 @@ class DoubleWishboneFile(Strict):
     toe: Angle = 0.0
     anti_roll_bar: AntiRollBarFile | None = None
 
-    def point(self, name: str) -> np.ndarray:
-        """Hardpoint ``name`` of the left corner in the vehicle frame [m] (3,)."""
-        return np.asarray(self.location) + np.asarray(getattr(self.hardpoints, name))
 
-    def translated(self, offset: Any) -> DoubleWishboneFile:
-        """The same suspension moved by ``offset`` (3,) [m] in the vehicle frame."""
-        loc = tuple(float(a + b) for a, b in zip(self.location, offset, strict=True))
-        return self.model_copy(update={"location": loc})
+
+class MacPhersonHardpoints(Strict):
+    """The hardpoints of a MacPherson strut's left corner [m], relative to the suspension's
+    ``location``.
+
+    Attributes:
+        lower_arm_front, lower_arm_rear: chassis pickups of the lower control arm (its pivot
+            axis).
+        lower_ball_joint: lower arm to upright.
+        strut_top: the strut's top mount on the chassis (the top of the strut axis; the
+            spring's and the damper's upper end).
+        strut_lower: the strut's lower spring seat on the damper tube, which is part of the
+            upright: the strut axis runs from it to ``strut_top``; the spring and the damper
+            act between the two points.
+        tie_rod_inner: tie rod to rack (front) or chassis (a rear toe link).
+        tie_rod_outer: tie rod to upright.
+        wheel_center: the wheel centre on the spin axis.
+    """
+
+    lower_arm_front: LengthVec
+    lower_arm_rear: LengthVec
+    lower_ball_joint: LengthVec
+    strut_top: LengthVec
+    strut_lower: LengthVec
+    tie_rod_inner: LengthVec
+    tie_rod_outer: LengthVec
+    wheel_center: LengthVec
+
+
+class TopMount(BushingRates):
+    """The strut's rubber top mount, in its frame on the chassis: z along the strut axis
+    (``strut_top`` minus ``strut_lower``), x and y across it. The rate about z must be
+    positive: the mount is what holds the strut rod's spin about its own axis (the upright
+    turns about the rod in the damper tube), so ``rotational_stiffness`` has no default."""
+
+    rotational_stiffness: RotStiffnessVec
+
+    @field_validator("rotational_stiffness")
+    @classmethod
+    def _holds_spin(cls, v: tuple[float, float, float]) -> tuple[float, float, float]:
+        if not v[2] > 0.0:
+            raise ValueError(f"the rate about z (the strut axis) must be > 0 N m/rad, got "
+                             f"{v[2]:g}: nothing else holds the strut rod's spin")
+        return v
+
+
+class MacPhersonFile(_Placed, Strict):
+    """One axle's MacPherson struts (the left corner; the right one mirrored).
+
+    Attributes:
+        type: ``"macpherson"``.
+        location: the suspension's reference in the vehicle frame [m]; every point of the
+            section is relative to it.
+        hardpoints: see :class:`MacPhersonHardpoints`.
+        lower_arm: the lower control arm (mass, inertia, centre of mass, bushings).
+        strut: the strut rod (the damper's piston rod, sliding in the damper tube), frame z
+            along the strut axis; its centre of mass is the middle of ``strut_top`` and
+            ``strut_lower`` unless given.
+        top_mount: the strut top's rubber mount, or None: a universal joint on the chassis
+            (both tilts free, the rod's spin held).
+        upright: the knuckle with the damper tube.
+        tie_rod: tie rod (front) or toe link (rear); its centre of mass is its middle.
+        spindle: the hub's rotating part: not built here (the vehicle's wheel carries it).
+        spring, damper, stops: the coil spring and the damper on the strut axis (from
+            ``strut_top`` to ``strut_lower``) and the stops on that line.
+        camber, toe: static angles of the spin axis [rad] in the design position.
+        anti_roll_bar: the axle's anti-roll bar (its drop links on the lower arms), or None.
+    """
+
+    type: Literal["macpherson"]
+    location: LengthVec = (0.0, 0.0, 0.0)
+    hardpoints: MacPhersonHardpoints
+    lower_arm: Arm
+    strut: Link
+    top_mount: TopMount | None = None
+    upright: Link
+    tie_rod: Link
+    spindle: Link | None = None
+    spring: Spring
+    damper: Damper
+    stops: Stops | None = None
+    camber: Angle = 0.0
+    toe: Angle = 0.0
+    anti_roll_bar: AntiRollBarFile | None = None
+
+
+#: suspension types: the value of ``type`` -> the section's class
+TYPES: dict[str, type[Strict]] = {"double_wishbone": DoubleWishboneFile,
+                                  "macpherson": MacPhersonFile}
+
+
+class _Type(Strict):
+    """The ``type`` key alone (the other keys are the type's class's to check)."""
+
+    type: Literal["double_wishbone", "macpherson"]
+
+
+def _by_type(v: Any, handler: ValidatorFunctionWrapHandler, info: ValidationInfo) -> Any:
+    """Validate an axle's table by the class of its ``type`` (``"double_wishbone"`` when
+    absent): its errors keep their key paths (``front.hardpoints.x``, ``front.type``)."""
+    if isinstance(v, dict):
+        t = v.get("type", "double_wishbone")
+        if not isinstance(t, str) or t not in TYPES:
+            _Type.model_validate({"type": t})  # raises, naming the key and the value
+        return TYPES[t].model_validate(v)
+    return handler(v)
+
+
+#: one axle's suspension: the class of its ``type`` key
+SuspensionFile = Annotated[DoubleWishboneFile | MacPhersonFile, WrapValidator(_by_type)]
 
 
 class SteeringFile(Strict):
@@ -319,10 +449,10 @@ class SteeringFile(Strict):
 
 class SuspensionSet(Strict):
     """A vehicle's suspensions and steering as one file: ``[front]``, ``[rear]`` (each a
-    :class:`DoubleWishboneFile`) and ``[steering]`` (a :class:`SteeringFile`); ``[info]``
-    holds a name and notes."""
+    :class:`DoubleWishboneFile` or a :class:`MacPhersonFile`, by its ``type``) and
+    ``[steering]`` (a :class:`SteeringFile`); ``[info]`` holds a name and notes."""
 
     info: dict[str, str] = Field(default_factory=dict)
-    front: DoubleWishboneFile
-    rear: DoubleWishboneFile
+    front: SuspensionFile
+    rear: SuspensionFile
     steering: SteeringFile

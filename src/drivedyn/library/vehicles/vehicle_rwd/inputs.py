@@ -26,7 +26,7 @@ from drivedyn.library.vehicles.bevel_differential import check_bevel, check_mesh
 from drivedyn.library.vehicles.suspensions import (
     SHIPPED,
     SuspensionSet,
-    check_geometry,
+    check_suspension,
     load_suspensions,
 )
 from drivedyn.library.vehicles.suspensions.steering import peak_magnitude
@@ -189,7 +189,7 @@ def vehicle_suspensions(p: VehicleRWDFile, base_dir: str | Path = ".") -> Suspen
         raise ModelError(f"{what_suspensions(p)}: {exc}") from None
     for axle in ("front", "rear"):
         try:
-            check_geometry(getattr(s, axle))
+            check_suspension(getattr(s, axle))
         except ModelError as exc:
             raise axle_error(p, axle, exc) from None
     return s

@@ -15,8 +15,10 @@ Parts and connections:
   gravity and inertia) on its body mounts; the carried mass is ``body.mass`` less the
   frame's beams and the driveline parts on the frame, and its centre of gravity is set so
   that the sprung mass and its centre of gravity are ``body.mass`` and ``body.cg``;
-* **corners**: :func:`~drivedyn.library.vehicles.suspensions.add_double_wishbone`, each arm
-  on two bushings mounted on the nearest frame node; spring free lengths from
+* **corners**: :func:`~drivedyn.library.vehicles.suspensions.add_corner`, the type of each
+  axle's section (a double wishbone, the HMMWV's; or a MacPherson strut,
+  :func:`~drivedyn.library.vehicles.suspensions.add_macpherson`), each arm on two bushings
+  mounted on the nearest frame node; spring free lengths from
   :func:`~drivedyn.library.vehicles.suspensions.free_length_for_load` for the static load
   of each corner, so that the vehicle starts at its ride height;
 * **steering**: :func:`~drivedyn.library.vehicles.suspensions.add_rack_steering`, the
@@ -88,7 +90,7 @@ from drivedyn.library.vehicles.chassis import add_ladder_frame
 from drivedyn.library.vehicles.chassis.schema import CarriedBody, LadderFrameFile
 from drivedyn.library.vehicles.suspensions import (
     SuspensionSet,
-    add_double_wishbone,
+    add_corner,
     add_rack_steering,
     free_length_for_load,
 )
@@ -335,10 +337,12 @@ def _elements(sp: Spec) -> list[Any]:
 
 
 def _unsprung(corner_p: Any, wheel_mass: float, shaft_mass: float) -> float:
-    """Mass [kg] below a corner's spring: the wheel, the upright, half of each link and of
-    the half-shaft (the links' other halves hang on the frame)."""
-    return (wheel_mass + corner_p.upright.mass + 0.5 * (corner_p.upper_arm.mass
-            + corner_p.lower_arm.mass + corner_p.tie_rod.mass) + 0.5 * shaft_mass)
+    """Mass [kg] below a corner's spring: the wheel, the upright, half of each link (the
+    arms, the tie rod, a MacPherson's strut rod) and of the half-shaft (the links' other
+    halves hang on the frame)."""
+    links = sum(getattr(corner_p, k).mass for k in ("upper_arm", "lower_arm", "tie_rod",
+                                                    "strut") if hasattr(corner_p, k))
+    return wheel_mass + corner_p.upright.mass + 0.5 * (links + shaft_mass)
 
 
 def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[str, Tyre],
@@ -388,8 +392,8 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
             lay.free_lengths[w] = fl
         side = SIDES[w[1]]
         try:
-            corners[w] = add_double_wishbone(sp, w, side, cp, mount,
-                                             steer=rack.marker(side) if w[0] == "f" else None)
+            corners[w] = add_corner(sp, w, side, cp, mount,
+                                    steer=rack.marker(side) if w[0] == "f" else None)
         except ModelError as exc:
             raise axle_error(p, "front" if w[0] == "f" else "rear", exc) from None
     # wheels and tyres
