@@ -256,6 +256,9 @@ class PythonLoop:
         self.ctl, self.cs, self.energy = ctl, cs, energy
         self.t_end = float(ctl[CT_TEND])
 
+    def forget_history(self) -> None:
+        self.stepper._prev_t = None
+
     def retarget(self, touts, t_end: float) -> None:
         self.touts, self.t_end = touts, t_end
         self.ctl[CT_TEND] = t_end

@@ -128,6 +128,7 @@ class Simulation:
                                      None if rec is None else rec.selection.arrays)
         pool = model.meta.get("tf_pool")
         self._inputs: dict[str, list[int]] = {} if pool is None else pool.held_terms()
+        self._changed = False  # an input changed since the last advance
         # counters that a stepping loop in Python keeps itself (the compiled one: its own)
         self._counts = RunStats()
         self.success = True
@@ -145,6 +146,9 @@ class Simulation:
 
     def set_input(self, name: str, value: float) -> None:
         """Hold input ``name`` at ``value`` (unit of what it drives) from the current time on.
+        A change is a discontinuity of the model's forcing: the next step starts without the
+        history of the steps before it (its predictor holds the accelerations, its error
+        estimate compares with the current state only).
 
         Raises:
             KeyError: no input of that name.
@@ -158,7 +162,9 @@ class Simulation:
             raise ValueError(f"input {name!r}: expected a finite value, got {v}")
         par = self.model.tf.par
         for k in rows:
-            hold_value(par, k, self.state.t, v)
+            if par[k, 0] != par[k, 3] * v:
+                hold_value(par, k, self.state.t, v)
+                self._changed = True
 
     def get_input(self, name: str) -> float:
         """The value input ``name`` holds now."""
@@ -194,6 +200,9 @@ class Simulation:
         touts = (np.array([float(t_end)]) if output_times is None
                  else np.ascontiguousarray(output_times, dtype=float))
         loop = self._loop
+        if self._changed:
+            loop.forget_history()
+            self._changed = False
         loop.retarget(touts, float(t_end))
         try:
             self.success, self.message = _run_loop(loop, self.model, st, self.recorder,

@@ -407,6 +407,13 @@ class StepLoop:
         self.t_end = t_end
         self.control = (touts, ctl, cs, ls, lo, stats)
 
+    def forget_history(self) -> None:
+        """The next step starts afresh, as the first of a run: without the state before the
+        accepted one (its predictor holds the accelerations; its error estimate compares
+        with the accepted state only). After a discontinuity of the inputs, where
+        extrapolating across it misleads both."""
+        self.ls[LS_PREV_T] = np.nan
+
     def _call(self) -> int:
         s = self.stepper
         lin = s._linear_arrays()
