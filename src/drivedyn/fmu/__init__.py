@@ -8,7 +8,8 @@ holds the variables' description and units. pythonfmu is needed to build an FMU 
 one (the FMU carries its own copy); drivedyn must be installed where the FMU runs.
 """
 
-from drivedyn.fmu.build import FMU_KINDS, FmuError, build_fmu, model_identifier
+from drivedyn.fmu.build import FmuError, build_fmu, model_identifier
 from drivedyn.fmu.differential import DifferentialCosim
+from drivedyn.fmu.kinds import FMU_KINDS
 
 __all__ = ["FMU_KINDS", "DifferentialCosim", "FmuError", "build_fmu", "model_identifier"]

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from drivedyn.errors import ModelError
+from drivedyn.fmu.kinds import FMU_KINDS, cosim
 from drivedyn.fmu.resources import META_FILE, MODEL_FILE
 
 
@@ -24,14 +25,16 @@ class FmuError(ModelError):
     """A model that has no FMU interface, or an FMU that cannot be built."""
 
 
-#: library keys of the models with an FMU interface -> their kind (drivedyn.fmu.slave)
-FMU_KINDS = {"torsen_b": "differential", "torsen_c": "differential"}
-
 _SCRIPT = '''"""FMI 2.0 co-simulation FMU of the drivedyn model {name!r}, built by `drivedyn fmu`.
 
 It runs drivedyn, which must be installed in the Python that loads it:
     pip install "drivedyn[fmu]"
 """
+
+# pythonfmu's loader releases a reference to this module's namespace that it does not hold
+# each time it instantiates the FMU, after running this file in that namespace: two more at
+# each run keep the namespace alive (freed, the next instantiation in the process crashed)
+globals().setdefault("_namespace_refs", []).extend([globals()] * 2)
 
 try:
     from drivedyn.fmu.slave import DrivedynSlave
@@ -72,12 +75,7 @@ def fmu_kind(model: str | Path, overrides: Mapping[str, Any]) -> tuple[str, Any]
         what = "a plain bodies-and-elements model" if lib is None else f"model.library = {lib!r}"
         raise FmuError(f"{source}: {what} has no FMU interface (models with one: "
                        f"{', '.join(k.replace('_', '-') for k in FMU_KINDS)})")
-    from drivedyn.fmu.slave import cosim_of  # imports pythonfmu
-
-    with tempfile.TemporaryDirectory(prefix="drivedyn_fmu_") as tmp:
-        res = _write_resources(Path(tmp), model, FMU_KINDS[lib], dict(overrides), source)
-        cosim = cosim_of(res, json.loads((res / META_FILE).read_text(encoding="utf-8")))
-    return FMU_KINDS[lib], cosim
+    return FMU_KINDS[lib], cosim(FMU_KINDS[lib], model, overrides)
 
 
 def _write_resources(folder: Path, model: str | Path, kind: str, overrides: dict,
@@ -117,18 +115,18 @@ def build_fmu(model: str | Path, out: str | Path,
     except ImportError:
         raise FmuError("building an FMU needs pythonfmu: pip install 'drivedyn[fmu]'") from None
     sets = parse_overrides(overrides)
-    kind, cosim = fmu_kind(model, sets)
+    kind, interface = fmu_kind(model, sets)
     out = Path(out)
     ident = model_identifier(out)
     module = f"drivedyn_fmu_{ident}"
     with tempfile.TemporaryDirectory(prefix="drivedyn_fmu_") as tmp:
         folder = Path(tmp)
         script = folder / f"{module}.py"
-        script.write_text(_SCRIPT.format(name=cosim.params.model.name, identifier=ident,
-                                         title=cosim.title), encoding="utf-8")
+        script.write_text(_SCRIPT.format(name=interface.params.model.name, identifier=ident,
+                                         title=interface.title), encoding="utf-8")
         res = folder / "resources"
         res.mkdir()
-        _write_resources(res, model, kind, sets, cosim.source)
+        _write_resources(res, model, kind, sets, interface.source)
         try:
             return Path(FmuBuilder.build_FMU(script, dest=out,
                                              project_files=[res / MODEL_FILE, res / META_FILE]))

@@ -21,6 +21,7 @@ from xml.etree.ElementTree import Element, SubElement
 from pythonfmu import DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
 
+from drivedyn.fmu.kinds import cosim
 from drivedyn.fmu.resources import META_FILE, MODEL_FILE
 from drivedyn.fmu.variables import UNITS, Variable
 
@@ -43,18 +44,6 @@ class UnitReal(Real):
         return node
 
 
-def cosim_of(resources: Path, meta: dict) -> Any:
-    """The co-simulation interface of the model the FMU carries."""
-    from drivedyn.fmu.differential import DifferentialCosim
-
-    kinds = {"differential": DifferentialCosim}
-    kind = meta.get("kind")
-    if kind not in kinds:
-        raise ValueError(f"FMU resources: unknown model kind {kind!r} (this drivedyn knows "
-                         f"{', '.join(kinds)}): built by another drivedyn version?")
-    return kinds[kind](resources / MODEL_FILE, meta.get("overrides", {}))
-
-
 class DrivedynSlave(Fmi2Slave):
     """An FMU running a drivedyn model (see the module doc); pythonfmu instantiates the
     subclass that the FMU's script declares, with ``instance_name`` and ``resources``."""
@@ -65,7 +54,7 @@ class DrivedynSlave(Fmi2Slave):
 
         res = Path(self.resources)
         meta = json.loads((res / META_FILE).read_text(encoding="utf-8"))
-        self.cosim = cosim_of(res, meta)
+        self.cosim = cosim(meta.get("kind", ""), res / MODEL_FILE, meta.get("overrides", {}))
         self.author = "drivedyn"
         self.version = _version()
         self.license = "MIT"
