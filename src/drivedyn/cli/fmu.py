@@ -44,9 +44,9 @@ def fmu(model_file: str, out: Path | None, sets: tuple[str, ...]) -> None:
 
     if out is None:
         out = Path(f"{Path(model_file).stem.replace('-', '_')}.fmu")
+    check_output_path(out, "--out")
     if out.suffix.lower() != ".fmu":
         bad_input(f"--out {out}: expected a file name ending in .fmu")
-    check_output_path(out, "--out")
     try:
         import pythonfmu  # noqa: F401
     except ImportError:

@@ -18,7 +18,8 @@ from pathlib import Path
 from typing import Any
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
 
 from drivedyn.fmu.kinds import cosim
@@ -65,7 +66,7 @@ class DrivedynSlave(Fmi2Slave):
                                                     step_size=1e-3)
         self._variables: list[Variable] = self.cosim.variables()
         self._values = {v.name: float(v.start) for v in self._variables}
-        self._inputs = [v.name for v in self._variables if v.causality == "input"]
+        self._inputs = tuple(v.name for v in self._variables if v.causality == "input")
         self._outputs = {v.name: 0.0 for v in self._variables if v.causality == "output"}
         self._start_time = 0.0
         for v in self._variables:
