@@ -57,8 +57,8 @@ def _driven_disk(function) -> dd.Spec:
 
 def test_a_held_speed_steps_and_its_angle_is_the_integral_of_the_held_values() -> None:
     """A disk driven at -2 x a held speed: after each 10 ms call with a new value, the disk
-    turns at that speed and its angle is the sum of value x 10 ms over the calls (to 1e-9
-    rad), the driver's torque is finite. Made to fail by hold_value not carrying the
+    turns at that speed (1e-3) and its angle is the sum of value x 10 ms over the calls (to
+    1e-9 rad), the driver's torque is finite. Made to fail by hold_value not carrying the
     integral to the time of the change (par[k, 2] kept: the angle jumps back at each call)."""
     model = dd.compile_model(_driven_disk(-2.0 * Held("w", 1.0)))
     sim = Simulation(model, record=False, step=dd.AdaptiveStep(h0=1e-3, h_max=2e-3))
@@ -74,7 +74,8 @@ def test_a_held_speed_steps_and_its_angle_is_the_integral_of_the_held_values() -
         g, e = model.group("d")
         outs = {name: g.aux[e, c] for c, name, *_ in g.outputs()}
         assert outs["angle"] == pytest.approx(angle, abs=1e-9)
-        assert sim.state.v[6 * n + 5] == pytest.approx(-2.0 * w, rel=1e-6)
+        # the speed steps; the integrator's velocity settles on it within a few steps
+        assert sim.state.v[6 * n + 5] == pytest.approx(-2.0 * w, rel=1e-3)
         assert math.isfinite(outs["torque"])
 
 
