@@ -23,19 +23,23 @@ def fmu(model_file: str, out: Path | None, sets: tuple[str, ...]) -> None:
     """Build an FMI 2.0 co-simulation FMU of a model, for FMPy, Simulink, Dymola,
     OpenModelica, CarMaker and other FMI tools.
 
-    MODEL is a differential model file or a shipped one by name (torsen-b, torsen-c).
-    Inputs: input_torque [N m] on the housing and the output speeds [rad/s] (left_speed,
-    right_speed; Type C: front_speed, rear_speed), held over each communication step;
-    outputs: the torques the outputs deliver to their shafts [N m], input_speed [rad/s] of
-    the housing, tdr and the thrust washers' normal forces [N]; parameters: the model file's
-    friction coefficients. Between communication points the FMU integrates the model with
-    drivedyn's own step control. The FMU runs drivedyn in Python: drivedyn (with pythonfmu)
-    must be installed in the Python that loads it (see docs/fmu.md).
+    MODEL is a differential or 4WD vehicle model file or a shipped one by name (torsen-b,
+    torsen-c, vehicle-4wd). A differential's inputs: input_torque [N m] on the housing and
+    the output speeds [rad/s] (left_speed, right_speed; Type C: front_speed, rear_speed),
+    held over each communication step; outputs: the torques the outputs deliver to their
+    shafts [N m], input_speed [rad/s] of the housing, tdr and the thrust washers' normal
+    forces [N]; parameters: the model file's friction coefficients. The vehicle's inputs:
+    engine_torque [N m] and the road friction under each wheel (mu_fl ... mu_rr); outputs:
+    the wheels' drive torques and spin rates, vehicle_speed [m/s]. Between communication
+    points the FMU integrates the model with drivedyn's own step control. The FMU runs
+    drivedyn in Python: drivedyn (with pythonfmu) must be installed in the Python that
+    loads it (see docs/fmu.md).
 
     \b
     Examples:
         drivedyn fmu torsen-b --out torsen_b.fmu
         drivedyn fmu torsen-c --out torsen_c.fmu --set pockets.mu=0.15
+        drivedyn fmu vehicle-4wd --out vehicle_4wd.fmu
     """
     from drivedyn.config import ModelFileError
     from drivedyn.fmu import FmuError, build_fmu, model_identifier
@@ -65,6 +69,7 @@ def fmu(model_file: str, out: Path | None, sets: tuple[str, ...]) -> None:
                f"FMI 2.0 co-simulation): {cosim.title}")
     for causality in ("input", "output", "parameter"):
         items = [v for v in cosim.variables() if v.causality == causality]
-        click.echo(f"  {causality}s: " + ", ".join(f"{v.name} [{v.unit}]" for v in items))
+        if items:
+            click.echo(f"  {causality}s: " + ", ".join(f"{v.name} [{v.unit}]" for v in items))
     click.echo("  drivedyn (with pythonfmu) must be installed in the Python that loads it")
     outputs.exit_if_failed()

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from drivedyn.errors import ModelError
-from drivedyn.fmu.kinds import FMU_KINDS, cosim
+from drivedyn.fmu.kinds import FMU_KINDS, REFERENCES, cosim
 from drivedyn.fmu.resources import META_FILE, MODEL_FILE
 
 
@@ -78,6 +78,28 @@ def fmu_kind(model: str | Path, overrides: Mapping[str, Any]) -> tuple[str, Any]
     return FMU_KINDS[lib], cosim(FMU_KINDS[lib], model, overrides)
 
 
+def _carry_references(folder: Path, model: str | Path, kind: str, params: Any,
+                      overrides: dict) -> dict:
+    """Copy the files the model file names by a path relative to its folder
+    (:data:`~drivedyn.fmu.kinds.REFERENCES`) into ``folder``; returns the overrides with
+    those keys naming the copies (read relative to the FMU's resources)."""
+    import shutil
+
+    from drivedyn.config.loader import resolve_path
+
+    base = resolve_path(model).parent
+    out = dict(overrides)
+    for key in REFERENCES.get(kind, ()):
+        value: Any = params
+        for part in key.split("."):
+            value = getattr(value, part)
+        path = base / str(value)
+        if not Path(str(value)).is_absolute() and path.is_file():
+            shutil.copyfile(path, folder / path.name)
+            out[key] = path.name
+    return out
+
+
 def _write_resources(folder: Path, model: str | Path, kind: str, overrides: dict,
                      source: str) -> Path:
     """Write the model file's text and the FMU record into ``folder``; returns it."""
@@ -126,10 +148,11 @@ def build_fmu(model: str | Path, out: str | Path,
                                          title=interface.title), encoding="utf-8")
         res = folder / "resources"
         res.mkdir()
+        sets = _carry_references(res, model, kind, interface.params, sets)
         _write_resources(res, model, kind, sets, interface.source)
         try:
             return Path(FmuBuilder.build_FMU(script, dest=out,
-                                             project_files=[res / MODEL_FILE, res / META_FILE]))
+                                             project_files=sorted(res.iterdir())))
         finally:  # the builder imports the script as a module and puts its folder on the path
             sys.modules.pop(module, None)
             while str(folder) in sys.path:

@@ -166,6 +166,12 @@ class Simulation:
                 hold_value(par, k, self.state.t, v)
                 self._changed = True
 
+    def discontinuity(self) -> None:
+        """Tell the run that the model changed between calls otherwise than through
+        :meth:`set_input` (an element parameter written in place, e.g. a road's friction):
+        the next step starts afresh, as after an input change."""
+        self._changed = True
+
     def get_input(self, name: str) -> float:
         """The value input ``name`` holds now."""
         k = self._inputs[name][0]
