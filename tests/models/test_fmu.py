@@ -127,6 +127,24 @@ def test_a_non_finite_input_is_an_error_status_with_its_reason(fmus, bad) -> Non
         inst.close()
 
 
+def test_a_solver_failure_is_an_error_status_with_its_reason(fmus) -> None:
+    """An imposed speed that steps to 1e5 rad/s: the solver stops at its smallest step,
+    doStep answers fmi2Discard and the log says where and why at error level. Made to fail
+    by DrivedynSlave.do_step raising on a failed step (fmi2Fatal, the instance gone)."""
+    inst = Instance(fmus["torsen-b"], "fails")
+    try:
+        inst.start()
+        inst.step(0.0, 1e-3)
+        inst.set({"left_speed": 1e5})
+        with pytest.raises(FMICallException) as exc:
+            inst.step(1e-3, 1e-3)
+        assert exc.value.status == FMI2_DISCARD
+        assert any(status == 3 and "simulation stopped at t = 0.001 s" in text
+                   for status, text in inst.messages), inst.messages
+    finally:
+        inst.close()
+
+
 def _drive(inst: Instance, torque: float) -> list[float]:
     """One 1 ms step of ``inst`` with ``torque`` [N m] on the housing: the output torques."""
     inst.set({"input_torque": torque})
