@@ -108,6 +108,8 @@ OUTPUTS = [
                                     "0.01", "--scheduler", "serial", "--no-cache"],
      ["drivedyn.sweeps:sweep"]),
     ("tdr", "--out", True, ["torsen-b", "--mode", "1"], ["drivedyn.analysis.tdr:evaluate"]),
+    ("fmu", "--out", False, ["torsen-b"],
+     ["drivedyn.fmu:build_fmu", "drivedyn.fmu.build:fmu_kind"]),
     ("view", "--out", False, ["{results}"], ["drivedyn.cli.view:load_scene"]),
     ("view", "--gltf", False, ["{results}"], ["drivedyn.cli.view:load_scene"]),
     ("view", "--vtk", True, ["{results}"], ["drivedyn.cli.view:load_scene"]),

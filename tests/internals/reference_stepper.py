@@ -41,12 +41,19 @@ from drivedyn.solver.newton_kernel import (
     roundoff_levels,
 )
 from drivedyn.solver.settings import StepOutcome, StepStatus
-from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
+from drivedyn.solver.step_control import (
+    CS_IOUT,
+    CT_TEND,
+    accept_step,
+    next_step,
+    reject_step,
+    step_error,
+)
 from drivedyn.solver.stepper import Stepper, _worst, scaled_residual
 from drivedyn.solver.system import lie_update, tangents
 
-# the module (the package exports the function of the same name)
-sim = importlib.import_module("drivedyn.solver.simulate")
+# the module of the resumable run that simulate advances
+sim = importlib.import_module("drivedyn.solver.simulation")
 
 
 class ReferenceStepper(Stepper):
@@ -247,6 +254,15 @@ class PythonLoop:
                  selection=None) -> None:
         self.stepper, self.st, self.touts = stepper, st, touts
         self.ctl, self.cs, self.energy = ctl, cs, energy
+        self.t_end = float(ctl[CT_TEND])
+
+    def forget_history(self) -> None:
+        self.stepper._prev_t = None
+
+    def retarget(self, touts, t_end: float) -> None:
+        self.touts, self.t_end = touts, t_end
+        self.ctl[CT_TEND] = t_end
+        self.cs[CS_IOUT] = 0.0
 
     @classmethod
     def create(cls, *args, **kw) -> PythonLoop:

@@ -1,7 +1,8 @@
 """Command line interface: the ``drivedyn`` group and its commands, one module per command
 group (:mod:`~drivedyn.cli.validate`, :mod:`~drivedyn.cli.files` for ``run``/``plot``/
 ``models``, :mod:`~drivedyn.cli.differential` for ``tdr``/``calibrate``,
-:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.sweep`, :mod:`~drivedyn.cli.view`,
+:mod:`~drivedyn.cli.bounce`, :mod:`~drivedyn.cli.fmu`, :mod:`~drivedyn.cli.sweep`,
+:mod:`~drivedyn.cli.view`,
 :mod:`~drivedyn.cli.report`), shared helpers in :mod:`~drivedyn.cli.common`.
 
 Exit codes: 0 success, 1 failure of a run (partial results are written), 2 bad input. Errors
@@ -21,6 +22,7 @@ from drivedyn.cli.bounce import bounce
 from drivedyn.cli.common import EXIT_BAD_INPUT, EXIT_FAILED
 from drivedyn.cli.differential import COMMANDS as DIFFERENTIAL_COMMANDS
 from drivedyn.cli.files import COMMANDS as FILE_COMMANDS
+from drivedyn.cli.fmu import fmu
 from drivedyn.cli.report import report
 from drivedyn.cli.sweep import sweep
 from drivedyn.cli.validate import validate
@@ -49,6 +51,7 @@ Examples:
     drivedyn report pendulum.nc --out pendulum-report.html
     drivedyn vehicle --compare open,torsen --t-end 2 --out split-mu
     drivedyn sweep torsen-c --tdr --vary pockets.mu=0.10:0.20:5 --workers 2
+    drivedyn fmu torsen-b --out torsen_b.fmu
 """
 
 
@@ -118,8 +121,8 @@ def _compile_progress(done: int, total: int, name: str) -> None:
         click.echo(f"  compiled {name} ({done} of {total})", err=True)
 
 
-for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, vehicle, sweep, view,
-             report):
+for _cmd in (validate, *FILE_COMMANDS, bounce, *DIFFERENTIAL_COMMANDS, fmu, vehicle, sweep,
+             view, report):
     main.add_command(_cmd)
 
 __all__ = ["main"]

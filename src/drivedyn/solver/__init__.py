@@ -11,6 +11,7 @@ from drivedyn.solver.settings import (
     StepStatus,
 )
 from drivedyn.solver.simulate import InitializationError, consistent_initial_state, simulate
+from drivedyn.solver.simulation import Simulation
 from drivedyn.solver.statics import StaticsError, solve_static
 from drivedyn.solver.system import System, element_outputs
 
@@ -23,6 +24,7 @@ __all__ = [
     "LinearSolver",
     "Modes",
     "Newton",
+    "Simulation",
     "SparseLU",
     "StaticsError",
     "StepOutcome",

@@ -5,117 +5,35 @@ would fall below ``h_min`` (or too many consecutive rejections happen) the run s
 results up to that time are returned with ``success = False`` and a message naming the time,
 the worst equation (element and dof) and its residual.
 
-The steps run in the compiled loop of :mod:`~drivedyn.solver.step_loop` (drivedyn's one
-stepping engine), which returns to Python after a batch of output times; its step sizes come
-from :mod:`~drivedyn.solver.step_control`.
+A run is one :meth:`~drivedyn.solver.simulation.Simulation.advance` to ``t_end`` of a
+:class:`~drivedyn.solver.simulation.Simulation`: the steps run in the compiled loop of
+:mod:`~drivedyn.solver.step_loop` (drivedyn's one stepping engine), which returns to Python
+after a batch of output times; its step sizes come from
+:mod:`~drivedyn.solver.step_control`.
 """
 
 from __future__ import annotations
 
 import inspect
-import logging
-import time as _time
 from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
+from drivedyn.elements.framework.contract import MODE_VEL
 from drivedyn.model.model import Model, State
-from drivedyn.results.recorder import EnergyAccount, Recorder
-from drivedyn.results.results import Results, RunStats
-from drivedyn.solver.linear import LinearSolver, default_linear_solver
-from drivedyn.solver.newton_kernel import FLOOR_REL, residual_norms
+from drivedyn.results.results import Results
+from drivedyn.solver.initial_state import InitializationError, consistent_initial_state
+from drivedyn.solver.linear import LinearSolver
 from drivedyn.solver.settings import (
     AdaptiveStep,
     FixedStep,
     GeneralizedAlpha,
     Newton,
-    StepOutcome,
-    StepStatus,
 )
-from drivedyn.solver.step_control import (
-    CS_IOUT,
-    control_arrays,
-)
-from drivedyn.solver.step_loop import (
-    RUN_END,
-    RUN_FAILED,
-    RUN_OUTPUT,
-    StepLoop,
-    precompile_loop,
-)
-from drivedyn.solver.stepper import Stepper
-from drivedyn.solver.system import System
+from drivedyn.solver.simulation import Simulation, _set_up
 
-log = logging.getLogger("drivedyn")
-
-
-class InitializationError(RuntimeError):
-    """The initial state cannot be made consistent (singular constraint Jacobian or mass)."""
-
-
-def consistent_initial_state(model: Model, st: State, sys: System | None = None,
-                             linear_solver: LinearSolver | None = None,
-                             project_velocities: bool = True) -> State:
-    """Make velocities satisfy the velocity constraints (M-orthogonal projection) and compute
-    accelerations and multipliers from the equations of motion and the acceleration-level
-    constraints ``Phi_q vd + v^T H v + Phi_tt = 0``. Modifies and returns ``st``.
-
-    Constraint rows that are combinations of the others at ``st`` are found first and set
-    aside (:meth:`~drivedyn.solver.system.System.detect_redundancy`): their multipliers are
-    zero, the motion is that of the full set."""
-    sys = sys or System(model)
-    lin = linear_solver or default_linear_solver(model.neq)
-    nd = model.nd
-    sys.detect_redundancy(st)
-    sys.reset_tangent()
-    try:
-        if project_velocities and model.nm:
-            sys.evaluate(st, 1.0, 0.0, 0.0, MODE_VEL, True)
-            rhs = np.zeros(model.neq)
-            rhs[nd:] = -sys.r[nd:]
-            sys.factor(lin)
-            dv = lin.solve(rhs)
-            st.v += dv[:nd]
-        st.vd[:] = 0.0
-        st.lam[:] = 0.0
-        sys.evaluate(st, 1.0, 0.0, 0.0, MODE_ACC, True)
-        sys.factor(lin)
-        sol = lin.solve(-sys.r)
-    except np.linalg.LinAlgError as exc:
-        raise InitializationError(
-            "cannot compute consistent initial accelerations: the mass matrix with the "
-            f"constraint Jacobian is singular ({exc}); check for massless nodes or bodies "
-            "without stiffness and for free rotations (redundant constraint rows are set "
-            "aside)") from None
-    st.vd[:] = sol[:nd]
-    st.lam[:] = sol[nd:]
-    if any(g.extra.get("active_set", False) for g in model.groups):
-        _settle_active_set(model, st, sys, lin)
-    st.a[:] = st.vd
-    return st
-
-
-def _settle_active_set(model: Model, st: State, sys: System, lin: LinearSolver,
-                       max_iter: int = 20) -> None:
-    """Re-solve the acceleration-level equations while elements whose rows depend on the
-    multipliers (frictional contacts choosing stick or slip) change their choice: Newton on
-    these piecewise-smooth equations from the linear solution (linear rows are already
-    satisfied, so for them nothing changes)."""
-    nd = model.nd
-    for _ in range(max_iter):
-        sys.evaluate(st, 1.0, 0.0, 0.0, MODE_ACC, True)
-        rq, ph, finite = residual_norms(sys.r, sys.rabs, sys.kscale, nd, FLOOR_REL,
-                                        np.zeros_like(sys.r))
-        if not finite or (rq <= 1e-12 and ph <= 1e-14):
-            return
-        try:
-            sys.factor(lin)
-        except np.linalg.LinAlgError:
-            return
-        d = lin.solve(-sys.r)
-        st.vd += d[:nd]
-        st.lam += d[nd:]
+__all__ = ["MAX_OUTPUTS", "InitializationError", "consistent_initial_state", "load_kernels",
+           "simulate"]
 
 
 #: most recorded samples of a run (each holds every output variable of the model)
@@ -143,21 +61,6 @@ def _output_times(t0: float, t_end: float, step, output_dt, output_times) -> np.
     if ts[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
         ts = np.append(ts, t_end)
     return ts
-
-
-def _set_up(model: Model, st: State, integrator: GeneralizedAlpha, newton: Newton,
-            linear_solver: LinearSolver | None, initialize: bool,
-            ) -> tuple[Stepper, LinearSolver, EnergyAccount]:
-    """The stepper, linear solver and energy account of a run from ``st``, with every
-    compiled function the run calls handed to the System's first-evaluation precompile."""
-    lin = linear_solver or default_linear_solver(model.neq)
-    stepper = Stepper(model, integrator, newton, lin)
-    sys = stepper.sys
-    energy = EnergyAccount(model)
-    precompile_loop(stepper, st, energy)
-    if initialize:  # the consistent initial state calls the linear solver from Python
-        sys.precompile_also.extend(lin.compiled_calls(model.indices, model.indptr))
-    return stepper, lin, energy
 
 
 def load_kernels(model: Model, *, integrator: GeneralizedAlpha | None = None,
@@ -240,135 +143,12 @@ def simulate(
     integrator = integrator or GeneralizedAlpha()
     newton = newton or Newton()
     step = step or FixedStep()
-    wall0 = _time.perf_counter()
-    st = (state or model.initial_state()).copy()
-    stepper, lin, energy = _set_up(model, st, integrator, newton, linear_solver, initialize)
-    sys = stepper.sys
-    if initialize:
-        consistent_initial_state(model, st, sys, lin)
-    else:
-        sys.detect_redundancy(st)
-    sys.reset_tangent()
-    sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, False)
-    viol = sys.constraint_violation()
-    if viol.size and viol.max() > model.spec.settings.assembly_tolerance:
-        i = int(np.argmax(viol))
-        raise InitializationError(f"initial state violates {model.eq_labels[model.nd + i]} "
-                                  f"by {viol[i]:.3g}")
-    energy.start()
-    rec = Recorder(model, energy, None if variables is None else list(variables))
-    t0 = st.t
+    sim = Simulation(model, state=state, integrator=integrator, newton=newton, step=step,
+                     linear_solver=linear_solver, initialize=initialize, variables=variables)
+    t0 = sim.time
     touts = _output_times(t0, t_end, step, output_dt, output_times)
-    iout = 0
     if touts.size and abs(touts[0] - t0) <= 1e-12 * max(1.0, abs(t0)):
-        rec.record(st)
-        iout = 1
-    stats = RunStats()
-    ctl, cs = control_arrays(step, stepper.beta, t_end, model.nn)
-    cs[CS_IOUT] = iout
-    debug = log.isEnabledFor(logging.DEBUG)
-    loop = StepLoop.create(stepper, st, touts, ctl, cs, energy, debug, rec.extendable,
-                           rec.selection.arrays)
-    try:
-        success, message = _run_loop(loop, model, st, rec, stats, progress, debug)
-    except KeyboardInterrupt:
-        # Ctrl-C: stop cleanly with what was computed (the caller writes partial results)
-        loop.flush(rec)  # the outputs the loop stored before it returned
-        success = False
-        message = (f"interrupted by the user at t = {st.t:.9g} s; results up to "
-                   f"t = {st.t:.9g} s are kept")
-        log.error(message)
-    loop.add_stats(stats)
-    stats.factorizations = stepper.factorizations
-    stats.residual_evaluations = sys.nevals
-    stats.wall_s = _time.perf_counter() - wall0
-    rec.drop_partial()  # a Ctrl-C within a snapshot
-    if not success and (not rec.t or rec.t[-1] < st.t):
-        rec.record(st, 0.0)
-    attrs = {
-        "integrator": f"GeneralizedAlpha(rho_inf={integrator.rho_inf})",
-        "newton": repr(newton),
-        "step": repr(step),
-        "drivedyn_version": _version(),
-        **sys.redundancy.attrs(),
-    }
-    return Results(rec.dataset(attrs, None if variables is None else list(variables)),
-                   success, message, stats)
-
-
-def _log_attempt(model: Model, t: float, h: float, out: StepOutcome) -> None:
-    """DEBUG log line of a step attempt (``t``: end of an accepted step, start of a
-    rejected one)."""
-    if out.ok:
-        log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d",
-                  t, h, out.iterations, out.factorizations)
-    else:
-        log.debug("t = %.9g s  h = %.3g s  rejected: %s (iterations %d, worst %s, %.3g)",
-                  t, h, out.status.value, out.iterations,
-                  model.eq_labels[out.worst_eq] if out.worst_eq >= 0 else "-", out.residual)
-
-
-def _run_loop(loop: StepLoop, model: Model, st: State, rec: Recorder, stats: RunStats,
-              progress, debug: bool) -> tuple[bool, str]:
-    """The compiled stepping loop (:mod:`~drivedyn.solver.step_loop`), back in Python after
-    a batch of output times (and after every attempt when ``debug``); returns (success,
-    message). ``progress`` is called at each return after an accepted step (the last output
-    time of a batch; after every accepted step when ``debug``)."""
-    while True:
-        code = loop.run()
-        flushed = loop.flush(rec)
-        if code == RUN_END:
-            if flushed and progress is not None:
-                progress(st.t, loop.pieces()[0], stats.steps + loop.steps)
-            return True, ""
-        h_try, accepted, _, _ = loop.pieces()
-        if debug and code != RUN_FAILED:
-            _log_attempt(model, st.t, h_try, loop.outcome())
-        if code == RUN_OUTPUT and not loop.buffered:
-            rec.record(st, h_try)
-        if code == RUN_FAILED:
-            out = loop.outcome()
-            if debug:
-                _log_attempt(model, st.t, h_try, out)
-            message = _failure_message(model, st.t, h_try, out)
-            log.error(message)
-            return False, message
-        if progress is not None and accepted:
-            progress(st.t, h_try, stats.steps + loop.steps)
-
-
-_HINTS = {
-    StepStatus.NEWTON_MAX_ITER: "try a smaller step (solver.step.h, or an adaptive step with a "
-    "lower h_min), more Newton iterations (solver.newton.max_iter), or check the parameters "
-    "of the element named (stiffness, initial penetration)",
-    StepStatus.NEWTON_DIVERGED: "try a smaller step or an adaptive step, or check the element "
-    "named for a stiffness or load far larger than the rest of the model",
-    StepStatus.NONFINITE: "the state became non-finite: check the element named for loads, "
-    "stiffnesses or time functions that blow up, and bodies without mass on loaded nodes",
-    StepStatus.SINGULAR: "the iteration matrix is singular: look for a massless node or body "
-    "without stiffness or a free rotation around the equation named",
-    StepStatus.ERROR_TOO_LARGE: "the local error stays above tolerance at the smallest step: "
-    "loosen solver.step.rtol/atol or lower solver.step.h_min",
-}
-
-
-def _failure_message(model: Model, t: float, h: float, out: StepOutcome) -> str:
-    where = ""
-    if out.worst_eq >= 0:
-        what = ("weighted error" if out.status is StepStatus.ERROR_TOO_LARGE
-                else "scaled residual")
-        where = f"; worst equation: {model.eq_labels[out.worst_eq]} ({what} {out.residual:.3g})"
-    extra = f" ({out.message})" if out.message else ""
-    hint = _HINTS.get(out.status, "")
-    return (f"simulation stopped at t = {t:.9g} s: step of {h:.3g} s failed: "
-            f"{out.status.value}{extra}{where}; results up to t = {t:.9g} s are kept"
-            + (f"; {hint}" if hint else ""))
-
-
-def _version() -> str:
-    try:
-        from importlib.metadata import version
-
-        return version("drivedyn")
-    except Exception:  # pragma: no cover - not installed (source checkout)
-        return "unknown"
+        sim.record_state()
+        touts = touts[1:]
+    sim.advance(t_end, touts, progress)
+    return sim.results()

@@ -53,7 +53,14 @@ from drivedyn.results.recorder import EnergyAccount, advance_energy, total
 from drivedyn.solver import newton_kernel as nk
 from drivedyn.solver.newton_kernel import I_NEVAL, I_PHASE, _forget, newton_iterations
 from drivedyn.solver.redundancy import watched
-from drivedyn.solver.step_control import accept_step, next_step, reject_step, step_error
+from drivedyn.solver.step_control import (
+    CS_IOUT,
+    CT_TEND,
+    accept_step,
+    next_step,
+    reject_step,
+    step_error,
+)
 
 # wall time [s] between two returns of the loop that StepLoop sizes its output batches for:
 # short enough for a progress display and for Ctrl-C (handled between returns) to respond
@@ -370,6 +377,7 @@ class StepLoop:
         self.prev_vd = np.zeros(m.nd)
         self.prev_a = np.zeros(m.nd)
         self.control = (touts, ctl, cs, self.ls, self.lo, self.stats)
+        self.t_end = float(ctl[CT_TEND])
         self.energy = _energy_args(energy)
         self.commits = (commits[0], commits[1], m.aux_all)
         self.head = _head(stepper, st, self.prev_vd, self.prev_a, every)
@@ -388,6 +396,23 @@ class StepLoop:
         commits = commit_table(stepper.model)
         stepper.kernel_table(st)
         return cls(stepper, st, touts, ctl, cs, energy, commits, every, buffered, selection)
+
+    def retarget(self, touts: np.ndarray, t_end: float) -> None:
+        """Run on to ``t_end`` [s] through the output times ``touts`` [s] (sorted, after the
+        accepted state's time): the step size, the factorisation and the history of the
+        accepted steps carry over."""
+        _, ctl, cs, ls, lo, stats = self.control
+        ctl[CT_TEND] = t_end
+        cs[CS_IOUT] = 0.0
+        self.t_end = t_end
+        self.control = (touts, ctl, cs, ls, lo, stats)
+
+    def forget_history(self) -> None:
+        """The next step starts afresh, as the first of a run: without the state before the
+        accepted one (its predictor holds the accelerations; its error estimate compares
+        with the accepted state only). After a discontinuity of the inputs, where
+        extrapolating across it misleads both."""
+        self.ls[LS_PREV_T] = np.nan
 
     def _call(self) -> int:
         s = self.stepper

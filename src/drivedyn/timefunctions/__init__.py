@@ -9,6 +9,8 @@ Available kinds:
   ``s = (t - t0)/(t1 - t0)`` to ``v1`` at ``t1``, ``v1`` afterwards (C1 continuous).
 * :class:`Table` -- piecewise linear through ``(times[i], values[i])``, constant
   extrapolation outside the table.
+* :class:`Held` -- an input held constant between the calls of a resumable run, its value
+  written in place in the packed arrays (:func:`hold_value`).
 * :class:`Sum` -- sum of any of the above; built with ``+`` (``f + g``, ``sum([f, g])``)
   and scaled with ``*`` (``2.0 * f``).
 
@@ -32,6 +34,7 @@ arrays).
 
 from drivedyn.timefunctions.functions import (
     Constant,
+    Held,
     Ramp,
     SmoothStep,
     Sum,
@@ -41,21 +44,25 @@ from drivedyn.timefunctions.functions import (
 )
 from drivedyn.timefunctions.kernels import (
     KIND_CONSTANT,
+    KIND_HELD,
     KIND_RAMP,
     KIND_SMOOTH_STEP,
     KIND_TABLE,
     eval_function,
     eval_term,
     eval_time_functions,
+    hold_value,
 )
 from drivedyn.timefunctions.packing import PackedTimeFunctions, TimeFunctionPool
 
 __all__ = [
     "KIND_CONSTANT",
+    "KIND_HELD",
     "KIND_RAMP",
     "KIND_SMOOTH_STEP",
     "KIND_TABLE",
     "Constant",
+    "Held",
     "PackedTimeFunctions",
     "Ramp",
     "SmoothStep",
@@ -67,4 +74,5 @@ __all__ = [
     "eval_function",
     "eval_term",
     "eval_time_functions",
+    "hold_value",
 ]

@@ -1,5 +1,6 @@
 """Python-side time functions: :class:`TimeFunction` and its kinds (:class:`Constant`,
-:class:`Ramp`, :class:`SmoothStep`, :class:`Table`, :class:`Sum`), and the parser
+:class:`Ramp`, :class:`SmoothStep`, :class:`Table`, :class:`Held`, :class:`Sum`), and the
+parser
 :func:`as_time_function` of numbers and plain-data mappings.
 
 Each leaf evaluates itself with the interpreted (``.py_func``) per-kind routine of
@@ -18,12 +19,14 @@ import numpy as np
 
 from drivedyn.timefunctions.kernels import (
     _constant_eval,
+    _held_eval,
     _ramp_eval,
     _smooth_step_eval,
     _table_eval,
 )
 
 _constant_py = _constant_eval.py_func
+_held_py = _held_eval.py_func
 _ramp_py = _ramp_eval.py_func
 _smooth_step_py = _smooth_step_eval.py_func
 _table_py = _table_eval.py_func
@@ -156,6 +159,44 @@ class Constant(TimeFunction):
 
     def to_dict(self) -> dict[str, Any]:
         return {"type": "constant", "value": self.value}
+
+
+@dataclass(frozen=True)
+class Held(TimeFunction):
+    """An input held between the calls of a resumable run: ``f(t) = scale u``, with ``u`` the
+    value last written to the input ``name`` (``start`` until then), constant over each
+    call (zero-order hold). Its integral stays continuous where ``u`` changes, so a speed
+    driver following it turns on without a jump of angle.
+
+    The value lives in the packed arrays of the compiled model
+    (:data:`~drivedyn.timefunctions.kernels.KIND_HELD`); a
+    :class:`~drivedyn.solver.simulation.Simulation` writes it between calls
+    (``set_input``). Evaluated here, the input stays at ``start``.
+
+    Attributes:
+        name: input name (every term of this name takes the value written).
+        start: value of ``u`` before any is written (unit of what it drives).
+        scale: factor on ``u`` (from ``k * f``).
+    """
+
+    name: str
+    start: float = 0.0
+    scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"Held: name must be a non-empty string, got {self.name!r}")
+        object.__setattr__(self, "start", _finite_float("Held: start", self.start))
+        object.__setattr__(self, "scale", _finite_float("Held: scale", self.scale))
+
+    def evaluate(self, t: float) -> tuple[float, float, float, float]:
+        return _held_py(float(t), self.scale * self.start, 0.0, 0.0)
+
+    def scaled(self, factor: float) -> Held:
+        return Held(self.name, self.start, self.scale * factor)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": "held", "name": self.name, "start": self.start, "scale": self.scale}
 
 
 def _check_interval(cls: str, t0: float, t1: float) -> None:
@@ -348,7 +389,10 @@ _DICT_KEYS: dict[str, tuple[str, ...]] = {
     "smooth_step": ("t0", "t1", "v0", "v1"),
     "table": ("times", "values"),
     "sum": ("terms",),
+    "held": ("name",),
 }
+#: keys a mapping may give besides the required ones
+_DICT_OPTIONAL: dict[str, tuple[str, ...]] = {"held": ("start", "scale")}
 
 
 def as_time_function(x: Any) -> TimeFunction:
@@ -357,9 +401,10 @@ def as_time_function(x: Any) -> TimeFunction:
     * a :class:`TimeFunction` is returned unchanged;
     * a real number (not bool) becomes :class:`Constant`;
     * a mapping with key ``"type"`` in ``constant`` (``value``), ``ramp`` / ``smooth_step``
-      (``t0, t1, v0, v1``), ``table`` (``times, values``), ``sum`` (``terms``: list of
-      anything accepted here) is parsed; the type is case-insensitive and ``-``/space are
-      read as ``_``. Missing or unknown keys raise ValueError.
+      (``t0, t1, v0, v1``), ``table`` (``times, values``), ``held`` (``name``, optional
+      ``start``, ``scale``), ``sum`` (``terms``: list of anything accepted here) is parsed;
+      the type is case-insensitive and ``-``/space are read as ``_``. Missing or unknown
+      keys raise ValueError.
 
     Anything else raises TypeError.
     """
@@ -382,11 +427,12 @@ def as_time_function(x: Any) -> TimeFunction:
         missing = [k for k in required if k not in given]
         if missing:
             raise ValueError(f"time function of type {typ!r} is missing key(s) {missing}")
-        unknown = sorted(given - set(required))
+        allowed = (*required, *_DICT_OPTIONAL.get(typ, ()))
+        unknown = sorted(given - set(allowed))
         if unknown:
             raise ValueError(
                 f"time function of type {typ!r} has unknown key(s) {unknown}; "
-                f"expected {list(required)}"
+                f"expected {list(allowed)}"
             )
         if typ == "constant":
             return Constant(x["value"])
@@ -396,6 +442,8 @@ def as_time_function(x: Any) -> TimeFunction:
             return SmoothStep(x["t0"], x["t1"], x["v0"], x["v1"])
         if typ == "table":
             return Table(x["times"], x["values"])
+        if typ == "held":
+            return Held(x["name"], x.get("start", 0.0), x.get("scale", 1.0))
         terms = x["terms"]
         if isinstance(terms, str | bytes | Mapping) or not isinstance(terms, Iterable):
             raise ValueError("time function of type 'sum': 'terms' must be a list")

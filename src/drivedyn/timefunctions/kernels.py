@@ -16,6 +16,10 @@ KIND_CONSTANT = 0  #: par = [value, 0, 0, 0]
 KIND_RAMP = 1  #: par = [t0, t1, v0, v1]
 KIND_SMOOTH_STEP = 2  #: par = [t0, t1, v0, v1]
 KIND_TABLE = 3  #: par = [offset, npoints, 0, 0]; tab[offset:offset+n] times, then n values
+#: par = [value, t_held, integral at t_held, scale]: an input held since ``t_held`` [s], its
+#: value written in place between runs (:func:`hold_value`); ``scale`` is the term's factor
+#: on what is written
+KIND_HELD = 4
 
 
 # ---------------------------------------------------------------------------------------------
@@ -29,6 +33,14 @@ KIND_TABLE = 3  #: par = [offset, npoints, 0, 0]; tab[offset:offset+n] times, th
 def _constant_eval(t: float, value: float) -> tuple[float, float, float, float]:
     """Constant ``value``: returns (value, 0, 0, value * t)."""
     return value, 0.0, 0.0, value * t
+
+
+@njit(cache=True)
+def _held_eval(t: float, value: float, t_held: float,
+               integral_held: float) -> tuple[float, float, float, float]:
+    """Input held at ``value`` since ``t_held`` [s], integral ``integral_held`` then: returns
+    (value, 0, 0, integral_held + value (t - t_held))."""
+    return value, 0.0, 0.0, integral_held + value * (t - t_held)
 
 
 @njit(cache=True)
@@ -177,6 +189,8 @@ def eval_term(
         return _ramp_eval(t, par[k, 0], par[k, 1], par[k, 2], par[k, 3])
     elif kd == KIND_SMOOTH_STEP:
         return _smooth_step_eval(t, par[k, 0], par[k, 1], par[k, 2], par[k, 3])
+    elif kd == KIND_HELD:
+        return _held_eval(t, par[k, 0], par[k, 1], par[k, 2])
     elif kd == KIND_TABLE:
         off = int(par[k, 0])
         n = int(par[k, 1])
@@ -226,3 +240,13 @@ def eval_time_functions(
         out[i, 1] = d
         out[i, 2] = dd
         out[i, 3] = integral
+
+
+def hold_value(par: np.ndarray, k: int, t: float, value: float) -> None:
+    """Hold the input of packed term ``k`` (a :data:`KIND_HELD` term) at ``value`` from time
+    ``t`` [s] on, in place in ``par`` (nterms, 4): its integral stays continuous at ``t``
+    (the angle a speed driver prescribes does not jump). ``value`` is scaled by the term's
+    factor ``par[k, 3]``."""
+    par[k, 2] += par[k, 0] * (t - par[k, 1])
+    par[k, 1] = t
+    par[k, 0] = par[k, 3] * value

@@ -12,6 +12,7 @@ import numpy as np
 
 from drivedyn.timefunctions.functions import (
     Constant,
+    Held,
     Ramp,
     SmoothStep,
     Table,
@@ -20,6 +21,7 @@ from drivedyn.timefunctions.functions import (
 )
 from drivedyn.timefunctions.kernels import (
     KIND_CONSTANT,
+    KIND_HELD,
     KIND_RAMP,
     KIND_SMOOTH_STEP,
     KIND_TABLE,
@@ -30,9 +32,11 @@ from drivedyn.timefunctions.kernels import (
 class PackedTimeFunctions(NamedTuple):
     """Flat-array form of a set of time functions, for numba kernels.
 
-    * ``kind`` (nterms,) int64 -- term kinds (0 constant, 1 ramp, 2 smooth step, 3 table);
+    * ``kind`` (nterms,) int64 -- term kinds (0 constant, 1 ramp, 2 smooth step, 3 table,
+      4 held input);
     * ``par`` (nterms, 4) float64 -- term parameters: constant ``[value, 0, 0, 0]``,
-      ramp / smooth step ``[t0, t1, v0, v1]``, table ``[offset, npoints, 0, 0]``;
+      ramp / smooth step ``[t0, t1, v0, v1]``, table ``[offset, npoints, 0, 0]``, held
+      input ``[value, t_held, integral at t_held, scale]``;
     * ``fstart`` (nf + 1,) int64 -- terms of function ``i`` are ``fstart[i]:fstart[i+1]``;
     * ``tab`` (>= 1,) float64 -- table storage: ``tab[offset:offset+n]`` times [s],
       ``tab[offset+n:offset+2n]`` values (a single 0 if there are no tables).
@@ -81,6 +85,18 @@ class TimeFunctionPool:
         """Registered functions in id order."""
         return tuple(self._functions)
 
+    def held_terms(self) -> dict[str, list[int]]:
+        """Input name -> rows of :attr:`PackedTimeFunctions.par` of its :class:`Held` terms
+        (in the order :meth:`pack` lays the terms out)."""
+        out: dict[str, list[int]] = {}
+        k = 0
+        for f in self._functions:
+            for term in f.terms():
+                if isinstance(term, Held):
+                    out.setdefault(term.name, []).append(k)
+                k += 1
+        return out
+
     def pack(self) -> PackedTimeFunctions:
         """Flat arrays of all registered functions (see :class:`PackedTimeFunctions`)."""
         kinds: list[int] = []
@@ -98,6 +114,9 @@ class TimeFunctionPool:
                 elif isinstance(term, Ramp):
                     kinds.append(KIND_RAMP)
                     pars.append((term.t0, term.t1, term.v0, term.v1))
+                elif isinstance(term, Held):
+                    kinds.append(KIND_HELD)
+                    pars.append((term.scale * term.start, 0.0, 0.0, term.scale))
                 elif isinstance(term, Table):
                     n = len(term.times)
                     kinds.append(KIND_TABLE)

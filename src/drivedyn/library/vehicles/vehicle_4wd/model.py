@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -212,7 +213,7 @@ def _output_marker(sp: Spec, body: str, name: str) -> None:
 
 
 def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
-               tyre: Tyre | None = None) -> tuple[Spec, Layout]:
+               tyre: Tyre | None = None, engine: Any = None) -> tuple[Spec, Layout]:
     """The vehicle.
 
     Args:
@@ -222,6 +223,8 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         base_dir: directory a relative tyre path is read from.
         tyre: the tyre of every wheel (default: :func:`load_tyre` for each side, a property
             file mirrored on the side it was not measured on).
+        engine: the engine torque [N m] as a time function (default: ``[load]``'s ramp to
+            ``load.torque``), e.g. a :class:`~drivedyn.timefunctions.Held` input.
     Returns:
         (spec, layout).
     """
@@ -296,11 +299,12 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         outs[pos] = (f"{pos}_vehicle_lo", f"{pos}_vehicle_hi")
     # engine torque on the central housing, reacted on the body
     start, ramp = p.load.start, p.load.ramp
-    f = SmoothStep(start, start + ramp, 0.0, 1.0)
-    sp.add(Torque("engine", "central_vehicle_housing", vector=(0, 0, p.load.torque),
+    f = SmoothStep(start, start + ramp, 0.0, 1.0) if engine is None else engine
+    level = p.load.torque if engine is None else 1.0
+    sp.add(Torque("engine", "central_vehicle_housing", vector=(0, 0, level),
                   function=f, frame="marker"))
     on_body("b_engine", (0.0, 0.0, h), X)
-    sp.add(Torque("engine_reaction", "b_engine", vector=(0, 0, -p.load.torque), function=f,
+    sp.add(Torque("engine_reaction", "b_engine", vector=(0, 0, -level), function=f,
                   frame="marker"))
     # propeller shafts with their pinions
     fd_geo = _final_drive_geometry(fd)
