@@ -108,6 +108,11 @@ def test_open_differential_splits_evenly_on_split_mu():
     assert tl > 50.0
     assert abs(tl - tr) <= 0.01 * 0.5 * (tl + tr)
     assert s.wheels["rl"].kappa > 0.2  # the iced wheel spins
+    # the vehicle's motion: a yaw rate and a drift (split-mu pulls towards the dry side,
+    # right: negative), histories per sample
+    assert abs(s.yaw_rate) < 0.05 and abs(s.drift) < 0.5
+    for k in ("speed", "yaw_rate", "drift", "spin_rl", "kappa_rl"):
+        assert len(s.history[k]) == len(res.time)
     assert all(c[3] for c in V.checks(s))
 
 
@@ -189,6 +194,11 @@ def test_cli_static_json():
     assert run["configuration"] == "open"
     assert {c["check"] for c in run["checks"]} and all(c["passed"] for c in run["checks"])
     assert np.isclose(sum(run["loads"].values()), run["mass"] * 9.81, rtol=1e-6)
+    # the wheel centres of the static solution: left and right mirror images, the wheelbase
+    c = {w: np.array(x) for w, x in run["wheel_centres"].items()}
+    for a, b in (("fl", "fr"), ("rl", "rr")):
+        assert abs(c[a][1] + c[b][1]) < 1e-3 and c[a][1] > 0.5
+    assert 3.2 < c["fl"][0] - c["rl"][0] < 3.4  # the HMMWV's 3.30 m at ride height
 
 
 @pytest.mark.parametrize("args, message", [

@@ -67,7 +67,9 @@ class WheelWindow:
 @dataclass
 class StaticSummary:
     """The static solution: total mass [kg], centre of gravity (3,) [m], tyre loads [N],
-    the rear share of the loads and the one the centre of gravity gives, solve time [s]."""
+    the rear share of the loads and the one the centre of gravity gives, solve time [s],
+    the wheel centres' positions (3,) [m] in the static solution (x forward, y left, z up;
+    the origin the model file's)."""
 
     mass: float
     cg: list[float]
@@ -77,11 +79,15 @@ class StaticSummary:
     unknowns: int
     wall: float
     note: str = ""
+    wheel_centres: dict[str, list[float]] = field(default_factory=dict)
 
 
 @dataclass
 class LaunchSummary:
-    """What a launch shows over its window (see the module docstring)."""
+    """What a launch shows over its window (see the module docstring): the wheels' window
+    means, the speed [m/s] at the window's end, the rear torque ratio, the yaw rate's mean
+    [rad/s] and the lateral drift [m] at the window's end (:func:`body_motion`), the
+    analytic TDR range, solver counts, the balances and the per-sample history."""
 
     rear: str
     wheels: dict[str, WheelWindow]
@@ -94,6 +100,8 @@ class LaunchSummary:
     rejected: int = 0
     unknowns: int = 0
     newton: int = 0
+    yaw_rate: float = 0.0
+    drift: float = 0.0
     power_balance: float = float("nan")
     energy_error: float = float("nan")
     history: dict[str, list[float]] = field(default_factory=dict)
@@ -138,7 +146,9 @@ def static(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".") -> Stati
     return StaticSummary(mass=lay.total_mass, cg=[float(c) for c in lay.cg], loads=loads,
                          rear_share=(loads["rl"] + loads["rr"]) / total,
                          rear_share_cg=float((xf - lay.cg[0]) / (xf - xr)),
-                         unknowns=int(model.neq), wall=wall, note=note)
+                         unknowns=int(model.neq), wall=wall, note=note,
+                         wheel_centres={w: [float(c) for c in st.x[model.node_index[b]]]
+                                        for w, b in lay.wheels.items()})
 
 
 def static_checks(s: StaticSummary) -> list[tuple[str, float, float, bool]]:
@@ -206,7 +216,12 @@ def summarize(res: Any, lay: Layout, window: tuple[float, float]) -> LaunchSumma
             mu_road=float(np.mean(res.values(f"{lay.tyres[w]}.road_mu")[sel])))
         if w in lay.drives:
             hist[f"torque_{w}"] = tq.tolist()
+        hist[f"spin_{w}"] = spin.tolist()
+        hist[f"kappa_{w}"] = res.values(f"{lay.tyres[w]}.kappa").tolist()
     tl, tr = wheels["rl"].torque, wheels["rr"].torque
+    body = body_motion(res)
+    for k, v_ in body.items():
+        hist[k] = v_.tolist()
     v = res.values(f"{lay.wheels['fl']}.velocity")[:, 0]
     st = res.stats
     i0, i1 = np.flatnonzero(sel)[[0, -1]]
@@ -218,7 +233,22 @@ def summarize(res: Any, lay: Layout, window: tuple[float, float]) -> LaunchSumma
         axle_ratio={"rear": _ratio(tl, tr)}, left_share=tl / (tl + tr) if tl + tr else np.nan,
         tdr=lay.tdr, wall=st.wall_s, steps=st.steps, rejected=st.rejected,
         unknowns=int(getattr(res, "neq", 0)), newton=st.newton_iterations,
-        power_balance=pb, energy_error=float(ee), history=hist)
+        power_balance=pb, energy_error=float(ee),
+        yaw_rate=float(np.mean(body["yaw_rate"][sel])), drift=float(body["drift"][i1]),
+        history=hist)
+
+
+def body_motion(res: Any) -> dict[str, np.ndarray]:
+    """Per sample: the vehicle's forward ``speed`` [m/s], ``yaw_rate`` [rad/s] (about z,
+    positive to the left) and lateral ``drift`` [m] (y displacement from the start, positive
+    to the left), each the mean over the body's carriers (``frame.body.*``, one at each body
+    mount on each rail: the sprung mass, not a frame node's vibration)."""
+    names = sorted({str(n).rsplit(".", 1)[0] for n in res.dataset.data_vars
+                    if str(n).startswith("frame.body.") and str(n).endswith(".velocity")})
+    v = np.mean([res.values(f"{n}.velocity")[:, 0] for n in names], axis=0)
+    r = np.mean([res.values(f"{n}.angular_velocity")[:, 2] for n in names], axis=0)
+    y = np.mean([res.values(f"{n}.position")[:, 1] for n in names], axis=0)
+    return {"speed": v, "yaw_rate": r, "drift": y - y[0]}
 
 
 #: name prefixes of the driveline's bodies and elements (see the module docstring)

@@ -17,7 +17,8 @@ HISTORY_DT = 0.05
 
 
 def _thinned(history: dict[str, list[float]]) -> dict[str, list[float]]:
-    """The time history (``time``, ``torque_rl``, ``torque_rr``) every :data:`HISTORY_DT`."""
+    """The time history (``time``, ``torque_rl``, ``torque_rr``, ``spin_*``, ``kappa_*``,
+    ``speed``, ``yaw_rate``, ``drift``) every :data:`HISTORY_DT`."""
     t = history.get("time", [])
     keep, next_t = [], -1.0
     for i, ti in enumerate(t):
@@ -80,6 +81,7 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
                             "loads": s.loads, "rear_share": s.rear_share,
                             "rear_share_cg": s.rear_share_cg, "unknowns": s.unknowns,
                             "wall": s.wall, "note": s.note,
+                            "wheel_centres": s.wheel_centres,
                             "checks": check_dicts(V.static_checks(s))})
         ok = all(c["passed"] for r in results for c in r["checks"])
         if as_json:
@@ -116,7 +118,8 @@ def run_rwd(p: Any, source: str, model_file: str, configs: str | None, t_end: fl
                       out, "--out", directory=True)
     results = [{"configuration": s.name, "wheels": {w: vars(x) for w, x in s.wheels.items()},
                 "axle_ratio": s.axle_ratio, "left_share": s.left_share, "speed": s.speed,
-                "tdr": s.tdr, "wall": s.wall, "steps": s.steps, "rejected": s.rejected,
+                "yaw_rate": s.yaw_rate, "drift": s.drift, "tdr": s.tdr, "wall": s.wall,
+                "steps": s.steps, "rejected": s.rejected,
                 "unknowns": s.unknowns, "history": _thinned(s.history),
                 "checks": check_dicts(V.checks(s))}
                for s in summaries]
