@@ -303,7 +303,7 @@ def test_the_rwd_vehicle_fmu_gives_the_drive_torques_of_drivedyn_run(rwd_fmu) ->
     """The vehicle-rwd FMU, its throttle held at the file's value after the ramp (0.1) over
     0.5 s from the static start, gives the rear drive torques of the library's run with that
     throttle from t = 0 (``engine.idle_throttle`` = ``engine.throttle``) within 1e-3 at the
-    end (measured: 1e-11 with the run landing on the same 1 ms points; 1.2e-3 where it
+    end (measured: 1e-16 with the run landing on the same 1 ms points; 1.2e-3 where it
     records every 5 ms, its steps then fall elsewhere), and its speed, tyre loads and yaw
     rate. Made to fail by VehicleRWDCosim starting from the built state instead of
     static_start (the frame springs back: the drive torques 4 % off at 0.5 s)."""
