@@ -23,14 +23,20 @@ def fmu(model_file: str, out: Path | None, sets: tuple[str, ...]) -> None:
     """Build an FMI 2.0 co-simulation FMU of a model, for FMPy, Simulink, Dymola,
     OpenModelica, CarMaker and other FMI tools.
 
-    MODEL is a differential or 4WD vehicle model file or a shipped one by name (torsen-b,
-    torsen-c, vehicle-4wd). A differential's inputs: input_torque [N m] on the housing and
-    the output speeds [rad/s] (left_speed, right_speed; Type C: front_speed, rear_speed),
+    MODEL is a differential, 4WD or RWD vehicle model file or a shipped one by name
+    (torsen-b, torsen-c, vehicle-4wd, vehicle-rwd). A differential's inputs: input_torque
+    [N m] on the housing and the output speeds [rad/s] (left_speed, right_speed; Type C:
+    front_speed, rear_speed),
     held over each communication step; outputs: the torques the outputs deliver to their
     shafts [N m], input_speed [rad/s] of the housing, tdr and the thrust washers' normal
-    forces [N]; parameters: the model file's friction coefficients. The vehicle's inputs:
-    engine_torque [N m] and the road friction under each wheel (mu_fl ... mu_rr); outputs:
-    the wheels' drive torques and spin rates, vehicle_speed [m/s]. Between communication
+    forces [N]; parameters: the model file's friction coefficients (the initial speeds are
+    the speed inputs' values at initialisation, see docs/fmu.md). The
+    4WD vehicle's inputs: engine_torque [N m] and the road friction under each wheel (mu_fl
+    ... mu_rr); outputs: the wheels' drive torques and spin rates, vehicle_speed [m/s]. The
+    RWD vehicle's inputs: throttle [1] (0 to 1, on the engine's maps) and the road friction
+    under each wheel; outputs: the rear wheels' drive torques, every wheel's spin rate, tyre
+    force fx and load fz [N], vehicle_speed [m/s] and yaw_rate [rad/s]; it starts from the
+    parked vehicle's static equilibrium as drivedyn vehicle does. Between communication
     points the FMU integrates the model with drivedyn's own step control. The FMU runs
     drivedyn in Python: drivedyn (with pythonfmu) must be installed in the Python that
     loads it (see docs/fmu.md).
@@ -40,6 +46,7 @@ def fmu(model_file: str, out: Path | None, sets: tuple[str, ...]) -> None:
         drivedyn fmu torsen-b --out torsen_b.fmu
         drivedyn fmu torsen-c --out torsen_c.fmu --set pockets.mu=0.15
         drivedyn fmu vehicle-4wd --out vehicle_4wd.fmu
+        drivedyn fmu vehicle-rwd --out rwd.fmu --set differentials.rear=open
     """
     from drivedyn.config import ModelFileError
     from drivedyn.fmu import FmuError, build_fmu, model_identifier

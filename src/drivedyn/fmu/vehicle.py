@@ -37,6 +37,8 @@ class VehicleCosim:
     """
 
     kind = "vehicle"
+    #: the input that drives the vehicle (held, a Held term of the model)
+    driver = ENGINE
 
     def __init__(self, model_file: str | Path, overrides: Mapping[str, Any] | None = None
                  ) -> None:
@@ -98,7 +100,9 @@ class VehicleCosim:
         from drivedyn.solver.simulation import Simulation
         from drivedyn.timefunctions import Held
 
-        self._check(values)
+        why = self._check(values)
+        if why:
+            raise ValueError(why)
         sp, lay = build_spec(self.params, self.torsen, self.base,
                              engine=Held(ENGINE, float(values.get(ENGINE, 0.0))))
         model = compile_model(sp)
@@ -116,8 +120,7 @@ class VehicleCosim:
             self._reads.append((f"torque_{w}", g.aux, e, _column(g, "torque"), -1.0))
         self._write_mu(values)
 
-    @staticmethod
-    def _check(values: Mapping[str, float]) -> str:
+    def _check(self, values: Mapping[str, float]) -> str:
         """Why the inputs' values cannot be taken ("" if they can)."""
         bad = [f"{k} = {v}" for k, v in values.items() if not math.isfinite(v)]
         if bad:
@@ -153,7 +156,7 @@ class VehicleCosim:
                            "skip time)")
         if not step_size > 0:
             return False, f"communication step {step_size} s: expected > 0"
-        sim.set_input(ENGINE, inputs.get(ENGINE, 0.0))
+        sim.set_input(self.driver, inputs.get(self.driver, 0.0))
         if self._write_mu(inputs):
             sim.discontinuity()
         if not sim.advance(t + step_size):

@@ -231,7 +231,7 @@ def mass_properties(sp: Spec) -> tuple[float, np.ndarray]:
 
 def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
                tyre: Tyre | None = None, parked: bool = False,
-               steer: Any = None) -> tuple[Spec, Layout]:
+               steer: Any = None, throttle: Any = None) -> tuple[Spec, Layout]:
     """The vehicle at its static ride height.
 
     ``parked`` adds what a static solution needs and a rolling vehicle does not have: a
@@ -248,6 +248,9 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
         tyre: the tyre of every wheel (default: :func:`load_tyre` per side).
         steer: the pinion angle [rad] as a time function (number, TimeFunction or dict);
             default ``steering.pinion_angle``, held.
+        throttle: the engine's throttle (0 to 1) as a time function (number, TimeFunction
+            or dict; an FMU's held input); default ``[engine]``'s ramp from
+            ``idle_throttle`` to ``throttle``.
     Returns:
         (spec, layout).
     """
@@ -287,7 +290,7 @@ def build_spec(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     re = tyres["l"].effective_radius(rho)
     sp, lay = _assemble(p, torsen, susp, tyres, r0 - rho, loads, body_m,
                         body_cg - [0, 0, z_lift], lift=not parked, rolling_radius=re,
-                        steer=steer)
+                        steer=steer, throttle=throttle)
     if parked:
         _park(sp, lay)
     lay.static_load = loads
@@ -348,14 +351,15 @@ def _unsprung(corner_p: Any, wheel_mass: float, shaft_mass: float) -> float:
 def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[str, Tyre],
               h_wc: float, loads: dict[str, float] | None, body_mass: float,
               body_cg: Any, lift: bool = True, rolling_radius: float = 1.0,
-              steer: Any = None) -> tuple[Spec, Layout]:
+              steer: Any = None, throttle: Any = None) -> tuple[Spec, Layout]:
     """The vehicle with its wheel centres at height ``h_wc`` [m], the springs' free lengths
     for the corner ``loads`` [N] (None: the file's), the carried body's mass and centre of
     gravity (``body_cg`` in Chrono's vehicle frame); ``lift`` cancels the weight of the
     gears inside the differential (a rolling vehicle; a static solution keeps it, so that
     the tyres carry the whole weight). The vehicle moves forward at ``body.speed``, the
     wheels rolling on ``rolling_radius`` [m]; ``steer``: the pinion angle's time function
-    (None: ``steering.pinion_angle``)."""
+    (None: ``steering.pinion_angle``); ``throttle``: the throttle's (None: ``[engine]``'s
+    ramp)."""
     lay = Layout(ratio=p.final_drive.teeth_ring / p.final_drive.teeth_pinion,
                  rear_type=p.differentials.rear)
     dz = h_wc - susp.rear.point("wheel_center")[2]
@@ -455,7 +459,8 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     sp.add(EngineTorque("engine", eng_mount, "engine_out", full_load=e.full_load,
                         zero_throttle=e.zero_throttle,
                         throttle_function=SmoothStep(e.start, e.start + e.ramp,
-                                                     e.idle_throttle, e.throttle),
+                                                     e.idle_throttle, e.throttle)
+                        if throttle is None else throttle,
                         ratio=e.gear_ratio))
     # propeller shaft: a universal joint at the gearbox output, a slip yoke (sliding and
     # turning on the shaft against its torsional compliance) and a universal joint at the
