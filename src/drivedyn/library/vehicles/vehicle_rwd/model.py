@@ -490,6 +490,7 @@ def _assemble(p: VehicleRWDFile, torsen: dict, susp: SuspensionSet, tyres: dict[
     marker_at(sp, "rear_pinion", "pinion_shaft", pin_pos, Rx)
     sp.add_visual(link("prop_front_yoke", "prop_rear", 0.035, label="propshaft"))  # 70 mm tube
     sp.add_visual(cylinder("engine_out", 0.05, 0.3, label="engine_shaft"))
+    sp.add_visual(cylinder("prop_slip_in", 0.045, 0.15, label="propshaft_slip"))  # slip yoke
     sp.add_visual(box(eng_mount, 0.55, 0.6, 1.1, role="case", label="engine and gearbox"))
     ring = centre - fd_geo["d_ring"] * Y  # the ring on the -y side drives forward
     marker_at(sp, "rear_ring", lay.housing, ring, frame_from_axis(Y))
