@@ -119,8 +119,10 @@ def mirrored_inertia(J: Any, R_left: np.ndarray, R_side: np.ndarray, side: str) 
     return T @ J @ T.T
 
 
-def _body(sp: Spec, name: str, link_: Link, com: np.ndarray, R: np.ndarray,
-          R_left: np.ndarray, side: str) -> str:
+def add_link_body(sp: Spec, name: str, link_: Link, com: np.ndarray, R: np.ndarray,
+                  R_left: np.ndarray, side: str) -> str:
+    """A rigid link ``name`` of mass and inertia ``link_`` (given for the left side, in the
+    frame ``R_left``) at ``com`` [m] in the frame ``R`` of its ``side``."""
     return sp.add_rigid_body(name, link_.mass, mirrored_inertia(link_.inertia, R_left, R, side),
                              position=com, rotation=R)
 
@@ -181,6 +183,52 @@ def check_geometry(p: DoubleWishboneFile) -> None:
                          f"upright's outer side, at least {MIN_LINK:g} m outboard of the axis)")
 
 
+def add_tie_rod_and_hub(sp: Spec, prefix: str, kind: str, side: str, p: Any,
+                        pts: dict[str, np.ndarray], upright: str, tie_rod: str,
+                        R_tr: np.ndarray, mount: Any, steer: str | None,
+                        joints: dict[str, str]) -> str:
+    """The tie rod of a corner (``kind``: its type, for messages) and the wheel's hub marker on
+    the upright, the same for every corner type: a ball joint at the upright, a universal
+    joint at the chassis pickup or at the rack's marker ``steer`` (which must sit at the
+    inner hardpoint, within :data:`ASSEMBLY_TOLERANCE`); the hub's z axis the spin axis from
+    ``p.camber`` and ``p.toe``, to the vehicle's left on both sides. ``pts``: the corner's
+    hardpoints on its ``side`` [m]; ``R_tr``: the tie rod's frame; the joints' names are
+    added to ``joints``. Returns the hub marker's name."""
+
+    def name(part: str) -> str:
+        return f"{prefix}_{part}"
+
+    def on(body: str, part: str, point: str, R: np.ndarray | None = None) -> str:
+        return marker_at(sp, name(part), body, pts[point], R)
+
+    u = on(upright, "upright_tie_rod", "tie_rod_outer")
+    t_out = on(tie_rod, "tie_rod_out", "tie_rod_outer")
+    joints["tie_rod_outer"] = sp.add(Spherical(name("tie_rod_outer"), u, t_out)).name
+    if steer is None:
+        inner = chassis_marker(sp, mount, name("tie_rod_inner"), pts["tie_rod_inner"], R_tr)
+    else:
+        if steer not in sp.markers:
+            raise ModelError(f"{kind} {prefix!r}: steer marker {steer!r} does not "
+                             "exist")
+        pos, _ = marker_pose(sp, steer)
+        gap = float(np.linalg.norm(pos - pts["tie_rod_inner"]))
+        if gap > ASSEMBLY_TOLERANCE:
+            raise ModelError(f"hardpoints.tie_rod_inner = {list(p.hardpoints.tie_rod_inner)} "
+                             f"m (the {side} one at {pts['tie_rod_inner'].tolist()} m in the "
+                             f"vehicle frame): the rack's joint {steer!r} is at "
+                             f"{pos.tolist()} m, {gap:.6g} m away: the tie rod does not "
+                             "assemble")
+        inner = marker_at(sp, f"{steer}_{prefix}_axis", sp.markers[steer].body,
+                          pts["tie_rod_inner"], R_tr)
+    t_in = on(tie_rod, "tie_rod_in", "tie_rod_inner", R_tr)
+    joints["tie_rod_inner"] = sp.add(Universal(name("tie_rod_inner"), inner, t_in)).name
+    # -- hub -------------------------------------------------------------------------------------
+    out = spin_axis(p.camber, p.toe, side)
+    axis = out if side == "left" else -out  # to the vehicle's left on both sides
+    hub = on(upright, "hub", "wheel_center", frame(np.array([1.0, 0.0, 0.0]), axis))
+    return hub
+
+
 def add_double_wishbone(sp: Spec, prefix: str, side: Literal["left", "right"],
                         p: DoubleWishboneFile, mount: Mount, steer: str | None = None,
                         rigid_bushings: bool = False) -> Corner:
@@ -227,14 +275,16 @@ def add_double_wishbone(sp: Spec, prefix: str, side: Literal["left", "right"],
         keys = (f"{arm}_arm_front", f"{arm}_arm_rear", f"{arm}_ball_joint")
         R = arm_frame(*(pts[k] for k in keys), f"{prefix} {arm} arm")
         R_left = arm_frame(*(left[k] for k in keys), f"{prefix} {arm} arm")
-        arms[arm] = _body(sp, name(f"{arm}_arm"), link_, com_of(link_, *keys), R, R_left, side)
-    upright = _body(sp, name("upright"), p.upright,
-                    com_of(p.upright, "upper_ball_joint", "lower_ball_joint"), np.eye(3),
-                    np.eye(3), side)
+        arms[arm] = add_link_body(sp, name(f"{arm}_arm"), link_, com_of(link_, *keys), R,
+                                  R_left, side)
+    upright = add_link_body(sp, name("upright"), p.upright,
+                            com_of(p.upright, "upper_ball_joint", "lower_ball_joint"),
+                            np.eye(3), np.eye(3), side)
     R_tr = rod_frame(pts["tie_rod_inner"], pts["tie_rod_outer"], f"{prefix} tie rod")
     R_tr_left = rod_frame(left["tie_rod_inner"], left["tie_rod_outer"], f"{prefix} tie rod")
-    tie_rod = _body(sp, name("tie_rod"), p.tie_rod,
-                    com_of(p.tie_rod, "tie_rod_inner", "tie_rod_outer"), R_tr, R_tr_left, side)
+    tie_rod = add_link_body(sp, name("tie_rod"), p.tie_rod,
+                            com_of(p.tie_rod, "tie_rod_inner", "tie_rod_outer"), R_tr,
+                            R_tr_left, side)
 
     def on(body: str, part: str, point: str, R: np.ndarray | None = None) -> str:
         return marker_at(sp, name(part), body, pts[point], R)
@@ -265,32 +315,9 @@ def add_double_wishbone(sp: Spec, prefix: str, side: Literal["left", "right"],
         a = on(arms[arm], f"{arm}_arm_ball", key)
         u = on(upright, f"upright_{arm}_ball", key)
         joints[key] = sp.add(Spherical(name(key), a, u)).name
-    # -- tie rod ---------------------------------------------------------------------------------
-    u = on(upright, "upright_tie_rod", "tie_rod_outer")
-    t_out = on(tie_rod, "tie_rod_out", "tie_rod_outer")
-    joints["tie_rod_outer"] = sp.add(Spherical(name("tie_rod_outer"), u, t_out)).name
-    if steer is None:
-        inner = chassis_marker(sp, mount, name("tie_rod_inner"), pts["tie_rod_inner"], R_tr)
-    else:
-        if steer not in sp.markers:
-            raise ModelError(f"double wishbone {prefix!r}: steer marker {steer!r} does not "
-                             "exist")
-        pos, _ = marker_pose(sp, steer)
-        gap = float(np.linalg.norm(pos - pts["tie_rod_inner"]))
-        if gap > ASSEMBLY_TOLERANCE:
-            raise ModelError(f"hardpoints.tie_rod_inner = {list(p.hardpoints.tie_rod_inner)} "
-                             f"m (the {side} one at {pts['tie_rod_inner'].tolist()} m in the "
-                             f"vehicle frame): the rack's joint {steer!r} is at "
-                             f"{pos.tolist()} m, {gap:.6g} m away: the tie rod does not "
-                             "assemble")
-        inner = marker_at(sp, f"{steer}_{prefix}_axis", sp.markers[steer].body,
-                          pts["tie_rod_inner"], R_tr)
-    t_in = on(tie_rod, "tie_rod_in", "tie_rod_inner", R_tr)
-    joints["tie_rod_inner"] = sp.add(Universal(name("tie_rod_inner"), inner, t_in)).name
-    # -- hub -------------------------------------------------------------------------------------
-    out = spin_axis(p.camber, p.toe, side)
-    axis = out if side == "left" else -out  # to the vehicle's left on both sides
-    hub = on(upright, "hub", "wheel_center", frame(np.array([1.0, 0.0, 0.0]), axis))
+    # -- tie rod and hub -------------------------------------------------------------------------
+    hub = add_tie_rod_and_hub(sp, prefix, "double wishbone", side, p, pts, upright, tie_rod,
+                              R_tr, mount, steer, joints)
     # -- coil-over and stops ---------------------------------------------------------------------
     arm_body = arms[p.coil_over_arm]
     s_c = chassis_marker(sp, mount, name("spring_chassis"), pts["spring_chassis"])

@@ -53,8 +53,8 @@ from drivedyn.elements import (
 from drivedyn.elements.framework.visuals import coil, cylinder, link, sphere
 from drivedyn.errors import ModelError
 from drivedyn.library.vehicles.suspensions.double_wishbone import (
-    ASSEMBLY_TOLERANCE,
-    mirrored_inertia,
+    add_link_body,
+    add_tie_rod_and_hub,
     stop_gaps,
 )
 from drivedyn.library.vehicles.suspensions.geometry import (
@@ -64,11 +64,9 @@ from drivedyn.library.vehicles.suspensions.geometry import (
     chassis_marker,
     frame,
     marker_at,
-    marker_pose,
     on_side,
     rod_frame,
     side_sign,
-    spin_axis,
     unit,
 )
 from drivedyn.library.vehicles.suspensions.schema import Link, MacPhersonFile
@@ -120,12 +118,6 @@ class MacPhersonCorner:
     points: dict[str, np.ndarray] = field(default_factory=dict)
     spring_markers: tuple[str, str] = ("", "")
     upper_arm: None = None
-
-
-def _body(sp: Spec, name: str, link_: Link, com: np.ndarray, R: np.ndarray,
-          R_left: np.ndarray, side: str) -> str:
-    return sp.add_rigid_body(name, link_.mass, mirrored_inertia(link_.inertia, R_left, R, side),
-                             position=com, rotation=R)
 
 
 def check_geometry(p: MacPhersonFile) -> None:
@@ -220,19 +212,20 @@ def add_macpherson(sp: Spec, prefix: str, side: Literal["left", "right"], p: Mac
     keys = ("lower_arm_front", "lower_arm_rear", "lower_ball_joint")
     R_arm = arm_frame(*(pts[k] for k in keys), f"{prefix} lower arm")
     R_arm_left = arm_frame(*(left[k] for k in keys), f"{prefix} lower arm")
-    arm = _body(sp, name("lower_arm"), p.lower_arm, com_of(p.lower_arm, *keys), R_arm,
-                R_arm_left, side)
-    upright = _body(sp, name("upright"), p.upright,
-                    com_of(p.upright, "lower_ball_joint", "strut_lower"), np.eye(3),
-                    np.eye(3), side)
+    arm = add_link_body(sp, name("lower_arm"), p.lower_arm, com_of(p.lower_arm, *keys),
+                        R_arm, R_arm_left, side)
+    upright = add_link_body(sp, name("upright"), p.upright,
+                            com_of(p.upright, "lower_ball_joint", "strut_lower"), np.eye(3),
+                            np.eye(3), side)
     R_s = rod_frame(pts["strut_lower"], pts["strut_top"], f"{prefix} strut")
     R_s_left = rod_frame(left["strut_lower"], left["strut_top"], f"{prefix} strut")
-    strut = _body(sp, name("strut"), p.strut, com_of(p.strut, "strut_lower", "strut_top"),
-                  R_s, R_s_left, side)
+    strut = add_link_body(sp, name("strut"), p.strut,
+                          com_of(p.strut, "strut_lower", "strut_top"), R_s, R_s_left, side)
     R_tr = rod_frame(pts["tie_rod_inner"], pts["tie_rod_outer"], f"{prefix} tie rod")
     R_tr_left = rod_frame(left["tie_rod_inner"], left["tie_rod_outer"], f"{prefix} tie rod")
-    tie_rod = _body(sp, name("tie_rod"), p.tie_rod,
-                    com_of(p.tie_rod, "tie_rod_inner", "tie_rod_outer"), R_tr, R_tr_left, side)
+    tie_rod = add_link_body(sp, name("tie_rod"), p.tie_rod,
+                            com_of(p.tie_rod, "tie_rod_inner", "tie_rod_outer"), R_tr,
+                            R_tr_left, side)
 
     def on(body: str, part: str, point: str, R: np.ndarray | None = None) -> str:
         return marker_at(sp, name(part), body, pts[point], R)
@@ -274,32 +267,9 @@ def add_macpherson(sp: Spec, prefix: str, side: Literal["left", "right"], p: Mac
             name("top_mount"), top, rod_top, stiffness=tm.stiffness, damping=tm.damping,
             rotational_stiffness=tm.rotational_stiffness,
             rotational_damping=tm.rotational_damping)).name)
-    # -- tie rod ---------------------------------------------------------------------------------
-    u = on(upright, "upright_tie_rod", "tie_rod_outer")
-    t_out = on(tie_rod, "tie_rod_out", "tie_rod_outer")
-    joints["tie_rod_outer"] = sp.add(Spherical(name("tie_rod_outer"), u, t_out)).name
-    if steer is None:
-        inner = chassis_marker(sp, mount, name("tie_rod_inner"), pts["tie_rod_inner"], R_tr)
-    else:
-        if steer not in sp.markers:
-            raise ModelError(f"MacPherson strut {prefix!r}: steer marker {steer!r} does not "
-                             "exist")
-        pos, _ = marker_pose(sp, steer)
-        gap = float(np.linalg.norm(pos - pts["tie_rod_inner"]))
-        if gap > ASSEMBLY_TOLERANCE:
-            raise ModelError(f"hardpoints.tie_rod_inner = {list(p.hardpoints.tie_rod_inner)} "
-                             f"m (the {side} one at {pts['tie_rod_inner'].tolist()} m in the "
-                             f"vehicle frame): the rack's joint {steer!r} is at "
-                             f"{pos.tolist()} m, {gap:.6g} m away: the tie rod does not "
-                             "assemble")
-        inner = marker_at(sp, f"{steer}_{prefix}_axis", sp.markers[steer].body,
-                          pts["tie_rod_inner"], R_tr)
-    t_in = on(tie_rod, "tie_rod_in", "tie_rod_inner", R_tr)
-    joints["tie_rod_inner"] = sp.add(Universal(name("tie_rod_inner"), inner, t_in)).name
-    # -- hub -------------------------------------------------------------------------------------
-    out = spin_axis(p.camber, p.toe, side)
-    axis = out if side == "left" else -out  # to the vehicle's left on both sides
-    hub = on(upright, "hub", "wheel_center", frame(np.array([1.0, 0.0, 0.0]), axis))
+    # -- tie rod and hub -------------------------------------------------------------------------
+    hub = add_tie_rod_and_hub(sp, prefix, "MacPherson strut", side, p, pts, upright, tie_rod,
+                              R_tr, mount, steer, joints)
     # -- spring, damper and stops on the strut axis ----------------------------------------------
     spring_kw: dict[str, Any] = ({"spring_curve": p.spring.curve} if p.spring.curve is not None
                                  else {"stiffness": p.spring.rate})
