@@ -39,7 +39,7 @@ from drivedyn.elements.framework.checks import check_param
 from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.curves import curve_value, pack_curves
 from drivedyn.elements.framework.group import Group
-from drivedyn.elements.framework.primitives import prim_angle
+from drivedyn.elements.framework.primitives import prim_angle, scalar_force
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.nonlinear_springs import CurveTable, coerce_tables, table_arrays
@@ -87,18 +87,7 @@ def _engines(P, C, W, full):
         T = n * te
         s = -T
         c = -n * n * (dt0 + u * (dtf - dt0))
-        for a in range(12):
-            rq[a] = s * g[a]
-        if full:
-            for b in range(12):
-                hv = 0.0
-                for a in range(12):
-                    hv += H[a, b] * vl[a]
-                Hv[b] = hv
-            for a in range(12):
-                for b in range(12):
-                    K[a, b] = s * H[a, b] + c * g[a] * Hv[b]
-                    Cd[a, b] = c * g[a] * g[b]
+        scalar_force(s, 0.0, c, g, H, vl, Hv, rq, K, Cd, full)
         sc.scatter(C, L, e, 2, full)
         sc.energy(C, e, 0.0, 0.0, T * om, 0.0)
         sc.report(C, e, (T, we, te, u, T * om))

@@ -51,7 +51,7 @@ from drivedyn.elements.framework.curves import (
     pack_curves,
 )
 from drivedyn.elements.framework.group import Group
-from drivedyn.elements.framework.primitives import prim_distance
+from drivedyn.elements.framework.primitives import prim_distance, scalar_force
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.errors import ModelError
 
@@ -63,25 +63,6 @@ MIN_LENGTH = 1e-9
 
 
 # --- kernels -----------------------------------------------------------------------------------
-
-
-@njit(cache=True, inline="always")
-def _line_force(s, sL, sV, g, H, vl, Hv, rq, K, Cd, full):
-    """Residual ``s g`` of a tension ``s`` along the line of the markers and, if ``full``, its
-    stiffness ``s H + g (sL g + sV H^T v)^T`` and damping ``sV g g^T`` (``sL = ds/dL``,
-    ``sV = ds/dLdot``)."""
-    for a in range(12):
-        rq[a] = s * g[a]
-    if full:
-        for b in range(12):
-            hv = 0.0
-            for a in range(12):
-                hv += H[a, b] * vl[a]
-            Hv[b] = hv
-        for a in range(12):
-            for b in range(12):
-                K[a, b] = s * H[a, b] + g[a] * (sL * g[b] + sV * Hv[b])
-                Cd[a, b] = sV * g[a] * g[b]
 
 
 @njit(cache=True, inline="always")
@@ -123,7 +104,7 @@ def _nonlinear_springs(P, C, W, full):
             fc, cd = curve_value(X, Y, D, start, cid[e, 2], -rate)
             fd = -fc
         s = fs + pre[e] + fd
-        _line_force(s, ks, cd, g, H, vl, Hv, rq, K, Cd, full)
+        scalar_force(s, ks, cd, g, H, vl, Hv, rq, K, Cd, full)
         sc.scatter(C, L, e, 2, full)
         sc.energy(C, e, 0.0, V + pre[e] * length, 0.0, fd * rate)
         sc.report(C, e, (s, length, rate, dx, fs + pre[e], fd, fd * rate))
@@ -220,7 +201,7 @@ def _bump_stops(P, C, W, full):
             else:  # the damper would pull through a fast rebound: no force at all
                 F = 0.0
         # s = -sg F; d delta/dL = -sg, d deltadot/dLdot = -sg, so ds/dL = Fq, ds/dLdot = Fv
-        _line_force(-sg * F, Fq, Fv, g, H, vl, Hv, rq, K, Cd, full)
+        scalar_force(-sg * F, Fq, Fv, g, H, vl, Hv, rq, K, Cd, full)
         sc.scatter(C, L, e, 2, full)
         P_dis = (F - Fk) * dd
         sc.energy(C, e, 0.0, V, 0.0, P_dis)

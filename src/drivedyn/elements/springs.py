@@ -24,7 +24,12 @@ from drivedyn.elements.framework.building import make_group, node_dofs, two_mark
 from drivedyn.elements.framework.checks import check_param, check_param_optional
 from drivedyn.elements.framework.contract import local_arrays
 from drivedyn.elements.framework.group import Group
-from drivedyn.elements.framework.primitives import prim_angle, prim_distance, unwrap
+from drivedyn.elements.framework.primitives import (
+    prim_angle,
+    prim_distance,
+    scalar_force,
+    unwrap,
+)
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.joints import relative_angle
 
@@ -51,18 +56,7 @@ def _scalar_springs(P, C, W, full):
         c = damp[e]
         dq = q - ref[e]
         s = k * dq + c * qd + pre[e]
-        for a in range(12):
-            rq[a] = s * g[a]
-        if full:
-            for b in range(12):
-                sv = 0.0
-                for a in range(12):
-                    sv += H[a, b] * vl[a]
-                Hv[b] = sv
-            for a in range(12):
-                for b in range(12):
-                    K[a, b] = s * H[a, b] + g[a] * (k * g[b] + c * Hv[b])
-                    Cd[a, b] = c * g[a] * g[b]
+        scalar_force(s, k, c, g, H, vl, Hv, rq, K, Cd, full)
         sc.scatter(C, L, e, 2, full)
         sc.energy(C, e, 0.0, 0.5 * k * dq * dq + pre[e] * q, 0.0, c * qd * qd)
         sc.report(C, e, (s, q, qd, c * qd * qd))

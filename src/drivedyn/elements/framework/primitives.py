@@ -380,3 +380,24 @@ def gather_v(v, dofs, nd, out):
         gi = dofs[i]
         out[i] = v[gi] if gi >= 0 else 0.0
 
+
+
+@njit(cache=True, inline="always")
+def scalar_force(s, ks, cs, g, H, vl, Hv, rq, K, Cd, full):
+    """The generalised force of a force ``s`` along a scalar coordinate ``q`` of two nodes
+    (a distance, a relative angle) with gradient ``g`` (12,) and derivative ``H`` (12, 12):
+    residual ``rq = s g`` and, if ``full``, stiffness ``K = s H + g (ks g + cs H^T v)^T``
+    and damping ``Cd = cs g g^T``, with ``ks = ds/dq``, ``cs = ds/dqdot`` and ``vl`` (12,)
+    the local velocities (``Hv`` (12,) work)."""
+    for a in range(12):
+        rq[a] = s * g[a]
+    if full:
+        for b in range(12):
+            hv = 0.0
+            for a in range(12):
+                hv += H[a, b] * vl[a]
+            Hv[b] = hv
+        for a in range(12):
+            for b in range(12):
+                K[a, b] = s * H[a, b] + g[a] * (ks * g[b] + cs * Hv[b])
+                Cd[a, b] = cs * g[a] * g[b]
