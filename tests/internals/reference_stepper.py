@@ -198,6 +198,11 @@ class ReferenceStepper(Stepper):
                     self._forget()
                 if nd:
                     self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
+                if self.lu_h is not None:
+                    # the closing correction (newton_kernel's note on it)
+                    delta = self.lin.solve(-sys.r)
+                    newton_update(delta, nd, hdq, st.vd, st.a, st.v, st.lam, cM, ca, cC)
+                    lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
             if it == nw.max_iter:
                 break

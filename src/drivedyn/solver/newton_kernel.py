@@ -228,6 +228,17 @@ REFACTOR_AFTER = 4
 # loaded holds; deferred, 0.10. The price: a
 # stale step that has not converged assembles its matrix in an evaluation of its own.
 
+# The closing correction: a converged step takes the correction of its last residual (one solve
+# with the factorisation at hand, no evaluation), which makes the remaining error the
+# contraction ratio times smaller. Modified Newton converges from the predictor's side, so
+# the error a step leaves within the tolerance has one sign from step to step and adds up:
+# at the default tol 1e-8 Andrews' squeezer (7 cm) kept a bias of +1e-7 rad on the crank over
+# 0.03 s whatever the step, and its error stopped falling as h^2 below 1 us (1.3e-6, 2.5e-7,
+# 5.5e-9 at h = 1.25, 0.625, 0.3125 us; with the correction 1.41e-6, 3.52e-7, 8.8e-8, order
+# 2.00 as at tol 1e-10). The outputs and element states committed are those of the last
+# evaluation, within the tolerance of the corrected state. Cost: one back substitution per
+# step (the Type C bench: the same steps, iterations and factorisations within 1 %).
+
 # outcome codes of newton_iterations (mapped to StepStatus by the stepper)
 SUCCESS = 0
 NONFINITE_RESIDUAL = 1
@@ -409,6 +420,17 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     _forget(istate, roff)  # slow convergence on an old factorisation: stale
                 if nd:
                     fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
+                if istate[I_LU] != 0:
+                    # the closing correction (the note above the outcome codes)
+                    for i in range(r.shape[0]):
+                        delta[i] = -r[i]
+                    if istate[I_DENSE] != 0:
+                        dense_solve(lu, piv, delta, ib, tr)
+                    else:
+                        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z,
+                                        delta)
+                    newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
+                    lie_update(x0, R0, hdq, nn, x, R, Tn, False)
                 return SUCCESS, it, istate[I_NFAC] - nfac0
             if it == max_iter:
                 break
