@@ -13,7 +13,7 @@ from drivedyn.solver.settings import (
 from drivedyn.solver.simulate import InitializationError, consistent_initial_state, simulate
 from drivedyn.solver.simulation import Simulation
 from drivedyn.solver.statics import StaticsError, solve_static
-from drivedyn.solver.system import System, element_outputs
+from drivedyn.solver.system import System, element_outputs, redundant_constraints
 
 __all__ = [
     "AdaptiveStep",
@@ -33,6 +33,7 @@ __all__ = [
     "consistent_initial_state",
     "element_outputs",
     "linear_modes",
+    "redundant_constraints",
     "simulate",
     "solve_static",
 ]

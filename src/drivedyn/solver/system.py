@@ -351,6 +351,17 @@ class System:
         return np.abs(r[nd:]) / self.kscale[nd:]
 
 
+def redundant_constraints(model: Model, state: State | None = None) -> list[str]:
+    """Labels (element and row) of the constraint rows that are combinations of the others
+    at the configuration of ``state`` (default: the model's initial state), found as a run
+    finds them when it starts (:mod:`~drivedyn.solver.redundancy`): what a run of the model
+    will set aside, asked for before any run. The reactions of the joints listed are not
+    unique. Evaluates the model's kernels once (compiling them on a first run)."""
+    sys = System(model)
+    st = model.initial_state() if state is None else state
+    return sys.redundancy.describe(sys.dependent_constraints(st))
+
+
 def element_outputs(model: Model, state: State) -> dict[str, dict[str, float]]:
     """Every element's named outputs at ``state`` (e.g. after :func:`solve_static`):
     ``{element: {output: value}}`` in the units of ``Group.outputs()``."""

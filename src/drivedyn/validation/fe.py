@@ -29,6 +29,7 @@ from drivedyn.model.spec import Spec
 from drivedyn.results import flexible_fields
 from drivedyn.solver import FixedStep, GeneralizedAlpha, simulate
 from drivedyn.validation.base import CaseResult, compare, register_case
+from drivedyn.validation.common import at_least, at_most, failed_check
 
 STEEL = SolidMaterial(210e9, 0.3, 7850.0)
 
@@ -167,17 +168,36 @@ def spinning_part(spin: float, kick: float):
 
 @register_case("ffrf_energy")
 def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
-    """Undamped free bar spinning at 50 rad/s and vibrating (first mode 168 Hz): energy
-    drift; and a rigid rotation of a deformed state changes no stress."""
+    """Undamped free bar spinning at 50 rad/s and vibrating (first mode 168 Hz, started from
+    a deflection: vibration energy 0.558 J against 1025 J of spin): the energy drift
+    relative to the *vibration* energy, at h = 2e-5 and 1e-5 s, and its order; and a rigid
+    rotation of a deformed state changes no stress.
+
+    Measured: drift 6.8 % and 1.56 % of the vibration energy (order 2.1; the scheme does
+    not conserve energy exactly on the nonlinear floating-frame equations). Fails on a run
+    that does not reach its end (the floating frame's equations without a force scale did
+    not take a step, and a drift over the total energy passed on nothing), on numerical
+    dissipation (rho_inf = 0.9: 3.6 % at 1e-5 s) and on a loss that does not fall with the
+    step (order below 1.8)."""
     sp, part = spinning_part(50.0, 1e-3)
     model = compile_model(sp)
-    t_end = 0.02 if quick else 0.05
-    res = simulate(model, t_end, step=FixedStep(2e-5), integrator=GeneralizedAlpha(1.0),
-                   output_dt=1e-3)
-    E = res.dataset["energy.kinetic"].values + res.dataset["energy.potential"].values
-    drift = float(np.max(np.abs(E - E[0])))
-    out = [compare("ffrf_energy", f"energy drift over {t_end} s, 2e-5 s steps", E[0],
-                   E[0] + drift, "J", 1e-3, "conservation (no damping, rho_inf = 1)")]
+    t_end = 0.05  # quick too: over 0.02 s the drift's order is not yet settled (1.77)
+    drifts = []
+    for h in (2e-5, 1e-5):
+        res = simulate(model, t_end, step=FixedStep(h), integrator=GeneralizedAlpha(1.0),
+                       output_dt=1e-3)
+        if not res.success:
+            return [failed_check("ffrf_energy", f"energy drift over {t_end} s, {h:g} s steps",
+                                 "1", 0.03, "conservation (no damping, rho_inf = 1)", res)]
+        E = res.dataset["energy.kinetic"].values + res.dataset["energy.potential"].values
+        e_vib = float(res.dataset["bar.elastic_energy"].values[0])  # at rest in the frame
+        drifts.append(float(np.max(np.abs(E - E[0]))) / e_vib)
+    out = [at_most("ffrf_energy", f"energy drift over {t_end} s at 1e-5 s steps, relative "
+                   "to the vibration energy", drifts[1], 0.03, "1",
+                   "conservation (no damping, rho_inf = 1)"),
+           at_least("ffrf_energy", "order of the drift (2e-5 -> 1e-5 s)",
+                    math.log2(drifts[0] / drifts[1]), 1.8, "1",
+                    "second-order scheme: the drift is a discretisation error")]
     # a large rigid rotation of a deformed state: stresses unchanged, shape turned rigidly
     from drivedyn.rotations import exp_so3
 

@@ -192,6 +192,30 @@ def _slot(k):
     return 6 + 6 * (k // 3) + (k % 3)
 
 
+@njit(cache=True, inline="always")
+def _force_scales(rabs, dofs, Mx, al, Kr, qv, mass, gvec, nq):
+    """Add the sizes of the terms of the floating-frame equations to ``rabs``: per row the
+    sum of ``|M_ij a_j|`` (inertia), ``|K_kl q_l|`` (elastic, modal rows) and the weight
+    ``mass |g|`` (frame translation rows). The kernel adds each equation's net residual
+    only, so without them a body's equations had no force scale beyond that net: their
+    residual scaled to 0.99 at any size, a free spinning part's hub equations could not
+    converge on the round-off of their cancelling inertia terms (2e-10 N of about 1e3 N),
+    and a free flexible part did not take a step."""
+    g = np.sqrt(gvec[0] ** 2 + gvec[1] ** 2 + gvec[2] ** 2)
+    for i in range(6 + nq):
+        ii = i if i < 6 else _slot(i - 6)
+        s = mass * g if i < 3 else 0.0
+        for j in range(6 + nq):
+            jj = j if j < 6 else _slot(j - 6)
+            s += abs(Mx[i, j] * al[jj])
+        if i >= 6:
+            for m in range(nq):
+                s += abs(Kr[i - 6, m] * qv[m])
+        gi = dofs[ii]
+        if gi >= 0:
+            rabs[gi] += s
+
+
 @njit(cache=True)
 def _flexible_bodies(P, C, W, full):
     (mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec) = P
@@ -341,6 +365,7 @@ def _flexible_bodies(P, C, W, full):
             rs = Re[i, 0] * s0 + Re[i, 1] * s1 + Re[i, 2] * s2
             grav -= gvec[i] * (mass[e] * x[n0, i] + rs)
         sc.energy(C, e, kin, el + grav, 0.0, dis)
+        _force_scales(C[sc.RABS], C[sc.DOFS][e], Mx, al, Kr[e], qv, mass[e], gvec, nq)
         aux[e, 0] = el
         for k in range(nq):
             aux[e, 1 + k] = qv[k]
