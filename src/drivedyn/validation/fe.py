@@ -227,6 +227,9 @@ def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[Case
     s0 = m0.initial_state()
     s0.R[0] = Rrot
     r0 = simulate(m0, 0.002, state=s0, step=FixedStep(1e-4), output_dt=1e-3)
+    if not r0.success:
+        return [*out, failed_check("ffrf_energy", "strain energy of a rigidly rotated part at "
+                                   "rest", "J", 1e-9, "no strain from rigid motion", r0)]
     out.append(compare("ffrf_energy", "strain energy of a rigidly rotated part at rest", 0.0,
                        float(np.abs(r0.dataset["bar.elastic_energy"].values).max()), "J", 1e-9,
                        "no strain from rigid motion"))
@@ -268,6 +271,9 @@ def washer_pressure(quick: bool = False, figure_dir: str | None = None) -> list[
     load, mu, spin = 2000.0, 0.1, 10.0
     sp, (ri, re, solid, _) = washer_bench(load, mu, spin, 1e9)
     res = simulate(compile_model(sp), 0.03, step=FixedStep(1e-4), output_dt=1e-3)
+    if not res.success:
+        return [failed_check("washer_pressure", "integrated face pressure under a 2 kN load",
+                             "N", 0.01, "equilibrium", res)]
     ds = res.dataset
     F = float(ds["contact.normal_force"].values[-1])
     M = float(ds["contact.friction_torque"].values[-1])

@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from drivedyn.validation.base import CaseResult, compare, register_case
-from drivedyn.validation.common import at_least, at_most
+from drivedyn.validation.common import at_least, at_most, failed_check
 
 
 @register_case("tyre_mf")
@@ -74,6 +74,9 @@ def tyre_mf(quick: bool = False, figure_dir: str | None = None) -> list[CaseResu
         ts, ts + 1e-4, v / re, v * (1 + k_step) / re)))
     spec.add(TyreContact("tyre", "w_hub", tyre))
     res = simulate(compile_model(spec), 0.5, step=FixedStep(2e-4), output_dt=2e-4)
+    if not res.success:
+        return [*out, failed_check(case, "relaxation: time constant of a slip step", "s",
+                                   0.01, "first-order transient slip", res)]
     t = res.time
     k = res["tyre.kappa_transient"].values
     tau = tyre.relaxation_lengths(cz * 0.02)[0] / v
