@@ -174,3 +174,31 @@ def test_redundant_rows_reported_before_any_run():
     assert dd.redundant_constraints(four_bar_model("mixed")) == []
     res = _run(model, t_end=0.05)
     assert res.dataset.attrs["redundant_constraints"] == "; ".join(before)
+
+
+@pytest.mark.parametrize("build", ["mixed", "hinges"])
+def test_initial_positions_projected_onto_the_constraints(build):
+    """A four-bar started with its coupler 2e-7 m off the loop (as a static start from
+    another model or a file's rounded positions leave it): the run's initial state is
+    projected onto the constraints to Newton.phi_tol (1e-10) and an adaptive run at
+    atol 1e-9 m takes its steps. Fails without the projection
+    (``consistent_initial_state(..., phi_tol=None)`` in Simulation): the first step has to
+    close the 2e-7 m, which the step control counts as error at any step size, and the run
+    stops at t = 0 with h_min reached."""
+    from drivedyn.elements.framework.contract import MODE_DYN
+    from drivedyn.solver.initial_state import project_positions
+    from drivedyn.solver.linear import default_linear_solver
+
+    model = four_bar_model(build)
+    st = model.initial_state()
+    i = model.node_index["coupler"]
+    st.x[i, 0] += 2e-7
+    sys = System(model)
+    sys.detect_redundancy(st)
+    sys.evaluate(st, 0.0, 0.0, 1.0, MODE_DYN, False)
+    assert sys.constraint_violation().max() > 1e-7
+    left = project_positions(model, st.copy(), sys, default_linear_solver(model.neq), 1e-10)
+    assert left <= 1e-10
+    res = dd.simulate(model, 0.05, state=st, output_dt=1e-2,
+                      step=dd.AdaptiveStep(1e-4, 1e-9, 1e-3, rtol=1e-6, atol=1e-9))
+    assert res.success, res.message

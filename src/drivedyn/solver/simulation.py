@@ -106,7 +106,7 @@ class Simulation:
                                        initialize)
         sys = stepper.sys
         if initialize:
-            consistent_initial_state(model, st, sys, lin)
+            consistent_initial_state(model, st, sys, lin, phi_tol=self.newton.phi_tol)
         else:
             sys.detect_redundancy(st)
         sys.reset_tangent()
