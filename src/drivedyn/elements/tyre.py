@@ -19,14 +19,8 @@ Per evaluation, in the road axes of the tyre (``e_x = a x n`` heading, ``e_y = n
 * transient slips (Pacejka 2012 sec. 7.2, the first-order model written with the slip
   velocities so that standstill is regular):
   ``sigma_k dkappa'/dt + |V_x| kappa' = -V_sx``, ``sigma_a dalpha'/dt + |V_x| alpha' = V_sy``
-  (``alpha'`` is tan of the transient slip angle), integrated over the step from the values
-  and rates committed at the last accepted step by the theta method, ``theta = 1/2``
-  (trapezoidal, second order like the rest of the step) while ``z = dt |V_x| / sigma <= 1``
-  and ``theta = 1 - 1/(2 z)`` beyond (towards backward Euler where the step is long against
-  the relaxation time, so no ringing). Backward Euler throughout made the slips' error of
-  first order in the step, which the step control does not see: the 4WD launch's window
-  torques then depended on h_max (3e-5 between 50 and 200 us) whatever the tolerance;
-  with ``relaxation=False`` the steady slips
+  (``alpha'`` is tan of the transient slip angle), integrated by backward Euler from the
+  values committed at the last accepted step; with ``relaxation=False`` the steady slips
   ``kappa = -V_sx/|V_x|``, ``tan alpha = V_sy/|V_x|`` with ``|V_x| >= VXLOW/10``;
 * below VXLOW a damping ``kappa' - d w V_sx/VXLOW``, ``alpha' + d w V_sy/VXLOW`` with
   ``w = (1 + cos(pi |V_x|/VXLOW))/2`` stops the carcass spring ringing at standstill
@@ -69,8 +63,8 @@ from drivedyn.tyres.magic_formula import (
 )
 
 MAX_PATCHES = 8
-NSTATE = 5  # kappa', alpha' (tan), time of the committed values, their rates
-NAUX = 22
+NSTATE = 3  # kappa', alpha' (tan), time of the committed values
+NAUX = 20
 FD_POS = 1e-7  # [m] and [rad]: steps of the in-kernel finite differences
 FD_VEL = 1e-6  # [m/s] and [rad/s]
 V_ROLL = 0.01  # [m/s] rolling speed over which the rolling resistance changes sign
@@ -262,8 +256,6 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     kap_n = es0[0]
     alp_n = es0[1]
     tn = es0[2]
-    kd_n = es0[3]
-    ad_n = es0[4]
     dt = t - tn if math.isfinite(tn) else 0.0
     if dt < 0.0:
         dt = 0.0
@@ -292,14 +284,8 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     avx = abs(vx)
     vxlow = P[2]
     if relax:
-        zk = dt * avx / sig_k
-        za = dt * avx / sig_a
-        th = 0.5 if zk <= 1.0 else 1.0 - 0.5 / zk
-        kap = ((kap_n + (1.0 - th) * dt * kd_n) * sig_k - th * dt * vsx) / (sig_k + th * dt * avx)
-        th = 0.5 if za <= 1.0 else 1.0 - 0.5 / za
-        alp = ((alp_n + (1.0 - th) * dt * ad_n) * sig_a + th * dt * vsy) / (sig_a + th * dt * avx)
-        aux[20] = -(vsx + avx * kap) / sig_k
-        aux[21] = (vsy - avx * alp) / sig_a
+        kap = (kap_n * sig_k - dt * vsx) / (sig_k + dt * avx)
+        alp = (alp_n * sig_a + dt * vsy) / (sig_a + dt * avx)
     else:
         vref = max(avx, 0.1 * vxlow)
         kap = -vsx / vref
@@ -444,8 +430,6 @@ OUTPUTS = (
     ("slip_speed", "m/s", "longitudinal slip velocity V_sx of the contact point"),
     ("dissipated_power", "W", "power dissipated by the tyre (slip and vertical damping)"),
     ("friction_limit", "N", "longitudinal friction limit mu_x Fz (road friction included)"),
-    ("kappa_rate", "1/s", "rate of the transient longitudinal slip dkappa'/dt"),
-    ("tan_alpha_rate", "1/s", "rate of the transient slip dalpha'/dt"),
 )
 assert len(OUTPUTS) == NAUX
 
@@ -478,11 +462,11 @@ class TyreFamily(Family):
             npatch[e] = len(pts)
             for k, p in enumerate(pts):
                 patches[e, k] = (p.x_start, p.x_end, p.mu)
-            eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0, 0.0, 0.0])  # models start at t = 0
+            eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0])  # models start at t = 0
         return make_group(
             self.name, specs, tyre_kernel, (params, opts, patches, npatch, pm, Rm), lnodes,
             node_dofs(ctx, lnodes), OUTPUTS, eoff=eoff, nstate=NSTATE,
-            commit_cols=(6, 7, COMMIT_TIME, 20, 21),  # transient slips, their time and rates
+            commit_cols=(6, 7, COMMIT_TIME),  # the transient slips and their time
             dissipative=True,
         )
 
