@@ -12,7 +12,7 @@ axis of a hinge between the bodies). The control law, with the error
     T = clip(k_p e + s, T_min, T_max)
 
 ``s_n`` is the integral term committed at the last accepted step (time ``t_n``,
-``dt = t - t_n``: backward Euler, implicit in the step like the tyre's transient slips);
+``dt = t - t_n``: backward Euler, implicit in the step, first order in the step);
 it starts at ``initial_torque``. The integral term is clipped to the torque limits (anti-
 windup: it never holds more than the output can give). ``g(t)`` (``gate_function``) in
 [0, 1] switches the loop: at ``g = 0`` the error is zero and the torque is held at the
