@@ -310,8 +310,12 @@ def test_friction_power_is_the_dissipation():
     wB = res["B.angular_velocity"].values[:, 2]
     Pf = res["g.friction_power"].values
     Fn = res["g.normal_force"].values
-    vs = info["sliding_arm"] * np.abs(wA - wB)
-    np.testing.assert_allclose(res["g.sliding_velocity"].values, vs, rtol=1e-10, atol=1e-14)
+    # the outputs are those of each step's last evaluation, the velocities those after its
+    # closing Newton correction (newton_kernel): the two agree within Newton's tolerance
+    # (measured 4e-9 relative), a wrong sliding arm or a lost |.| is off by order 1
+    vs_state = info["sliding_arm"] * np.abs(wA - wB)
+    vs = res["g.sliding_velocity"].values
+    np.testing.assert_allclose(vs, vs_state, rtol=1e-7, atol=1e-12)
     eps_v = 1e-3  # regularised law: mu_R = mu (2 - v/eps) v/eps below eps
     mu_r = np.where(vs < eps_v, mu * (2 - vs / eps_v) * vs / eps_v, mu)
     np.testing.assert_allclose(Pf, mu_r * np.abs(Fn) * vs, rtol=1e-10, atol=1e-9)
