@@ -176,9 +176,10 @@ def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[Case
     Measured: drift 6.8 % and 1.56 % of the vibration energy (order 2.1; the scheme does
     not conserve energy exactly on the nonlinear floating-frame equations). Fails on a run
     that does not reach its end (the floating frame's equations without a force scale did
-    not take a step, and a drift over the total energy passed on nothing), on numerical
-    dissipation (rho_inf = 0.9: 3.6 % at 1e-5 s) and on a loss that does not fall with the
-    step (order below 1.8)."""
+    not take a step, and a drift over the total energy passed on nothing: seen) and on
+    numerical dissipation (rho_inf = 0.9: 3.6 % at 1e-5 s, seen). The order check is for a
+    loss that does not fall with the step (a physical damping left in the part); that
+    mutation was not tried."""
     sp, part = spinning_part(50.0, 1e-3)
     model = compile_model(sp)
     t_end = 0.05  # quick too: over 0.02 s the drift's order is not yet settled (1.77)
@@ -267,7 +268,8 @@ def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes:
 @register_case("washer_pressure")
 def washer_pressure(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Rigid spinning face on a flexible washer under 2 kN: integrated pressure vs load and
-    friction torque vs mu F r_m (uniform pressure: contact compliance >> washer's)."""
+    friction torque vs mu F r_m (uniform pressure: contact compliance >> washer's). A run
+    that stops early is a failed check, not a reading of its partial results."""
     load, mu, spin = 2000.0, 0.1, 10.0
     sp, (ri, re, solid, _) = washer_bench(load, mu, spin, 1e9)
     res = simulate(compile_model(sp), 0.03, step=FixedStep(1e-4), output_dt=1e-3)
