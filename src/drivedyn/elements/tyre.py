@@ -19,13 +19,25 @@ Per evaluation, in the road axes of the tyre (``e_x = a x n`` heading, ``e_y = n
 * transient slips (Pacejka 2012 sec. 7.2, the first-order model written with the slip
   velocities so that standstill is regular):
   ``sigma_k dkappa'/dt + |V_x| kappa' = -V_sx``, ``sigma_a dalpha'/dt + |V_x| alpha' = V_sy``
-  (``alpha'`` is tan of the transient slip angle), integrated by backward Euler from the
-  values committed at the last accepted step; with ``relaxation=False`` the steady slips
+  (``alpha'`` is tan of the transient slip angle), integrated over the step from the values
+  and rates committed at the last accepted step by the theta method, ``theta = 1/2``
+  (trapezoidal, second order like the rest of the step) while ``z = dt |V_x| / sigma <= 1``
+  and ``theta = 1 - 1/(2 z)`` beyond (towards backward Euler where the step is long against
+  the relaxation time, so no ringing). Backward Euler throughout made the slips' error of
+  first order in the step, which the step control does not see: a vehicle's window figures
+  then followed ``h_max`` whatever the tolerance (4WD launch: 2.4e-4 off at every
+  tolerance; with this update 7.4e-6 to 2.7e-6 from three times to a thirtieth of the
+  file's tolerances, ``benchmarks/work_precision.py``); with ``relaxation=False`` the
+  steady slips
   ``kappa = -V_sx/|V_x|``, ``tan alpha = V_sy/|V_x|`` with ``|V_x| >= VXLOW/10``;
 * below VXLOW a damping ``kappa' - d w V_sx/VXLOW``, ``alpha' + d w V_sy/VXLOW`` with
   ``w = (1 + cos(pi |V_x|/VXLOW))/2`` stops the carcass spring ringing at standstill
   (MF-Tyre's low-speed damping; ``d = low_speed_damping``), and the formula's horizontal and
-  vertical shifts are scaled by ``1 - w``: a tyre at rest carries no force at zero slip;
+  vertical shifts, the aligning moment's trail and its residual moment are scaled by
+  ``1 - w``: a tyre at rest carries no force at zero slip, and the aligning moment, whose
+  trail and residual moment change sign with ``V_x``, stays continuous through standstill
+  (without the scaling a loaded wheel creeping at 1e-7 m/s flipped 2 N m of residual moment
+  with each sign of ``V_x``, and Newton failed on it: the 4WD launch at fixed 100 us steps);
 * forces ``Fx, Fy, Mz`` from the formula at the contact point below the centre, rolling
   resistance ``My`` opposing the spin (smoothed over 0.01 m/s of rolling speed).
 
@@ -63,8 +75,8 @@ from drivedyn.tyres.magic_formula import (
 )
 
 MAX_PATCHES = 8
-NSTATE = 3  # kappa', alpha' (tan), time of the committed values
-NAUX = 20
+NSTATE = 5  # kappa', alpha' (tan), time of the committed values, their rates
+NAUX = 22
 FD_POS = 1e-7  # [m] and [rad]: steps of the in-kernel finite differences
 FD_VEL = 1e-6  # [m/s] and [rad/s]
 V_ROLL = 0.01  # [m/s] rolling speed over which the rolling resistance changes sign
@@ -256,6 +268,8 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     kap_n = es0[0]
     alp_n = es0[1]
     tn = es0[2]
+    kd_n = es0[3]
+    ad_n = es0[4]
     dt = t - tn if math.isfinite(tn) else 0.0
     if dt < 0.0:
         dt = 0.0
@@ -284,8 +298,20 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     avx = abs(vx)
     vxlow = P[2]
     if relax:
-        kap = (kap_n * sig_k - dt * vsx) / (sig_k + dt * avx)
-        alp = (alp_n * sig_a + dt * vsy) / (sig_a + dt * avx)
+        zk = dt * avx / sig_k
+        za = dt * avx / sig_a
+        th = 0.5 if zk <= 1.0 else 1.0 - 0.5 / zk
+        if not kd_n == kd_n:  # NaN: no rate committed yet (a run's first step)
+            th = 1.0
+            kd_n = 0.0
+        kap = ((kap_n + (1.0 - th) * dt * kd_n) * sig_k - th * dt * vsx) / (sig_k + th * dt * avx)
+        th = 0.5 if za <= 1.0 else 1.0 - 0.5 / za
+        if not ad_n == ad_n:
+            th = 1.0
+            ad_n = 0.0
+        alp = ((alp_n + (1.0 - th) * dt * ad_n) * sig_a + th * dt * vsy) / (sig_a + th * dt * avx)
+        aux[20] = -(vsx + avx * kap) / sig_k
+        aux[21] = (vsy - avx * alp) / sig_a
     else:
         vref = max(avx, 0.1 * vxlow)
         kap = -vsx / vref
@@ -430,6 +456,8 @@ OUTPUTS = (
     ("slip_speed", "m/s", "longitudinal slip velocity V_sx of the contact point"),
     ("dissipated_power", "W", "power dissipated by the tyre (slip and vertical damping)"),
     ("friction_limit", "N", "longitudinal friction limit mu_x Fz (road friction included)"),
+    ("kappa_rate", "1/s", "rate of the transient longitudinal slip dkappa'/dt"),
+    ("tan_alpha_rate", "1/s", "rate of the transient slip dalpha'/dt"),
 )
 assert len(OUTPUTS) == NAUX
 
@@ -462,11 +490,14 @@ class TyreFamily(Family):
             npatch[e] = len(pts)
             for k, p in enumerate(pts):
                 patches[e, k] = (p.x_start, p.x_end, p.mu)
-            eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0])  # models start at t = 0
+            # models start at t = 0; the rates are unknown until the first step commits
+            # them (NaN: that step takes backward Euler, one step of local error O(h^2); a
+            # rate of 0 where the slip velocity is not was an O(h) error carried on)
+            eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0, math.nan, math.nan])
         return make_group(
             self.name, specs, tyre_kernel, (params, opts, patches, npatch, pm, Rm), lnodes,
             node_dofs(ctx, lnodes), OUTPUTS, eoff=eoff, nstate=NSTATE,
-            commit_cols=(6, 7, COMMIT_TIME),  # the transient slips and their time
+            commit_cols=(6, 7, COMMIT_TIME, 20, 21),  # transient slips, their time and rates
             dissipative=True,
         )
 

@@ -243,9 +243,11 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     ``alpha`` slip angle [rad], ``gamma`` camber [rad], ``vx`` longitudinal speed of the wheel
     centre [m/s] (signs of Mz and My, speed terms), ``pressure`` inflation [Pa] (<= 0: the
     file's INFLPRES), ``mu_scale`` road friction factor on LMUX and LMUY (1 = the tyre's test
-    surface), ``shift`` factor on the horizontal and vertical shifts of Fx and Fy (1; the
-    tyre element fades them out below VXLOW so that a tyre at rest carries no force at zero
-    slip).
+    surface), ``shift`` factor on the horizontal and vertical shifts of Fx and Fy and on
+    the aligning moment's trail and residual moment (1; the tyre element fades them out below
+    VXLOW so that a tyre at rest carries no force at zero slip, and no aligning moment whose
+    sign jumps with that of ``vx``: Mz's ``sgn(V_x)`` would otherwise flip the moment as a
+    wheel at rest creeps forward or back, a residual ``Newton`` cannot converge on).
     """
     for i in range(NOUT):
         out[i] = 0.0
@@ -343,7 +345,9 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     lmuy_t = max(lmuy_s, EPS)
     bt *= lky / lmuy_t
     ct = qcz1
-    dt0 = fz * (r0 / fz0) * (qdz1 + qdz2 * dfz) * (1.0 - ppz1 * dpi) * ltr * sv
+    # the trail and the residual moment change sign with the direction of rolling; ``shift``
+    # fades both with the shifts (continuous through standstill, below)
+    dt0 = fz * (r0 / fz0) * (qdz1 + qdz2 * dfz) * (1.0 - ppz1 * dpi) * ltr * sv * shift
     if v6:
         dt = dt0 * (1.0 + qdz3 * abs(gz) + qdz4 * gz * gz)
     else:
@@ -358,8 +362,10 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
         dr = fz * r0 * ((qdz6 + qdz7 * dfz) * lres
                         + ((qdz8 + qdz9 * dfz) * (1.0 + ppz2 * dpi)
                            + (qdz10 + qdz11 * dfz) * abs(gz)) * gz * lkzc) * lmuy_s * sv * ca
+        dr *= shift
     else:
         dr = fz * r0 * ((qdz6 + qdz7 * dfz) * lres + (qdz8 + qdz9 * dfz) * gz) * lmuy_s * sv * ca
+        dr *= shift
     # combined-slip aligning moment (4.E71-4.E78): equivalent slip angles, Fy' at zero camber
     rk = kxk / kya_p
     at_eq = math.sqrt(at * at + rk * rk * kappa * kappa) * (1.0 if at >= 0.0 else -1.0)
