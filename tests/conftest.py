@@ -29,3 +29,13 @@ def drivedyn_cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     cache = tmp_path / "cache"
     monkeypatch.setenv("DRIVEDYN_CACHE", str(cache))
     return cache
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Test files that hold a ``slow`` test run first, in their collected order (the rest
+    after them, in theirs). With ``-n`` (pytest-xdist, a file per process) the longest files
+    then start at once: collected last, the three-minute BLAS comparison of
+    ``verification/test_machine_independence.py`` ended a two-process run alone on one core
+    while the other waited."""
+    slow_files = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.path not in slow_files)

@@ -104,6 +104,7 @@ def test_unit_errors():
 # -- loading and validation -------------------------------------------------------------------
 
 
+@pytest.mark.slow  # every shipped model file built and run: 40 s warm, 160 s cold
 def test_shipped_models_load_and_run():
     assert {"pendulum", "slider_crank"} <= set(shipped_models())
     for name in shipped_models():

@@ -98,7 +98,7 @@ def bounce(law: str, e: float, n: float, k: float, mass: float, h0: float, gravi
         out.print(f"{run.steps} steps ({run.rejected} rejected), wall time {run.wall_s:.3f} s,"
                   f" energy balance error {run.energy_balance_error:.3g} J")
         if plot is not None:
-            out.print(f"figure written to {plot}")
+            out.print(f"figure written to {plot}", soft_wrap=True)  # a path is never wrapped
     if not run.success:
         err.print(f"[red]simulation failed: {run.message}[/red]")
         sys.exit(1)

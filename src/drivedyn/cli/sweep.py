@@ -234,7 +234,7 @@ def _print(ds, target: Path, cache: Path | None, wall: float, figures: list[str]
     n = int(ds.attrs["points"])
     out.print(f"{n} points: {computed} computed, {n - computed} from the cache"
               + (f" ({cache})" if cache else "") + f"; wall time {wall:.1f} s")
-    out.print(f"results: {target}")
+    out.print(f"results: {target}", soft_wrap=True)  # a path is never wrapped
     if ds.attrs.get("runs_dir"):
         out.print(f"results files of the points: {ds.attrs['runs_dir']}")
     for f in figures:

@@ -200,7 +200,7 @@ def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: 
     if report is not None:
         path = outputs.write(lambda d: write_report(d, results, errors, quick), report,
                              "--report", directory=True)
-        err.print(f"report written to {path}")
+        err.print(f"report written to {path}", soft_wrap=True)  # a path is never wrapped
     if failed:
         sys.exit(1)
     outputs.exit_if_failed()

@@ -131,8 +131,8 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         print_checks(con, V, summaries)
         if out is not None:
             where = outputs.path(out)
-            con.print(f"\nresults and figures: {out}"
-                      + (f"; what it refused: {where}" if where != out else ""))
+            con.print(f"\nresults and figures: {out}"  # paths are never wrapped
+                      + (f"; what it refused: {where}" if where != out else ""), soft_wrap=True)
     if not ok:
         sys.exit(EXIT_FAILED)
     outputs.exit_if_failed()
