@@ -283,6 +283,10 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     mu = _road_mu(cx, mu0, patches, npatch, blend)
     aux[6] = kap_n
     aux[7] = alp_n
+    # rates of a wheel off the road or with steady slips: none (the work buffer holds the
+    # previous element's)
+    aux[20] = 0.0
+    aux[21] = 0.0
     aux[10] = rho
     aux[13] = mu
     aux[14] = h
