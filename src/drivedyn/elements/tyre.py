@@ -305,12 +305,12 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
         zk = dt * avx / sig_k
         za = dt * avx / sig_a
         th = 0.5 if zk <= 1.0 else 1.0 - 0.5 / zk
-        if not kd_n == kd_n:  # NaN: no rate committed yet (a run's first step)
+        if math.isnan(kd_n):  # no rate committed yet (a run's first step)
             th = 1.0
             kd_n = 0.0
         kap = ((kap_n + (1.0 - th) * dt * kd_n) * sig_k - th * dt * vsx) / (sig_k + th * dt * avx)
         th = 0.5 if za <= 1.0 else 1.0 - 0.5 / za
-        if not ad_n == ad_n:
+        if math.isnan(ad_n):
             th = 1.0
             ad_n = 0.0
         alp = ((alp_n + (1.0 - th) * dt * ad_n) * sig_a + th * dt * vsy) / (sig_a + th * dt * avx)

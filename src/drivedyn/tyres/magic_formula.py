@@ -247,7 +247,7 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
     the aligning moment's trail and residual moment (1; the tyre element fades them out below
     VXLOW so that a tyre at rest carries no force at zero slip, and no aligning moment whose
     sign jumps with that of ``vx``: Mz's ``sgn(V_x)`` would otherwise flip the moment as a
-    wheel at rest creeps forward or back, a residual ``Newton`` cannot converge on).
+    wheel at rest creeps forward or back, a residual Newton cannot converge on).
     """
     for i in range(NOUT):
         out[i] = 0.0
@@ -362,10 +362,9 @@ def evaluate(P, fz, kappa, alpha, gamma, vx, pressure, mu_scale, shift, out):
         dr = fz * r0 * ((qdz6 + qdz7 * dfz) * lres
                         + ((qdz8 + qdz9 * dfz) * (1.0 + ppz2 * dpi)
                            + (qdz10 + qdz11 * dfz) * abs(gz)) * gz * lkzc) * lmuy_s * sv * ca
-        dr *= shift
     else:
         dr = fz * r0 * ((qdz6 + qdz7 * dfz) * lres + (qdz8 + qdz9 * dfz) * gz) * lmuy_s * sv * ca
-        dr *= shift
+    dr *= shift
     # combined-slip aligning moment (4.E71-4.E78): equivalent slip angles, Fy' at zero camber
     rk = kxk / kya_p
     at_eq = math.sqrt(at * at + rk * rk * kappa * kappa) * (1.0 if at >= 0.0 else -1.0)
