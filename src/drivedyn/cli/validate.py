@@ -28,28 +28,83 @@ def _load_cases() -> dict[str, Any]:
     return validation.CASES
 
 
-def _run(names: Sequence[str], quick: bool, figure_dir: str | None,
-         err: Any) -> tuple[list[Any], dict[str, str]]:
-    """Run the cases one by one (to show progress); a case that raises becomes a failed
-    result whose ``source`` holds the exception."""
-    case_result = _validation().CaseResult
+def _run_case(name: str, quick: bool, figure_dir: str | None) -> tuple[list[Any], str | None]:
+    """Results of one case and the error message (None without): a case that raises, or
+    returns nothing, becomes one failed result whose ``source`` holds the message."""
+    validation = _validation()
+    t0 = time.perf_counter()
+    msg = None
+    try:
+        res = validation.run_cases([name], quick, figure_dir)
+    except Exception as exc:  # reported as a failed check, the others still run
+        msg = f"{type(exc).__name__}: {exc}"
+        res = [validation.CaseResult(name, "case raised an exception", math.nan, math.nan, "",
+                                     math.inf, 0.0, source=msg,
+                                     wall_s=time.perf_counter() - t0)]
+    if not res:
+        msg = "the case returned no results"
+        res = [validation.CaseResult(name, "case returned no results", math.nan, math.nan, "",
+                                     math.inf, 0.0, wall_s=time.perf_counter() - t0)]
+    return res, msg
+
+
+def _one_blas_thread() -> None:
+    """Initializer of a case process: one BLAS thread (OpenBLAS's threads wait spinning; two
+    processes of two threads each on two cores slow each other down many times)."""
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
+
+
+def default_jobs() -> int:
+    """Processes ``drivedyn validate`` uses by default: the CPUs this process may run on."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def _run(names: Sequence[str], quick: bool, figure_dir: str | None, err: Any,
+         jobs: int = 1) -> tuple[list[Any], dict[str, str]]:
+    """Run the cases, ``jobs`` at a time (each in its own process when ``jobs`` > 1, started
+    fresh: ``spawn``), and return their results in the order of ``names`` with the error
+    message of every case that raised. A case's figures are its own, so the results do
+    not depend on ``jobs`` (``tests/files_cli/test_validate_cli.py``)."""
+    outcome: dict[str, tuple[list[Any], str | None]] = {}
+    jobs = max(1, min(jobs, len(names)))
+    if jobs == 1:
+        for name in names:
+            with err.status(f"running case [bold]{name}[/bold] ..."):
+                outcome[name] = _run_case(name, quick, figure_dir)
+    else:
+        import concurrent.futures as cf
+        import multiprocessing as mp
+
+        with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context("spawn"),
+                                    initializer=_one_blas_thread) as pool, \
+                err.status(f"running {len(names)} cases in {jobs} processes ...") as status:
+            # the last cases registered (vehicles) are the longest: submitted first, the
+            # processes end together instead of one running a vehicle alone at the end
+            futures = {pool.submit(_run_case, name, quick, figure_dir): name
+                       for name in reversed(names)}
+            for future in cf.as_completed(futures):
+                name = futures[future]
+                try:
+                    outcome[name] = future.result()
+                except Exception as exc:  # the process died (killed, out of memory)
+                    msg = f"{type(exc).__name__}: {exc}"
+                    outcome[name] = ([_validation().CaseResult(
+                        name, "case raised an exception", math.nan, math.nan, "", math.inf,
+                        0.0, source=msg)], msg)
+                status.update(f"{len(outcome)} of {len(names)} cases done in {jobs} "
+                              f"processes (last: [bold]{name}[/bold]) ...")
     results: list[Any] = []
     errors: dict[str, str] = {}
     for name in names:
-        t0 = time.perf_counter()
-        with err.status(f"running case [bold]{name}[/bold] ..."):
-            try:
-                res = _validation().run_cases([name], quick, figure_dir)
-            except Exception as exc:  # reported as a failed check, the others still run
-                msg = f"{type(exc).__name__}: {exc}"
-                errors[name] = msg
-                res = [case_result(name, "case raised an exception", math.nan, math.nan, "",
-                                   math.inf, 0.0, source=msg, wall_s=time.perf_counter() - t0)]
-        if not res:
-            errors[name] = "the case returned no results"
-            res = [case_result(name, "case returned no results", math.nan, math.nan, "",
-                               math.inf, 0.0, wall_s=time.perf_counter() - t0)]
+        res, msg = outcome[name]
         results += res
+        if msg is not None:
+            errors[name] = msg
     return results, errors
 
 
@@ -149,16 +204,22 @@ def write_report(directory: Path, results: list[Any], errors: dict[str, str],
               help="Write DIR/report.md (table and figures; figures are written into DIR).")
 @click.option("--json", "as_json", is_flag=True,
               help="Print the results as a JSON list instead of the table.")
-def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: bool) -> None:
+@click.option("--jobs", "-j", type=click.IntRange(min=1), default=None, metavar="N",
+              help="Run N cases at the same time, each in its own process "
+                   "(default: one per CPU; 1: one after the other in this process).")
+def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: bool,
+             jobs: int | None) -> None:
     """Compare simulated quantities with exact or published references.
 
     Prints one row per checked quantity (reference, simulated value, error, tolerance,
     PASS/FAIL and the case's wall time). Exits with 0 if every check passes, 1 otherwise.
+    The cases run one per CPU at the same time (--jobs); the table keeps their order.
 
     \b
     Examples:
         drivedyn validate
         drivedyn validate --quick --case pendulum --case gear_pair --report report
+        drivedyn validate --jobs 1
     """
     check_output_path(report, "--report", directory=True)
     out = console()
@@ -183,7 +244,8 @@ def validate(quick: bool, cases: tuple[str, ...], report: Path | None, as_json: 
         report.mkdir(parents=True, exist_ok=True)
         figure_dir = str(report)
     t0 = time.perf_counter()
-    results, errors = _run(names, quick, figure_dir, err)
+    results, errors = _run(names, quick, figure_dir, err,
+                           default_jobs() if jobs is None else jobs)
     wall = time.perf_counter() - t0
     failed = [r for r in results if not r.passed]
     if as_json:
