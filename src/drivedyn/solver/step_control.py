@@ -16,7 +16,8 @@ goes into both, and the two stay equal bit for bit: ``tests/test_step_loop.py``)
     h [s] (next step size), h_limit [s] (cap after a Newton failure), substep_until [s]
     (fixed steps: sub-steps after a failure until then), consecutive rejections, index of
     the next output time, the exponent of the error's growth with the step size (3 until a
-    rejection shows more), the last accepted step's size [s] and error estimate
+    rejection shows more), the last accepted step's size [s] and error estimate, the
+    envelope of the recent estimates and the step size [s] it is scaled to
 """
 
 from __future__ import annotations
