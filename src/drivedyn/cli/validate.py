@@ -28,24 +28,25 @@ def _load_cases() -> dict[str, Any]:
     return validation.CASES
 
 
+def _failed(name: str, what: str, msg: str | None, wall_s: float) -> Any:
+    """One failed result of case ``name`` (``what`` happened; ``msg`` in its source)."""
+    return _validation().CaseResult(name, what, math.nan, math.nan, "", math.inf, 0.0,
+                                    source=msg or "", wall_s=wall_s)
+
+
 def _run_case(name: str, quick: bool, figure_dir: str | None) -> tuple[list[Any], str | None]:
     """Results of one case and the error message (None without): a case that raises, or
     returns nothing, becomes one failed result whose ``source`` holds the message."""
-    validation = _validation()
     t0 = time.perf_counter()
-    msg = None
     try:
-        res = validation.run_cases([name], quick, figure_dir)
+        res = _validation().run_cases([name], quick, figure_dir)
     except Exception as exc:  # reported as a failed check, the others still run
         msg = f"{type(exc).__name__}: {exc}"
-        res = [validation.CaseResult(name, "case raised an exception", math.nan, math.nan, "",
-                                     math.inf, 0.0, source=msg,
-                                     wall_s=time.perf_counter() - t0)]
+        return [_failed(name, "case raised an exception", msg, time.perf_counter() - t0)], msg
     if not res:
-        msg = "the case returned no results"
-        res = [validation.CaseResult(name, "case returned no results", math.nan, math.nan, "",
-                                     math.inf, 0.0, wall_s=time.perf_counter() - t0)]
-    return res, msg
+        return ([_failed(name, "case returned no results", None, time.perf_counter() - t0)],
+                "the case returned no results")
+    return res, None
 
 
 def _one_blas_thread() -> None:
@@ -69,7 +70,7 @@ def _run(names: Sequence[str], quick: bool, figure_dir: str | None, err: Any,
     """Run the cases, ``jobs`` at a time (each in its own process when ``jobs`` > 1, started
     fresh: ``spawn``), and return their results in the order of ``names`` with the error
     message of every case that raised. A case's figures are its own, so the results do
-    not depend on ``jobs`` (``tests/files_cli/test_validate_cli.py``)."""
+    not depend on ``jobs`` (``tests/files_cli/test_cli.py``)."""
     outcome: dict[str, tuple[list[Any], str | None]] = {}
     jobs = max(1, min(jobs, len(names)))
     if jobs == 1:
@@ -93,9 +94,8 @@ def _run(names: Sequence[str], quick: bool, figure_dir: str | None, err: Any,
                     outcome[name] = future.result()
                 except Exception as exc:  # the process died (killed, out of memory)
                     msg = f"{type(exc).__name__}: {exc}"
-                    outcome[name] = ([_validation().CaseResult(
-                        name, "case raised an exception", math.nan, math.nan, "", math.inf,
-                        0.0, source=msg)], msg)
+                    outcome[name] = ([_failed(name, "case raised an exception", msg, 0.0)],
+                                     msg)
                 status.update(f"{len(outcome)} of {len(names)} cases done in {jobs} "
                               f"processes (last: [bold]{name}[/bold]) ...")
     results: list[Any] = []
