@@ -187,10 +187,10 @@ def test_validate_in_case_processes_equals_one_process(runner: CliRunner,
                                                        tmp_path: Path) -> None:
     """Four real cases in two processes (``--jobs 2``) give the figures of one process
     (``--jobs 1``), in the order asked for, with a case's figure written by its process and
-    linked from the report. The pendulum case (1.6 s) is asked for first; the other three
-    (0.2 s each) run one after the other in the second process and end before it: a table
-    built in order of completion (``outcome`` in ``_run``) fails the order (seen); results
-    assigned to the wrong case fail the figures. The
+    linked from the report. The cases are submitted last-asked first, so the three short
+    ones (0.2 s each) end before the pendulum (1.6 s), asked for first: a table built in
+    order of completion (``outcome`` in ``_run``) fails the order (seen); results assigned
+    to the wrong case fail the figures. The
     processes differ from this one only by their single BLAS thread, which does not change
     these small models' LU: the figures are compared exactly."""
     args = ["validate", "--quick", "--json"]
