@@ -391,14 +391,25 @@ def test_analytic_tdr_independent_of_torque_and_speed():
 
 # -- simulated bench ---------------------------------------------------------------------
 
-# Ripple bound: peak-to-peak of the instantaneous torque ratio over a window, relative. A
-# transient still decaying would show here; measured <= 2e-10.
-RIPPLE = 1e-6
+# Steadiness: peak-to-peak of the instantaneous torque ratio over a window, relative to the
+# TDR. The comparisons to solver precision need windows steady to round-off: RIPPLE_EXACT
+# (measured <= 2e-10 without pocket friction). With pocket friction the torque reversal
+# (0.65 s, zero load) lets each planet cross its pocket clearance and strike the other wall;
+# a planet left a few um off its seat by the strike creeps back at the rate friction allows
+# (its spin slides on the wall, so the wall's friction resists any creep across that
+# sliding), measured time constant 0.07 s at pocket mu 0.25 and 20 rpm. Where a planet lands
+# after a strike depends on the steps taken through it, as any impact's outcome within the
+# step tolerance does: 3.4 um off its seat under one step-size rule, on it under another,
+# coast ripple 7.9e-5 against 3.4e-9 and window-mean TDRs 3e-5 apart. So the bound for a
+# comparison with the analytic model is what that comparison can afford: a twentieth of its
+# tolerance (the window mean moves by less than the ripple). Fails when the window starts
+# inside the transition: the coast window from 0.7 s, ripple 4.5e-3.
+RIPPLE_EXACT = 1e-6
 
 
-def _check_steady(run):
+def _check_steady(run, bound: float) -> None:
     for mode, r in run.ripple.items():
-        assert r < RIPPLE, f"mode {mode}: not steady, ripple {r:.2e}"
+        assert r < bound, f"mode {mode}: not steady, ripple {r:.2e} (bound {bound:.1e})"
 
 
 @pytest.mark.slow
@@ -411,7 +422,7 @@ def test_sim_exact_without_pocket_friction(side):
     (mu N r_m above eps_v) are the analytic model's own laws. Measured: <= 3.5e-13; 1e-8
     allows for the solver's residual tolerances."""
     run = bench("no pocket friction", side)
-    _check_steady(run)
+    _check_steady(run, RIPPLE_EXACT)
     p = params(_set("no pocket friction"))
     for mode, tdr in run.tdr.items():
         assert tdr == pytest.approx(bench_tdr(p, mode), rel=1e-8)
@@ -445,9 +456,9 @@ SIM_CASES = [
 @pytest.mark.parametrize(("name", "side"), SIM_CASES)
 def test_sim_tdr_matches_analytic(name, side):
     run = bench(name, side)
-    _check_steady(run)
     p = params(_set(name))
     tol = TOL_SHIPPED_POCKET if p.pockets.mu == SHIPPED.pockets.mu else TOL_ISSUE
+    _check_steady(run, tol / 20)
     for mode, tdr in run.tdr.items():
         ana = bench_tdr(p, mode)
         assert abs(tdr / ana - 1) < tol, f"mode {mode}: sim {tdr:.5f}, analytic {ana:.5f}"
@@ -515,7 +526,7 @@ def test_sim_tdr_independent_of_torque():
     nominal = bench("shipped", "rear")
     for torque in (60.0, 250.0):
         run = bench("shipped", "rear", torque=torque)
-        _check_steady(run)
+        _check_steady(run, TOL_SHIPPED_POCKET / 20)
         for mode, tdr in run.tdr.items():
             assert abs(tdr / nominal.tdr[mode] - 1) < TOL_SHIPPED_POCKET, (torque, mode)
             assert abs(tdr / bench_tdr(SHIPPED, mode) - 1) < TOL_SHIPPED_POCKET
@@ -534,7 +545,7 @@ def test_sim_tdr_independent_of_speed():
     nominal = bench("shipped, Newton 1e-8", "rear")
     for rpm in (10.0, 40.0):
         run = bench("shipped, Newton 1e-8", "rear", speed_diff=rpm * RPM)
-        _check_steady(run)
+        _check_steady(run, RIPPLE_EXACT)
         for mode, tdr in run.tdr.items():
             assert tdr == pytest.approx(nominal.tdr[mode], rel=1e-9), (rpm, mode)
         if rpm == 10.0:  # every slip (loaded or not) is above eps_v: Coulomb branch

@@ -231,7 +231,11 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
     profile is the shipped one's first three levels: 125 N m, 60 N m, then zero torque after
     a 0.25 s ramp. Measured: 15 000 and 14 800 per simulated second in the loaded holds,
     14 350 in the zero hold (0.97 times the lesser; 2.1 iterations and 0.10 factorisations per
-    step against 1.9 and 0.13). The bound below, 1.1, catches each known way to lose it:
+    step against 1.9 and 0.13). The loaded holds' work moves with the steps that lead into
+    them: with steps grown from the envelope of recent error estimates (solver.step_control)
+    they fell to 12 160 and 12 930 and the zero hold stayed at 13 840 (1.14), every hold at
+    h_max without a rejection. The bound below, 1.3, lies between that spread and each known
+    way to lose it:
     with newton_kernel.FLOOR_REL at 1e-4 the zero hold takes 3.8 times the loaded ones' work;
     with the factorisation refreshed after every correction that did not contract, even when
     the next check converged, 1.66 times (0.42 factorisations per step: the ratio of two tiny
@@ -261,4 +265,4 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
     loaded, zero = work[:2], work[2]
     print("work per simulated second, loaded and zero-torque holds:", work)
     assert run.levels[2]["mode"] is None
-    assert zero <= 1.1 * min(loaded), work
+    assert zero <= 1.3 * min(loaded), work

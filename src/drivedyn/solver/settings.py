@@ -90,7 +90,10 @@ class AdaptiveStep:
     the motion within a step and atol an absolute accuracy per step. After a Newton
     failure at ``h`` the step is retried at ``h / 4`` and then stays below ``h / 2``, a cap
     that grows by 5 % per accepted step
-    (:data:`drivedyn.solver.step_control.LIMIT_AFTER_FAILURE`, ``LIMIT_RELAX``).
+    (:data:`drivedyn.solver.step_control.LIMIT_AFTER_FAILURE`, ``LIMIT_RELAX``). The step
+    grows from the envelope of the recent estimates (a vibration's estimate rises and falls
+    with its phase), by the h^3 law of the estimate or by the steeper one a rejection
+    measured (:data:`~drivedyn.solver.step_control.ENVELOPE_DECAY`, ``ERROR_EXPONENT_MAX``).
 
     Attributes:
         h0: first step [s].
