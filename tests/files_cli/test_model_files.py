@@ -579,3 +579,25 @@ def test_shipped_bouncing_ball_file_bounces_with_the_laws_restitution():
     first = (t > 0.5) & (t < 0.9)  # first impact at t = sqrt(0.2) = 0.447 s
     e = NormalLaw(1e10, 1.5, "lankarani-nikravesh", 0.8).achieved_restitution
     assert z[first].max() == pytest.approx(e**2, rel=2e-3)  # 2 ms output sampling of the apex
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT delivery")
+def test_ctrl_c_in_the_time_loop_is_raised_at_the_next_progress_call():
+    """The CLI's progress callback holds a Ctrl-C that comes during the time loop and raises
+    it at its next call (in drivedyn's code, never inside a library's); before its first
+    call Ctrl-C raises at once; the previous handler is back afterwards. Fails with the
+    signal raised where it lands (the handler raising at once after the first call)."""
+    from drivedyn.cli.progress import progress_bar
+
+    before = signal.getsignal(signal.SIGINT)
+    with progress_bar(1.0, enabled=False) as cb:
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.5)  # the handler runs at the next bytecode; never sleeps this long
+        cb(0.1, 1e-3, 1)
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.05)  # held: nothing raised here
+        with pytest.raises(KeyboardInterrupt):
+            cb(0.2, 1e-3, 2)
+        cb(0.3, 1e-3, 3)  # raised once
+    assert signal.getsignal(signal.SIGINT) is before
