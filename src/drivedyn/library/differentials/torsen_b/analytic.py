@@ -20,16 +20,31 @@ gear 1; axial forces ``tan(beta1) W`` on gear 1 and ``tan(beta2) W`` on gear 2 (
 (2), ``W_a``; right side gear (1) - b (2), ``W_b``; a (1) - b (2) at both ends, ``W_ab`` in
 total (the split between the two ends only tilts the gears, which their guides hold).
 
+**Tooth friction** (``gears.tooth_friction`` ``mu_t``; law, normal force and mean arm
+derived in :mod:`drivedyn.library.differentials.tooth_friction`): each mesh puts a couple
+``C = mu_t F_N s_eff`` on its two wheels, turning each towards the other's angular velocity
+relative to the housing (which carries the element gears' centres), with the normal flank
+force ``F_N = |W| / (cos(alpha_n) cos(beta))``. Per pair, with ``kappa = s_eff /
+(cos alpha_n cos beta)`` of the side pair ``z_s/z_e`` and of the end pair ``z_e/z_e``::
+
+    C_a = mu_t |W_a| kappa_se,  C_b = mu_t |W_b| kappa_se,  C_ab = mu_t |W_ab| kappa_ee
+    s_la = sgn(w_l' - w_a'),    s_rb = sgn(w_r' - w_b'),    s_ab = sgn(w_a' - w_b')
+
+(the two end meshes carry ``W_ab`` between them on the same flanks, so their couples add to
+``C_ab``). The couples are ``-C_a s_la`` on the left side gear and ``+C_a s_la`` on a,
+``-C_b s_rb`` on the right side gear and ``+C_b s_rb`` on b, ``-C_ab s_ab`` on a and
+``+C_ab s_ab`` on b; they change no force, hence no thrust.
+
 **Element gear in its pocket**: contact at the direction ``e`` (angle psi) from its centre,
 normal force ``-N e``, tip friction ``-sigma mu_p N (z x e)`` and torque
 ``-sigma mu_p N r_tip``; end-face friction torque ``-sigma mu_p |A| r_end`` with its axial
 load ``A``; centrifugal force ``m w_h^2 R`` outwards (vehicle)::
 
     a:  W_a t_a + |W_a| ta_s e_a - W_ab t_ab - |W_ab| ta_e u_ab + pocket_a + cen_a = 0
-        -r_e W_a - r_e W_ab - sigma_a mu_p (N_a r_tip + |A_a| r_end) = 0
+        -r_e W_a - r_e W_ab - sigma_a mu_p (N_a r_tip + |A_a| r_end) + C_a s_la - C_ab s_ab = 0
         A_a = tan(beta_a) W_a + tan(beta_ea) W_ab
     b:  W_b t_b + |W_b| ta_s e_b + W_ab t_ab + |W_ab| ta_e u_ab + pocket_b + cen_b = 0
-        -r_e W_b - r_e W_ab - sigma_b mu_p (N_b r_tip + |A_b| r_end) = 0
+        -r_e W_b - r_e W_ab - sigma_b mu_p (N_b r_tip + |A_b| r_end) + C_b s_rb + C_ab s_ab = 0
         A_b = tan(beta_b) W_b - tan(beta_ea) W_ab
 
 (``beta_ea``: helix of a's ends, the partner's ends have the opposite hand.)
@@ -45,20 +60,30 @@ right gear along -z, ``N_m`` between them pushes them apart)::
 housing washer; diverging thrusts each go to their own housing washer). Moments about z
 (washer friction ``mu_w N r_m`` against the relative spin of the two faces)::
 
-    T_l - n r_s W_a - mu_w N_l r_ml sgn(w_l') - mu_w N_m r_mm sgn(w_l - w_r) = 0
-    T_r - n r_s W_b - mu_w N_r r_mr sgn(w_r') + mu_w N_m r_mm sgn(w_l - w_r) = 0
+    T_l - n r_s W_a - n C_a s_la - mu_w N_l r_ml sgn(w_l') - mu_w N_m r_mm sgn(w_l - w_r) = 0
+    T_r - n r_s W_b - n C_b s_rb - mu_w N_r r_mr sgn(w_r') + mu_w N_m r_mm sgn(w_l - w_r) = 0
     (vehicle)  T_h + T_l + T_r = 0
 
 With one external torque given these are 8 equations (9 with the housing) in ``W_a, W_b,
 W_ab, N_a, psi_a, N_b, psi_b`` and the unknown output torque(s), solved by Newton's method
-(``scipy.optimize.fsolve``) from the frictionless solution. Tooth friction (``gears.
-tooth_friction``) is not in this model: with it the simulated TDR is higher (the model file
-states its value).
+(``scipy.optimize.fsolve``) from the frictionless solution.
 
 Independent check, a power balance in the housing frame: at constant speeds the external
-power ``T_l w_l' + T_r w_r'`` equals the friction power of the washers, tips and end faces
-(tested in ``tests/models/test_torsen_b.py``), which gives the textbook form
+power ``T_l w_l' + T_r w_r'`` equals the friction power of the washers, tips, end faces and
+teeth (tested in ``tests/models/test_torsen_b.py`` and
+``tests/models/test_tooth_friction_analytic.py``), which gives the textbook form
 ``TDR = (1 + k)/(1 - k)`` with ``k`` the friction work per unit of transmitted work.
+
+Tooth friction alone (no pocket, end-face or washer friction): with ``q = sgn(w_a')
+sgn(W_a)`` (+1 when the right side gear drives the train relative to the housing, -1 when
+the left one does) and ``h = pi (1 - eps_alpha + eps_1^2 + eps_2^2) / cos(beta_b)`` of each pair
+(``kappa / r_i = h / z_i``), the element moments give ``W_ab`` and ``W_b`` from ``W_a`` and::
+
+    T_r / T_l = (1 + q mu_t h_se/z_s)(1 + q mu_t h_se/z_e)(1 + q mu_t h_ee/z_e)
+                / ((1 - q mu_t h_se/z_s)(1 - q mu_t h_se/z_e)(1 - q mu_t h_ee/z_e))
+
+whose first order, ``ln(T_r / T_l) = q mu_t (2 H_V,se + H_V,ee)``, is the product of the
+three meshes' Ohlendorf efficiencies ``1 - mu_t H_V`` along the train.
 """
 
 from __future__ import annotations
@@ -68,6 +93,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drivedyn.library.differentials.tooth_friction import couple_arm
 from drivedyn.library.differentials.torsen_b.model import MODES, check_parameters
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 
@@ -83,7 +109,7 @@ class QuasiStatic:
         end_force: axial loads on the element gears' end faces (|A_a|, |A_b|).
         washer_force: normal force of each washer (name -> N).
         friction_power: friction power of each source in the housing frame [W] (washers by
-            name, ``"tips"``, ``"end_faces"``; summed over the pairs).
+            name, ``"tips"``, ``"end_faces"``, ``"teeth"``; summed over the pairs).
         residual: largest equation residual after the solve (scaled by the applied torque).
     """
 
@@ -143,8 +169,19 @@ def solve(p: TorsenBFile, speeds: tuple[float, float, float], known: str, torque
     sig_a = _sgn(-wlr * g.teeth_side / g.teeth_element)
     sig_b = -sig_a
     s_l, s_r, s_lr = _sgn(wlr), _sgn(wrr), _sgn(wl - wr)
+    war = -wlr * g.teeth_side / g.teeth_element  # element spins relative to the housing
+    wbr = -wrr * g.teeth_side / g.teeth_element
+    s_la, s_rb, s_ab = _sgn(wlr - war), _sgn(wrr - wbr), _sgn(war - wbr)
     f = friction_scale
     mu_w, mu_p = p.washers.mu * f, p.pockets.mu * f
+    mut = g.tooth_friction * f
+    if mut > 0:
+        k_se = couple_arm(g.teeth_side, g.teeth_element, g.module, g.pressure_angle,
+                          g.helix_angle)
+        k_ee = couple_arm(g.teeth_element, g.teeth_element, g.module, g.pressure_angle,
+                          g.helix_angle)
+    else:
+        k_se = k_ee = 0.0
     rm = geo.washer_radius
     r_tip, r_end = geo.r_tip_element, rm["end"]
     tha, thb = geo.element_angles(n)[0]
@@ -173,23 +210,27 @@ def solve(p: TorsenBFile, speeds: tuple[float, float, float], known: str, torque
         return Wa, Wb, Wab, Na, psa, Nb, psb, Tl, Tr
 
     def element(W: float, e, t, sign_ab: float, Wab: float, N: float, psi: float, sig: float,
-                tb: float, tbe: float):
+                tb: float, tbe: float, s_side: float):
         ep = _unit(psi)
         F = (W * t + abs(W) * ta_s * e + sign_ab * (Wab * t_ab + abs(Wab) * ta_e * u_ab)
              - N * ep - sig * mu_p * N * _perp(ep) + cen * e)
         A = tb * W + tbe * Wab
-        M = -re * W - re * Wab - sig * mu_p * (N * r_tip + abs(A) * r_end)
+        # tooth friction: side mesh +C s_side; end mesh -C_ab s_ab on a, +C_ab s_ab on b
+        C = mut * (abs(W) * k_se * s_side + sign_ab * abs(Wab) * k_ee * s_ab)
+        M = -re * W - re * Wab - sig * mu_p * (N * r_tip + abs(A) * r_end) + C
         return F, M, A
 
     def equations(x):
         Wa, Wb, Wab, Na, psa, Nb, psb, Tl, Tr = unpack(x)
-        Fa, Ma, _ = element(Wa, e_a, t_a, -1.0, Wab, Na, psa, sig_a, tb_a, tb_ea)
-        Fb, Mb, _ = element(Wb, e_b, t_b, 1.0, Wab, Nb, psb, sig_b, tb_b, -tb_ea)
+        Fa, Ma, _ = element(Wa, e_a, t_a, -1.0, Wab, Na, psa, sig_a, tb_a, tb_ea, s_la)
+        Fb, Mb, _ = element(Wb, e_b, t_b, 1.0, Wab, Nb, psb, sig_b, tb_b, -tb_ea, s_rb)
         W = washers(Wa, Wb)
         eq = [*(Fa / F0), Ma / (re * F0), *(Fb / F0), Mb / (re * F0),
-              (Tl - n * rs * Wa - mu_w * W["left"] * rm["left"] * s_l
+              (Tl - n * rs * Wa - n * mut * abs(Wa) * k_se * s_la
+               - mu_w * W["left"] * rm["left"] * s_l
                - mu_w * W["middle"] * rm["middle"] * s_lr) / T0,
-              (Tr - n * rs * Wb - mu_w * W["right"] * rm["right"] * s_r
+              (Tr - n * rs * Wb - n * mut * abs(Wb) * k_se * s_rb
+               - mu_w * W["right"] * rm["right"] * s_r
                + mu_w * W["middle"] * rm["middle"] * s_lr) / T0]
         if known == "housing":
             eq.append((torque + Tl + Tr) / T0)
@@ -201,8 +242,8 @@ def solve(p: TorsenBFile, speeds: tuple[float, float, float], known: str, torque
     else:
         Tl0 = torque
     W0 = Tl0 / (n * rs)
-    Fa0, _, _ = element(W0, e_a, t_a, -1.0, -W0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    Fb0, _, _ = element(W0, e_b, t_b, 1.0, -W0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    Fa0, _, _ = element(W0, e_a, t_a, -1.0, -W0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    Fb0, _, _ = element(W0, e_b, t_b, 1.0, -W0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     x0 = [W0 / F0, W0 / F0, -W0 / F0, np.linalg.norm(Fa0) / F0, math.atan2(Fa0[1], Fa0[0]),
           np.linalg.norm(Fb0) / F0, math.atan2(Fb0[1], Fb0[0])]
     x0 += [Tl0 / T0, Tl0 / T0] if known == "housing" else [Tl0 / T0]
@@ -214,15 +255,17 @@ def solve(p: TorsenBFile, speeds: tuple[float, float, float], known: str, torque
         raise RuntimeError(f"analytic TDR (Type B): equilibrium not found ({msg.strip()}; "
                            f"residual {res:.2e})")
     Wa, Wb, Wab, Na, psa, Nb, psb, Tl, Tr = unpack(x)
-    _, _, Aa = element(Wa, e_a, t_a, -1.0, Wab, Na, psa, sig_a, tb_a, tb_ea)
-    _, _, Ab = element(Wb, e_b, t_b, 1.0, Wab, Nb, psb, sig_b, tb_b, -tb_ea)
+    _, _, Aa = element(Wa, e_a, t_a, -1.0, Wab, Na, psa, sig_a, tb_a, tb_ea, s_la)
+    _, _, Ab = element(Wb, e_b, t_b, 1.0, Wab, Nb, psb, sig_b, tb_b, -tb_ea, s_rb)
     W = washers(Wa, Wb)
     wer = abs(wlr * g.teeth_side / g.teeth_element)
     power = {"left": mu_w * W["left"] * rm["left"] * abs(wlr),
              "middle": mu_w * W["middle"] * rm["middle"] * abs(wl - wr),
              "right": mu_w * W["right"] * rm["right"] * abs(wrr),
              "tips": n * mu_p * (Na + Nb) * r_tip * wer,
-             "end_faces": n * mu_p * (abs(Aa) + abs(Ab)) * r_end * wer}
+             "end_faces": n * mu_p * (abs(Aa) + abs(Ab)) * r_end * wer,
+             "teeth": n * mut * (abs(Wa) * k_se * abs(wlr - war) + abs(Wb) * k_se * abs(wrr - wbr)
+                                 + abs(Wab) * k_ee * abs(war - wbr))}
     return QuasiStatic(Tl, Tr, -(Tl + Tr), Wa, Wb, Wab, (Na, Nb), (psa, psb),
                        (abs(Aa), abs(Ab)), W, power, res)
 

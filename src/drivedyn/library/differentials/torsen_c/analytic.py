@@ -19,11 +19,26 @@ sun torque ``-n F_s r_s``, ring torque ``-n F_r r_r``; axial thrusts
 **Planet in its pocket**: contact at the direction ``e = (cos psi, sin psi)`` from the planet
 centre, normal force ``-N e``, tip friction ``mu_p N`` opposing the slip of the tip circle
 (radius ``r_a``): force ``-sigma mu_p N (z x e)`` and torque ``-sigma mu_p N r_a``,
-``sigma = sign(w_p')``. With the centrifugal force ``m w_h^2 a`` (vehicle)::
+``sigma = sign(w_p')``.
+
+**Tooth friction** (``gears.tooth_friction`` ``mu_t``; law, normal force and mean arm
+derived in :mod:`drivedyn.library.differentials.tooth_friction`): each mesh puts a couple
+``C = mu_t F_N s_eff`` on its two wheels, turning each towards the other's angular velocity
+relative to the housing (which carries the planet centres), with the normal flank force
+``F_N = |F_t| / (cos(alpha_n) cos(beta))``. Per planet::
+
+    C_s = mu_t |F_s| kappa_sp,   C_r = mu_t |F_r| kappa_pr,   kappa = s_eff / (cos alpha_n cos beta)
+    s_sp = sgn(w_s' - w_p'),     s_pr = sgn(w_p' - w_r')
+
+(``s_eff`` of the sun-planet pair ``z_s/z_p`` and of the internal pair ``z_p/-z_r``; with
+``w_p' = -w_s' z_s/z_p`` and ``w_r' = -w_s' z_s/z_r``, ``s_sp = sgn(w_s')`` and ``s_pr =
+-sgn(w_s') = sigma``). The couples on the planet are ``+C_s s_sp`` and ``-C_r s_pr``, on the
+sun ``-C_s s_sp``, on the ring ``+C_r s_pr``. With the centrifugal force ``m w_h^2 a``
+(vehicle)::
 
     r:  |F_s| tan(alpha_t) - |F_r| tan(alpha_t) - N cos psi + sigma mu_p N sin psi + m w_h^2 a = 0
     t:  F_s + F_r - N sin psi - sigma mu_p N cos psi = 0
-    z:  r_p (F_r - F_s) - sigma mu_p N r_a = 0
+    z:  r_p (F_r - F_s) - sigma mu_p N r_a + C_s s_sp - C_r s_pr = 0
 
 **Spline** (screw joint of lead ``L``): the torque ``T_B`` it applies on the ring comes with
 the axial force ``2 pi T_B / L`` on the coupling and the opposite on the ring.
@@ -42,8 +57,8 @@ The ring has one of N4, N5 non-zero (the sign of its net thrust). The sun and co
 **Moments about z** (washer friction ``mu_i N_i r_mi`` against the relative spin of the two
 faces, ``r_mi = 2 (r_e^3 - r_i^3) / (3 (r_e^2 - r_i^2))``)::
 
-    sun:       T_s - n F_s r_s - M1 sgn(w_s') + M2 sgn(w_c - w_s) = 0
-    ring:      -n F_r r_r - (M4 + M5) sgn(w_c') + T_B = 0
+    sun:       T_s - n F_s r_s - n C_s s_sp - M1 sgn(w_s') + M2 sgn(w_c - w_s) = 0
+    ring:      -n F_r r_r + n C_r s_pr - (M4 + M5) sgn(w_c') + T_B = 0
     coupling:  T_c - M2 sgn(w_c - w_s) - M3 sgn(w_c') - T_B = 0
     (vehicle)  T_h + T_s + T_c = 0
 
@@ -51,6 +66,19 @@ Given the applied torque (and speeds), these are 6 equations (7 with the housing
 ``F_s, F_r, N, psi, T_B`` and the unknown output torque(s); they are solved by Newton's
 method (``scipy.optimize.fsolve``) from the frictionless solution. The friction signs come
 from the prescribed speeds, the washer loads from the axial equilibrium at each iterate.
+
+The couples leave the forces, hence the thrusts and the washer loads, as they are; they
+change the mesh forces' ratio through the planet's moment. Tooth friction alone (no pocket
+or washer friction), with ``q = sgn(w_s') sgn(F_s)`` (-1 when the ring drives the train
+relative to the housing, +1 when the sun does) and ``h = pi (1 - eps_alpha + eps_1^2 +
+eps_2^2) / cos(beta_b)`` of each pair (``kappa / r_i = h / z_i``), gives in closed form::
+
+    T_r / T_s = rho (1 + q mu_t h_pr/z_r)(1 - q mu_t h_sp/z_p)
+                    / ((1 + q mu_t h_sp/z_s)(1 + q mu_t h_pr/z_p))
+
+whose first order, ``ln(T_r / (rho T_s)) = -q mu_t (H_V,sp + H_V,pr)``, is the product of the
+two meshes' Ohlendorf efficiencies ``1 - mu_t H_V`` (checked in
+``tests/models/test_tooth_friction_analytic.py``).
 
 For small friction this reduces to the textbook bias ratio ``TBR = 1/eta`` (physics.md 4):
 with only pocket friction ``b = mu_p r_a / r_p`` (radial mesh forces and centrifugal force
@@ -66,6 +94,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from drivedyn.library.differentials.tooth_friction import couple_arm
 from drivedyn.library.differentials.torsen_c.model import MODES, check_parameters
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 
@@ -81,6 +110,7 @@ class QuasiStatic:
         spline_torque: torque of the spline on the ring.
         washer_force: normal force of each washer (name -> N).
         washer_torque: friction torque magnitude of each washer (name -> N m).
+        tooth_couple: tooth-friction couples of one planet's meshes (C_s, C_r) [N m].
         residual: largest equation residual after the solve (scaled by the applied torque).
     """
 
@@ -94,6 +124,7 @@ class QuasiStatic:
     spline_torque: float
     washer_force: dict[str, float]
     washer_torque: dict[str, float]
+    tooth_couple: tuple[float, float]
     residual: float
 
 
@@ -128,7 +159,16 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
     wpr = -wsr * g.teeth_sun / g.teeth_planet
     sig = _sgn(wpr)
     s_s, s_c, s_cs = _sgn(wsr), _sgn(wcr), _sgn(wc - ws)
+    s_sp, s_pr = _sgn(wsr - wpr), _sgn(wpr - wcr)  # relative spins of the meshes' wheels
     f = friction_scale
+    mut = g.tooth_friction * f
+    if mut > 0:
+        k_sp = couple_arm(g.teeth_sun, g.teeth_planet, g.module, g.pressure_angle,
+                          g.helix_angle)
+        k_pr = couple_arm(g.teeth_planet, -g.teeth_ring, g.module, g.pressure_angle,
+                          g.helix_angle)
+    else:
+        k_sp = k_pr = 0.0
     mu = {name: getattr(p.washers, name).mu * f for name in geo.washer_radius}
     rm = geo.washer_radius
     mup = p.pockets.mu * f
@@ -168,13 +208,16 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
         Fs, Fr, N, psi, TB, Ts, Tc = unpack(x)
         W = washers(Fs, Fr, TB)
         M = {k: mu[k] * W[k] * rm[k] for k in W}
+        Cs, Cr = mut * abs(Fs) * k_sp, mut * abs(Fr) * k_pr
         c, s = math.cos(psi), math.sin(psi)
         e = [
             (abs(Fs) * ta - abs(Fr) * ta - N * c + sig * mup * N * s + cen) * rs / T0,
             (Fs + Fr - N * s - sig * mup * N * c) * rs / T0,
-            (rp * (Fr - Fs) - sig * mup * N * ra) * rs / (rp * T0),
-            (Ts - n * Fs * rs - M["sun_housing"] * s_s + M["sun_coupling"] * s_cs) / T0,
-            (-n * Fr * rr - (M["ring_housing"] + M["ring_case"]) * s_c + TB) / T0,
+            (rp * (Fr - Fs) - sig * mup * N * ra + Cs * s_sp - Cr * s_pr) * rs / (rp * T0),
+            (Ts - n * Fs * rs - n * Cs * s_sp - M["sun_housing"] * s_s
+             + M["sun_coupling"] * s_cs) / T0,
+            (-n * Fr * rr + n * Cr * s_pr - (M["ring_housing"] + M["ring_case"]) * s_c
+             + TB) / T0,
             (Tc - M["sun_coupling"] * s_cs - M["coupling_case"] * s_c - TB) / T0,
         ]
         if known == "housing":
@@ -207,7 +250,8 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
     Fs, Fr, N, psi, TB, Ts, Tc = unpack(x)
     W = washers(Fs, Fr, TB)
     return QuasiStatic(Ts, Tc, -(Ts + Tc), Fs, Fr, N, psi, TB, W,
-                       {k: mu[k] * W[k] * rm[k] for k in W}, res)
+                       {k: mu[k] * W[k] * rm[k] for k in W},
+                       (mut * abs(Fs) * k_sp, mut * abs(Fr) * k_pr), res)
 
 
 def bench_speeds(p: TorsenCFile, side: str, drive: bool, speed_diff: float
