@@ -56,7 +56,8 @@ def contact_ratios(z1: int, z2: int, mn: float, alpha_n: float, beta: float
     (addendum ``mn``) and the transverse base pitch [m]. ``z2 < 0``: internal wheel 2.
 
     Args:
-        z1, z2: tooth numbers (wheel 1 external).
+        z1: tooth number of wheel 1 (external).
+        z2: tooth number of wheel 2 (negative: internal).
         mn: normal module [m].
         alpha_n: normal pressure angle [rad].
         beta: helix angle [rad] (magnitude used).
