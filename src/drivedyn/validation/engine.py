@@ -80,7 +80,11 @@ from drivedyn.validation.rigid_models import (
 @register_case("torque_free_body")
 def torque_free_body(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Torque-free asymmetric body (J = 1, 2, 3 kg m^2), rho_inf = 1: angular momentum and
-    kinetic energy are invariants; the body angular velocity follows Euler-Poinsot."""
+    kinetic energy are invariants; the body angular velocity follows Euler-Poinsot.
+
+    Catches a wrong or missing gyroscopic term Omega x J Omega. Fails on (quick, seen): the
+    bodies' residual without Omega x J Omega: |H - H0| / |H0| 0.32 and the angular velocity
+    error 1.9 of |Omega0| in both runs (tolerances 1.1e-4 and 1.2e-3); T passes (0)."""
     t0 = time.perf_counter()
     case = "torque_free_body"
     h = 1e-2 if quick else 5e-3
@@ -142,7 +146,14 @@ def torque_free_body(quick: bool = False, figure_dir: str | None = None) -> list
 @register_case("heavy_top")
 def heavy_top(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Heavy symmetric top on a spherical joint: (a) steady precession, (b) nutation from
-    rest in precession (Goldstein's cusp motion)."""
+    rest in precession (Goldstein's cusp motion).
+
+    Catches a wrong inertia about the fixed point, gravity lever or precession start.
+    Fails on (quick, seen): the initial precession rate 1 % high: steady nutation amplitude
+    4.4e-3 rad (tolerance 6.3e-4 rad, as built 1.5e-4 rad; 0.1 % high passes, 5.7e-4 rad);
+    the parallel-axis term m l^2 left out of the references' I1 (about the fixed point):
+    precession rate off by 0.18, maximum nutation angle by 0.45, nutation period not
+    measurable."""
     t0 = time.perf_counter()
     case = "heavy_top"
     rho = 0.9  # see the module docstring (rho_inf = 1 is unstable for this constrained top)
@@ -242,7 +253,12 @@ def heavy_top(quick: bool = False, figure_dir: str | None = None) -> list[CaseRe
 
 @register_case("pendulum")
 def pendulum(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
-    """Physical pendulum on a hinge: small- and large-amplitude periods."""
+    """Physical pendulum on a hinge: small- and large-amplitude periods.
+
+    Catches a wrong period (integrator phase error, inertia about the pivot, the elliptic
+    integral's argument). Fails on (quick, seen): the exact period with K(k) instead of
+    K(k^2) (scipy's ``ellipk`` takes m = k^2): 120 deg off by 0.117, 2 deg by 4.3e-3
+    (tolerance 3.9e-5); the 2 deg check against linear theory still passes."""
     t0 = time.perf_counter()
     case = "pendulum"
     h = 2e-3 if quick else 1e-3
@@ -297,7 +313,13 @@ def pendulum(quick: bool = False, figure_dir: str | None = None) -> list[CaseRes
 
 @register_case("slider_crank")
 def slider_crank(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
-    """Slider-crank: kinematics at constant crank speed and static reactions."""
+    """Slider-crank: kinematics at constant crank speed and static reactions.
+
+    Catches a wrong reaction (driver torque, guide normal force) or a piston off its
+    constraint path. Fails on (quick, seen): the reference torque without the 1 / cos(phi)
+    factor: driver torque off by 1.4e-2, 4.5e-2, 5.3e-2 at 30, 120, 250 deg (tolerance
+    1e-7). A constraint tolerance of 1e-6 instead of 1e-10 is not caught: Newton still
+    lands the piston within 1.3e-15 m."""
     t0 = time.perf_counter()
     case = "slider_crank"
     out: list[CaseResult] = []
@@ -363,7 +385,12 @@ def slider_crank(quick: bool = False, figure_dir: str | None = None) -> list[Cas
 
 @register_case("screw")
 def screw(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
-    """Nut on a screw joint turned by a speed driver through several revolutions."""
+    """Nut on a screw joint turned by a speed driver through several revolutions.
+
+    Catches a wrong thread sign or lead and a wrong driver torque. Fails on (quick, seen):
+    the screw row with -pitch / (2 pi) (a left-hand thread): travel -0.03 m against 0.03 m,
+    largest error 0.06 m (tolerance 1e-9 m), driver torque -0.0312 N m against 0.0312 N m;
+    the accumulated angle passes."""
     t0 = time.perf_counter()
     case = "screw"
     h = 2e-3 if quick else 5e-4
