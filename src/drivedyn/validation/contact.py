@@ -58,7 +58,13 @@ def impact_restitution_ode(chi: float, n: float, K: float, m: float, v0: float,
 def bouncing_ball(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """The seeds' bouncing ball (seed 000: Lankarani-Nikravesh law, e = 0.8, n = 1.5,
     K = 1e10 N/m^1.5, h0 = 1 m, m = 0.85 kg, g = 10 m/s^2): every bounce against an ODE
-    reference that includes gravity during the contact, apexes, energy balance."""
+    reference that includes gravity during the contact, apexes, energy balance.
+
+    Catches a wrong impact speed v_s of the hysteresis term, a wrong restitution, lost
+    contact energy. Fails on (quick, seen): v_s taken as the last rate before the contact
+    without its free-flight extrapolation (the -2 a0 p0 term): approach speed of the first
+    impact off by 1.8e-6 (tolerance 1e-10); the restitution, apex and energy checks pass
+    (the ODE reference is evaluated at that approach speed)."""
     from drivedyn.library.bouncing_ball import plot_height, run_bounce
 
     t0 = time.perf_counter()
@@ -101,7 +107,11 @@ def bouncing_ball(quick: bool = False, figure_dir: str | None = None) -> list[Ca
 @register_case("restitution_laws")
 def restitution_laws(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Achieved restitution of every continuous-impact law for e = 0.2, 0.5, 0.8, 0.95:
-    simulated collision without gravity vs the exact relation at the law's chi."""
+    simulated collision without gravity vs the exact relation at the law's chi.
+
+    Catches a wrong hysteresis damping term K delta^n chi deltadot / v_s. Fails on (quick,
+    seen): chi 2 % too large in the contact force: every law and target off by 3.1e-3 to
+    1.1e-2 (tolerance 2e-5)."""
     from drivedyn.elements.contact.impact_laws import IMPACT_LAWS, restitution_from_chi
     from drivedyn.library.bouncing_ball import restitution_table
 
@@ -136,7 +146,12 @@ def restitution_laws(quick: bool = False, figure_dir: str | None = None) -> list
 def contact_friction(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """A block on an incline (contact point at the centre of mass): regularised Coulomb
     friction (creep speed below tan(theta) = mu, Coulomb acceleration above) and the
-    augmented-Lagrangian stick/slip contact (true sticking, Coulomb acceleration)."""
+    augmented-Lagrangian stick/slip contact (true sticking, Coulomb acceleration).
+
+    Catches a wrong regularised friction law or friction force. Fails on (quick, seen): the
+    coulomb law's branch below eps_v linear, mu_R = mu v / eps_v, instead of
+    mu (2 - v/eps_v) v/eps_v: creep speed 6.0e-4 m/s against 3.68e-4 m/s (0.63, tolerance
+    1e-5); the sliding and augmented-Lagrangian checks pass (they do not use that branch)."""
     t0 = time.perf_counter()
     case = "contact_friction"
     m, mu, K = 2.0, 0.5, 1e6
@@ -202,7 +217,11 @@ def contact_friction(quick: bool = False, figure_dir: str | None = None) -> list
 @register_case("thrust_washer")
 def thrust_washer(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """A gear driven at constant speed and pressed on a thrust washer: driver torque vs the
-    friction torque of the seeds M = 2 pi mu_R (F/S)(r_ext^3 - r_int^3)/3."""
+    friction torque of the seeds M = 2 pi mu_R (F/S)(r_ext^3 - r_int^3)/3.
+
+    Catches a wrong friction radius or friction speed. Fails on (quick, seen): the friction
+    radius (r_int + r_ext)/2 instead of 2 (r_ext^3 - r_int^3) / (3 (r_ext^2 - r_int^2)):
+    driver torque off by 3.6e-2 and 6.4e-2 (tolerance 1e-6)."""
     t0 = time.perf_counter()
     case = "thrust_washer"
     ri, re, K, mg = 0.02, 0.04, 1e9, 0.5
@@ -240,7 +259,12 @@ def thrust_washer(quick: bool = False, figure_dir: str | None = None) -> list[Ca
 @register_case("squeeze_film")
 def squeeze_film(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Two annular faces squeezing the oil film under a constant load: film thickness vs the
-    closed form 1/h^2 = 1/h0^2 + 4 F t / (3 pi mu C)."""
+    closed form 1/h^2 = 1/h0^2 + 4 F t / (3 pi mu C).
+
+    Catches a wrong film force coefficient or lost film dissipation. Fails on (quick, seen):
+    the element's bracket C without its logarithmic term, r_ext^4 - r_int^4 (the disk
+    formula): film thickness at 0.25 s 2.69e-5 m against 8.81e-6 m, largest relative error
+    7.7 (tolerance 2e-5), load work against film dissipation off by 210 (tolerance 1e-4)."""
     from drivedyn.elements.contact.squeeze_film import annulus_factor
 
     t0 = time.perf_counter()
