@@ -50,7 +50,13 @@ def gear_pair_model(za: int = 20, zb: int = 40, mn: float = 3e-3, beta: float = 
 def gear_pair(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Gear pair element: helical force components and deflection (statics), ISO 6336-1
     method B worked example, mesh natural frequency, kinematic ratio over 120 revolutions,
-    worm efficiency with tooth friction."""
+    worm efficiency with tooth friction.
+
+    Catches a wrong tooth normal (helix or pressure angle), mesh stiffness, ratio or
+    friction. Fails on (quick, seen): the base helix angle beta_b taken as the reference
+    helix angle beta: axial force / (F_t tan beta) and normal force / (F_t / (cos alpha_n
+    cos beta)) both 1.0077 (tolerance 1e-9); the other checks pass (the mesh frequency's
+    reference uses the element's own coefficients)."""
     from drivedyn.elements.gears import CylindricalPair, iso6336_mesh_stiffness, mesh_info
 
     t0 = time.perf_counter()
@@ -178,7 +184,12 @@ def gear_pair(quick: bool = False, figure_dir: str | None = None) -> list[CaseRe
 @register_case("planetary_set")
 def planetary_set(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
     """Helical planetary set (sun 24, three planets 18, ring 60): Willis equation with sun and
-    ring driven, static torque split with carrier and ring held."""
+    ring driven, static torque split with carrier and ring held.
+
+    Catches a wrong sign of the internal (ring) mesh. Fails on (quick, seen): the ring
+    wheel's mesh coefficient with the external sign: carrier speed -28.33 rad/s against
+    5 rad/s (tolerance 1e-7); the planet speed ratio (9.7e-8, as built 1e-12), the torque
+    split and the load sharing pass."""
     t0 = time.perf_counter()
     case = "planetary_set"
     zs, zp, zr, mn, beta = 24, 18, 60, 2e-3, np.radians(15.0)
