@@ -151,7 +151,9 @@ def contact_friction(quick: bool = False, figure_dir: str | None = None) -> list
     Catches a wrong regularised friction law or friction force. Fails on (quick, seen): the
     coulomb law's branch below eps_v linear, mu_R = mu v / eps_v, instead of
     mu (2 - v/eps_v) v/eps_v: creep speed 6.0e-4 m/s against 3.68e-4 m/s (0.63, tolerance
-    1e-5); the sliding and augmented-Lagrangian checks pass (they do not use that branch)."""
+    1e-5); the sliding and augmented-Lagrangian checks pass (they do not use that branch).
+    The augmented-Lagrangian stick test |sigma_t| <= 0.5 mu N instead of mu N: largest
+    displacement on tan(theta) = 0.3 2.8e-4 m (tolerance 1e-9 m)."""
     t0 = time.perf_counter()
     case = "contact_friction"
     m, mu, K = 2.0, 0.5, 1e6
