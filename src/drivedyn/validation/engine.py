@@ -318,8 +318,10 @@ def slider_crank(quick: bool = False, figure_dir: str | None = None) -> list[Cas
     Catches a wrong reaction (driver torque, guide normal force) or a piston off its
     constraint path. Fails on (quick, seen): the reference torque without the 1 / cos(phi)
     factor: driver torque off by 1.4e-2, 4.5e-2, 5.3e-2 at 30, 120, 250 deg (tolerance
-    1e-7). A constraint tolerance of 1e-6 instead of 1e-10 is not caught: Newton still
-    lands the piston within 1.3e-15 m."""
+    1e-7); the compared piston position with its square root expanded to second order,
+    r cos(theta) + l - r^2 sin^2(theta) / (2 l): 4.9e-4 m (tolerance 1e-9 m). A constraint
+    tolerance of 1e-6 instead of 1e-10 is not caught: Newton still lands the piston within
+    1.3e-15 m."""
     t0 = time.perf_counter()
     case = "slider_crank"
     out: list[CaseResult] = []
