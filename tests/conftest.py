@@ -4,7 +4,8 @@
 Helpers that test modules import by name sit next to this file, on ``sys.path`` through
 ``pythonpath`` in pyproject.toml: ``repo`` (``REPO_ROOT``, ``EXAMPLES``), ``fdcheck``
 (finite-difference tangent checks), ``small_models`` (small models, ``rot_y``/``rot_z``),
-``element_cases`` (``TANGENT_CASES``), ``same_runs`` and ``ir_compare``. The markers
+``element_cases`` (``TANGENT_CASES``), ``same_runs``, ``ir_compare`` and
+``torsen_protocol`` (the short Type C bench protocol). The markers
 (``slow``, ``fuzz_long``) are registered in pyproject.toml.
 """
 

@@ -39,18 +39,12 @@ from drivedyn.library.differentials.torsen_b import analytic as B  # noqa: N812
 from drivedyn.library.differentials.torsen_c import analytic as C  # noqa: N812
 from drivedyn.library.differentials.torsen_c.model import MODES as C_MODES
 from drivedyn.library.differentials.torsen_c.model import WASHERS as C_WASHERS
+from torsen_protocol import TYPE_C_SHORT
 
 MU_T = 0.06  # tooth friction coefficient of the checks (mid-range of lubricated steel gears)
 
-#: Type C: the short bench protocol of tests/models/test_torsen_c.py (constant mesh stiffness)
-C_SHORT = {
-    "gears.stiffness_variation": False,
-    "bench.ramp": 0.1,
-    "bench.transition": [0.5, 0.8],
-    "bench.t_end": 1.1,
-    "bench.window_drive": [0.25, 0.45],
-    "bench.window_coast": [0.9, 1.1],
-}
+#: Type C: the short bench protocol (constant mesh stiffness, :mod:`torsen_protocol`)
+C_SHORT = TYPE_C_SHORT
 C_NO_WASHER_FRICTION = {f"washers.{w}.mu": 0.0 for w in C_WASHERS}
 #: Type B: the short protocol of tests/models/test_torsen_b.py
 B_SHORT = ["bench.ramp=0.1", "bench.transition=[0.5, 0.8]", "bench.t_end=1.1",

@@ -46,6 +46,7 @@ from drivedyn.library.differentials.torsen_c.model import MODES, WASHERS, check_
 from drivedyn.model.compile import compile_model
 from drivedyn.model.spec import ModelError
 from drivedyn.results.recorder import model_summary
+from torsen_protocol import TYPE_C_SHORT
 
 
 def bench_spec(p, side, *args, **kw):
@@ -53,18 +54,8 @@ def bench_spec(p, side, *args, **kw):
 
 RPM = 2 * math.pi / 60
 
-#: short bench protocol (see the module docstring), with a constant mesh stiffness: these
-#: tests check the quasi-static identities to solver precision, which the mesh-stiffness
-#: ripple of the shipped file would blur (its effect is checked in
-#: ``test_stiffness_variation_keeps_the_tdr``)
-SHORT = {
-    "gears.stiffness_variation": False,
-    "bench.ramp": 0.1,
-    "bench.transition": [0.5, 0.8],
-    "bench.t_end": 1.1,
-    "bench.window_drive": [0.25, 0.45],
-    "bench.window_coast": [0.9, 1.1],
-}
+#: short bench protocol with a constant mesh stiffness (see :mod:`torsen_protocol`)
+SHORT = TYPE_C_SHORT
 NO_WASHER_FRICTION = {f"washers.{w}.mu": 0.0 for w in WASHERS}
 
 
