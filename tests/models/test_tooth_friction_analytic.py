@@ -112,7 +112,8 @@ def test_sliding_arm_closed_form_against_the_element_integration():
         arm = TF.sliding_arm(z1, z2, g.module, g.pressure_angle, g.helix_angle)
         assert arm == pytest.approx(effective_sliding_arm(pair.eps_1, pair.eps_2, pair.p_bt),
                                     rel=1e-12), (z1, z2)
-        assert arm == pytest.approx(by_hand, rel=2e-3), (z1, z2)
+        # the hand values are rounded to 1 um: half a unit is at most 3.6e-4 of them
+        assert arm == pytest.approx(by_hand, rel=4e-4), (z1, z2)
 
 
 def test_sliding_arm_refuses_contact_ratios_outside_the_closed_form():
