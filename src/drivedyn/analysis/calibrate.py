@@ -1,18 +1,24 @@
 """Calibration of friction coefficients to measured torque distribution ratios, for any
 differential of :mod:`drivedyn.library.differentials`.
 
-Least squares on ``log(TDR_model / TDR_measured)`` over the free parameters, bounded to a
-plausible range. A free parameter is one dotted key of the model file (e.g.
-``washers.sun_housing.mu``) or a group of keys that share one fitted value (e.g. all the
-washer coefficients of the Type C: *one shared coefficient*). The analytic quasi-static model
-of the differential does the fitting; the bench simulation then confirms it. If the simulated
+Least squares on ``log(TDR_model / TDR_measured)`` over the free parameters, each bounded
+to its physical range (the model file's ``[calibration] bounds``, with their source in
+``bounds_source``). A fit that ends on a bound (within 1 % of the range,
+:data:`BOUND_MARGIN`) is a failed calibration (:class:`FitAtBoundError`): the measurements ask
+for a coefficient outside its physical range, so the model lacks a mechanism or the range
+is wrong, and the fitted numbers mean nothing. A free parameter is one dotted key of the
+model file (e.g. ``washers.sun_housing.mu``) or a group of keys that share one fitted value
+(e.g. the washer and pocket coefficients of the Type C: *one shared coefficient*). The
+analytic quasi-static model of the differential does the fitting; the bench simulation then
+confirms it. If the simulated
 TDRs differ from the analytic ones by more than ``sim_tol``, the targets are corrected by that
 ratio and the analytic fit is repeated (a fixed-point on the small model difference), so the
 shipped coefficients reproduce the measurements *in simulation*.
 
 A fit with as many free numbers as measurements reproduces them by construction and predicts
-nothing; :func:`cross_validate` gives the honest predictive error: it refits leaving out each
-mode in turn and reports the error of the left-out mode's prediction.
+nothing; :mod:`drivedyn.analysis.calibration_study` gives the honest predictive error
+(leave-out by distinct measurement), the cost profile of each fitted number and the spread
+under the measurement uncertainty.
 
 :func:`write_calibrated` writes the model file with the fitted values and a
 ``[calibration]`` table that states which values were fitted to which data and the command
@@ -32,6 +38,33 @@ from scipy.optimize import least_squares
 from drivedyn.library import differentials
 
 Group = tuple[str, ...]
+#: dotted key -> (low, high) physical range of a friction coefficient
+Bounds = dict[str, tuple[float, float]]
+
+#: a fitted number closer to a bound than this fraction of its range ends "on the bound"
+BOUND_MARGIN = 0.01
+
+
+class FitAtBoundError(RuntimeError):
+    """A fitted number ended on a bound of its physical range: a failed calibration.
+
+    Attributes:
+        keys: per offending group: (label, value, low, high).
+    """
+
+    def __init__(self, hits: list[tuple[str, float, float, float]], source: str = ""):
+        self.keys = hits
+        lines = []
+        for label, v, lo, hi in hits:
+            side, want = ("upper", "more") if hi - v < v - lo else ("lower", "less")
+            lines.append(
+                f"{label} = {v:.4f} ends on the {side} bound of its range [{lo:g}, {hi:g}]: the "
+                f"measurements ask for {want} friction than the physical range allows, so the "
+                "model lacks a loss mechanism (or the range is wrong)")
+        msg = "; ".join(lines) + ". A fit on a bound is a failed calibration: nothing written"
+        if source:
+            msg += f" (bounds: {source})"
+        super().__init__(msg)
 
 
 @dataclass
@@ -47,7 +80,9 @@ class Calibration:
         simulated: mode -> simulated TDR (empty without confirmation).
         iterations: analytic fits done (1 + corrections from the simulation).
         cost: final least-squares cost (half the sum of squared log errors).
-        at_bound: free keys that ended on a bound.
+        at_bound: free groups (labels ``"a, b"``) that ended within :data:`BOUND_MARGIN` of
+            a bound.
+        bounds: per free group its (low, high) range.
         offsets: mode -> simulated / analytic TDR of the final parameters (1 without
             confirmation).
     """
@@ -62,6 +97,7 @@ class Calibration:
     cost: float = 0.0
     at_bound: list[str] = field(default_factory=list)
     offsets: dict[int, float] = field(default_factory=dict)
+    bounds: list[tuple[float, float]] = field(default_factory=list)
 
 
 def get_value(p: Any, key: str) -> Any:
@@ -108,8 +144,47 @@ def _analytic(p: Any, modes: list[int]) -> dict[int, float]:
     return {m: diff.analytic_bench(p, m) for m in modes}
 
 
-def _fit(p: Any, groups: list[Group], targets: dict[int, float], bounds: tuple[float, float],
-         x0: np.ndarray) -> tuple[np.ndarray, float]:
+def group_bounds(p: Any, groups: list[Group],
+                 bounds: tuple[float, float] | None = None) -> list[tuple[float, float]]:
+    """(low, high) of each free group: ``bounds`` for all if given, else the model file's
+    ``[calibration] bounds`` (a tied group takes the intersection of its keys' ranges).
+    KeyError names a key without a range."""
+    if bounds is not None:
+        return [tuple(bounds)] * len(groups)
+    table = file_bounds(p)
+    out: list[tuple[float, float]] = []
+    for g in groups:
+        missing = [k for k in g if k not in table]
+        if missing:
+            raise KeyError(f"{missing[0]}: no physical range in the file's [calibration] bounds "
+                           f"(declared: {', '.join(table) or 'none'}); add it there with its "
+                           "source, or give --bounds LOW HIGH")
+        lo, hi = max(table[k][0] for k in g), min(table[k][1] for k in g)
+        if not lo < hi:
+            raise ValueError(f"{', '.join(g)}: the tied keys' ranges do not overlap")
+        out.append((lo, hi))
+    return out
+
+
+def file_bounds(p: Any) -> Bounds:
+    """The model file's ``[calibration] bounds``: dotted key -> (low, high)."""
+    cal = getattr(p, "calibration", None)
+    return {k: (float(v[0]), float(v[1])) for k, v in (cal.bounds if cal else {}).items()}
+
+
+def bound_hits(groups: list[Group], x: np.ndarray,
+               bounds: list[tuple[float, float]]) -> list[tuple[str, float, float, float]]:
+    """(label, value, low, high) of each group within :data:`BOUND_MARGIN` of a bound."""
+    return [(", ".join(g), float(v), lo, hi)
+            for g, v, (lo, hi) in zip(groups, x, bounds, strict=True)
+            if min(v - lo, hi - v) <= BOUND_MARGIN * (hi - lo)]
+
+
+def _fit(p: Any, groups: list[Group], targets: dict[int, float],
+         bounds: list[tuple[float, float]], x0: np.ndarray) -> tuple[np.ndarray, float]:
+    """Bounded least squares of ``ln(TDR_m / target_m)`` (every measurement with the same
+    relative uncertainty); returns the fitted numbers and the cost (half the sum of
+    squares)."""
     modes = sorted(targets)
     want = np.array([targets[m] for m in modes])
 
@@ -117,10 +192,10 @@ def _fit(p: Any, groups: list[Group], targets: dict[int, float], bounds: tuple[f
         got = _analytic(with_values(p, _expand(groups, x)), modes)
         return np.log(np.array([got[m] for m in modes]) / want)
 
-    lo, hi = bounds
+    lo = np.array([b[0] for b in bounds])
+    hi = np.array([b[1] for b in bounds])
     x0 = np.clip(x0, lo + 1e-9, hi - 1e-9)
-    sol = least_squares(resid, x0, bounds=(np.full(len(groups), lo), np.full(len(groups), hi)),
-                        xtol=1e-12, ftol=1e-12, gtol=1e-12)
+    sol = least_squares(resid, x0, bounds=(lo, hi), xtol=1e-12, ftol=1e-12, gtol=1e-12)
     return sol.x, float(sol.cost)
 
 
@@ -136,6 +211,14 @@ def _simulate(q: Any, progress=None) -> dict[int, float]:
             raise RuntimeError(f"bench simulation ({side}) failed: {run.message}")
         sim.update(run.tdr)
     return sim
+
+
+def _refuse(groups: list[Group], x: np.ndarray, box: list[tuple[float, float]], p: Any,
+            refuse: bool) -> None:
+    hits = bound_hits(groups, x, box)
+    if hits and refuse:
+        cal = getattr(p, "calibration", None)
+        raise FitAtBoundError(hits, cal.bounds_source if cal else "")
 
 
 def check_free(p: Any, groups: list[Group], targets: dict[int, float]) -> None:
@@ -160,8 +243,9 @@ def check_free(p: Any, groups: list[Group], targets: dict[int, float]) -> None:
 
 
 def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
-              bounds: tuple[float, float] = (0.02, 0.2), confirm: bool = True,
-              sim_tol: float = 0.005, max_corrections: int = 2, progress=None) -> Calibration:
+              bounds: tuple[float, float] | None = None, confirm: bool = True,
+              sim_tol: float = 0.005, max_corrections: int = 2, progress=None,
+              refuse_at_bound: bool = True) -> Calibration:
     """Fit the free coefficients so that the TDR of the target modes match.
 
     Args:
@@ -169,18 +253,23 @@ def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
         free: free parameters: dotted keys of friction coefficients, or tuples of keys that
             share one value (see :func:`groups_of`).
         targets: mode (1-4) -> measured TDR.
-        bounds: plausible range of every free coefficient.
+        bounds: one range for every free coefficient; None: the file's ``[calibration]
+            bounds`` (:func:`group_bounds`).
         confirm: simulate the bench with the fitted values (and correct, see module doc).
         sim_tol: largest accepted relative difference simulation / analytic before a
             correction.
         max_corrections: number of target corrections from the simulation.
         progress: ``progress(message)`` callback for long steps.
+        refuse_at_bound: raise :class:`FitAtBoundError` when a fitted number ends on a bound
+            (before any simulation); False records it in ``at_bound`` instead.
     """
     groups = groups_of(free)
     check_free(p, groups, targets)
+    box = group_bounds(p, groups, bounds)
     x0 = np.array([np.mean([get_value(p, k) for k in g]) for g in groups], float)
     goal = dict(targets)
-    x, cost = _fit(p, groups, goal, bounds, x0)
+    x, cost = _fit(p, groups, goal, box, x0)
+    _refuse(groups, x, box, p, refuse_at_bound)
     q = with_values(p, _expand(groups, x))
     modes = [m.number for m in differentials.of(p).modes]
     ana = _analytic(q, modes)
@@ -195,55 +284,14 @@ def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
                 break
             # correct the analytic targets by the model difference, refit
             goal = {m: targets[m] / off[m] for m in targets}
-            x, cost = _fit(p, groups, goal, bounds, x)
+            x, cost = _fit(p, groups, goal, box, x)
+            _refuse(groups, x, box, p, refuse_at_bound)
             q = with_values(p, _expand(groups, x))
             ana = _analytic(q, modes)
             its += 1
-    lo, hi = bounds
-    at_bound = [", ".join(g) for g, v in zip(groups, x, strict=True)
-                if min(v - lo, hi - v) < 1e-6]
+    at_bound = [h[0] for h in bound_hits(groups, x, box)]
     return Calibration(q, _expand(groups, x), groups, dict(targets), ana, sim, its, cost,
-                       at_bound, off)
-
-
-def cross_validate(p: Any, free: list[str | Group], targets: dict[int, float],
-                   bounds: tuple[float, float] = (0.02, 0.2),
-                   offsets: dict[int, float] | None = None, confirm: bool = False,
-                   progress=None) -> dict[int, dict[str, float]]:
-    """Leave-one-out: for each target mode, fit the free parameters to the *other* modes and
-    predict the left-out one.
-
-    Args:
-        p, free, targets, bounds: as :func:`calibrate`.
-        offsets: mode -> simulated / analytic TDR (from a confirmed :func:`calibrate`); the
-            fits aim at ``target / offset`` and the predictions are ``analytic * offset``, so
-            that they stand for the simulation. None: the analytic model alone.
-        confirm: simulate the bench of each left-out fit instead (costs two bench runs per
-            mode).
-    Returns:
-        mode -> {``predicted``, ``target``, ``error_pct``, and per free group its fitted
-        value (key: the group's first key)}.
-    """
-    groups = groups_of(free)
-    check_free(p, groups, targets)
-    off = offsets or {}
-    out: dict[int, dict[str, float]] = {}
-    x0 = np.array([np.mean([get_value(p, k) for k in g]) for g in groups], float)
-    for m in sorted(targets):
-        rest = {k: targets[k] / off.get(k, 1.0) for k in targets if k != m}
-        if progress:
-            progress(f"leave-one-out: fitting without mode {m}")
-        x, _ = _fit(p, groups, rest, bounds, x0)
-        q = with_values(p, _expand(groups, x))
-        if confirm:
-            pred = _simulate(q, progress)[m]
-        else:
-            pred = differentials.of(q).analytic_bench(q, m) * off.get(m, 1.0)
-        rec = {"predicted": float(pred), "target": float(targets[m]),
-               "error_pct": 100.0 * (pred / targets[m] - 1.0)}
-        rec.update({g[0]: float(v) for g, v in zip(groups, x, strict=True)})
-        out[m] = rec
-    return out
+                       at_bound, off, box)
 
 
 # -- writing the model file ----------------------------------------------------------------
@@ -304,15 +352,26 @@ def update_toml_text(text: str, values: dict[str, float], calibration: dict[str,
 
 
 def calibration_table(cal: Calibration, source: str, command: str,
-                      cv: dict[int, dict[str, float]] | None = None) -> dict[str, Any]:
-    """The ``[calibration]`` table recording a fit (and its leave-one-out errors ``cv``, see
-    :func:`cross_validate`)."""
+                      study: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The ``[calibration]`` table recording a fit: the inputs of the file's table (bounds,
+    uncertainty and their sources) kept, then what was fitted and, from ``study`` (keys
+    ``distinct``, ``cross_validation``, ``profile``, ``spread`` as returned by
+    :mod:`drivedyn.analysis.calibration_study`), what the fit can claim."""
+    inputs = getattr(cal.params, "calibration", None)
     res: dict[str, float] = {}
     for m in sorted(cal.targets):
         res[f"mode{m}_analytic"] = round(cal.analytic[m], 4)
         if cal.simulated:
             res[f"mode{m}_simulated"] = round(cal.simulated[m], 4)
-    return {
+    table: dict[str, Any] = {}
+    if inputs is not None and inputs.bounds:
+        table["bounds"] = {k: list(v) for k, v in inputs.bounds.items()}
+        table["bounds_source"] = inputs.bounds_source
+    if inputs is not None:
+        table["uncertainty"] = inputs.uncertainty
+        if inputs.uncertainty_source:
+            table["uncertainty_source"] = inputs.uncertainty_source
+    table.update({
         "fitted": list(cal.values),
         "tied": [list(g) for g in cal.groups if len(g) > 1],
         "targets": {f"mode{m}": v for m, v in sorted(cal.targets.items())},
@@ -323,9 +382,18 @@ def calibration_table(cal: Calibration, source: str, command: str,
                    + ("confirmed by bench simulation; " if cal.simulated else "")
                    + f"{cal.iterations} analytic fit(s)"),
         "result": res,
-        "cross_validation": {f"mode{m}": round(r["error_pct"], 2)
-                             for m, r in sorted((cv or {}).items())},
-    }
+    })
+    if study:
+        table["left_out_together"] = [list(d) for d in study["distinct"]]
+        errs = {m: e for lo in study["cross_validation"] for m, e in lo.error_pct.items()}
+        table["cross_validation"] = {f"mode{m}": round(e, 2) for m, e in sorted(errs.items())}
+        table["profile"] = {k: [round(x, 4) for x in v["interval"]]
+                            for k, v in study["profile"].items()}
+        sp = study["spread"]
+        table["spread"] = {**{k: [round(x, 4) for x in v] for k, v in sp["values"].items()},
+                           **{f"mode{m}": [round(x, 4) for x in v]
+                              for m, v in sorted(sp["tdr"].items())}}
+    return table
 
 
 def relative_errors(values: dict[int, float], targets: dict[int, float]) -> dict[int, float]:

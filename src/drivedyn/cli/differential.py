@@ -193,37 +193,49 @@ def _print_table(name, T0, dw, rows, wall, analytic_only) -> None:
 @click.option("--target", "targets", multiple=True, metavar="MODE=TDR",
               help="Measured TDR of a mode, e.g. --target 1=4.02 (default: the file's "
                    "[experiment] table, all four modes).")
-@click.option("--bounds", nargs=2, type=FiniteFloat(0.0, 1.0), default=(0.02, 0.2),
-              show_default=True,
-              help="Plausible range of the fitted coefficients.")
+@click.option("--bounds", nargs=2, type=FiniteFloat(0.0, 1.0), default=None,
+              metavar="LOW HIGH",
+              help="One range for every fitted coefficient, instead of the physical ranges "
+                   "of the file's [calibration] bounds (the default).")
+@click.option("--uncertainty", type=FiniteFloat(0.0, 0.5, low_open=True), default=None,
+              metavar="S", help="Relative uncertainty of each measured TDR (0.03: +-3 %), for "
+              "the cost profile and the spread (default: the file's [calibration] "
+              "uncertainty).")
 @click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
               help="Override a parameter before fitting (dotted key). Repeatable.")
 @click.option("--no-confirm", is_flag=True, help="Skip the confirmation by simulation.")
 @click.option("--cross-validate", is_flag=True,
-              help="Also refit leaving out each mode in turn and report the error of the "
-                   "left-out mode (the predictive error).")
+              help="Also refit leaving out each distinct measurement in turn (modes the "
+                   "model cannot tell apart together) and report the error of its prediction; "
+                   "with the cost profile of each fitted number and the spread under the "
+                   "measurement uncertainty.")
 @click.option("--out", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the calibrated model file here (comments kept, [calibration] "
                    "table replaced).")
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON object.")
 def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
-              bounds: tuple[float, float], sets: tuple[str, ...], no_confirm: bool,
-              cross_validate: bool, out: Path | None, as_json: bool) -> None:
+              bounds: tuple[float, float] | None, uncertainty: float | None,
+              sets: tuple[str, ...], no_confirm: bool, cross_validate: bool, out: Path | None,
+              as_json: bool) -> None:
     """Fit friction coefficients of a differential model to measured TDRs.
 
-    Bounded least squares on log TDR with the analytic quasi-static model, then the bench is
-    simulated with the fitted values (and the fit corrected by the small model difference if
-    needed). Fit fewer numbers than measurements, or the fit reproduces the data by
-    construction; --cross-validate gives the leave-one-out error. With --out, writes the
-    model file with the fitted values and a [calibration] table stating what was fitted to
-    which data, this command and the leave-one-out errors.
+    Bounded least squares on log TDR with the analytic quasi-static model, each coefficient
+    within its physical range (the file's [calibration] bounds), then the bench is simulated
+    with the fitted values (and the fit corrected by the small model difference if needed).
+    A fit that ends on a bound (within 1 % of the range) is a failed calibration: exit 1,
+    nothing written. Fit fewer numbers than distinct measurements, or the fit reproduces
+    the data by construction; --cross-validate gives the predictive error by distinct
+    measurement, the cost profile and the spread. With --out, writes the model file with the
+    fitted values and a [calibration] table stating what was fitted to which data, this
+    command and what the fit can claim.
 
     \b
-    Examples (reproduce the shipped files):
+    Examples (reproduce the shipped files exactly):
         drivedyn calibrate torsen-c --cross-validate --out torsen-c.toml
         drivedyn calibrate torsen-b --cross-validate --out torsen-b.toml
     """
     from drivedyn.analysis import calibrate as C  # noqa: N812
+    from drivedyn.analysis import calibration_study as S  # noqa: N812
     from drivedyn.analysis.tdr import experimental
     from drivedyn.config.loader import resolve_path
     from drivedyn.library import differentials
@@ -247,22 +259,34 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
         goal = experimental(p)
         if not goal:
             bad_input("no targets: give --target MODE=TDR or an [experiment] tdr table")
-    lo, hi = bounds
-    if not 0 <= lo < hi <= 1:
-        bad_input(f"--bounds: expected 0 <= low < high <= 1, got {lo} {hi}")
+    if bounds is not None and not 0 <= bounds[0] < bounds[1] <= 1:
+        bad_input(f"--bounds: expected 0 <= low < high <= 1, got {bounds[0]} {bounds[1]}")
+    u = p.calibration.uncertainty if uncertainty is None else uncertainty
     t0 = time.perf_counter()
 
     def note(msg: str) -> None:
         if not as_json:
             click.echo(msg, err=True)
 
+    study = None
     try:
-        cal = C.calibrate(p, groups, goal, bounds=(lo, hi), confirm=not no_confirm,
+        cal = C.calibrate(p, groups, goal, bounds=bounds, confirm=not no_confirm,
                           progress=note)
-        cv = C.cross_validate(p, groups, goal, bounds=(lo, hi), offsets=cal.offsets,
-                              progress=note) if cross_validate else None
+        if cross_validate:
+            box = cal.bounds
+            distinct = S.distinct_measurements(p, cal.groups, goal, box, u)
+            study = {
+                "distinct": distinct,
+                "cross_validation": S.cross_validate(p, cal.groups, goal, box, distinct,
+                                                     cal.offsets, progress=note),
+                "profile": S.profile(p, cal.groups, goal, box, u, cal.offsets),
+                "spread": S.spread(p, cal.groups, goal, box, u, cal.offsets),
+            }
     except (KeyError, ValueError) as exc:
         bad_input(str(exc))
+    except C.FitAtBoundError as exc:
+        err(f"calibration failed: {exc}")
+        sys.exit(1)
     except RuntimeError as exc:
         err(str(exc))
         sys.exit(1)
@@ -274,7 +298,7 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
     if out is not None:
         text = resolve_path(model_file).read_text()
         table = C.calibration_table(cal, p.experiment.source or "command-line targets",
-                                    command, cv)
+                                    command, study)
         try:
             new = C.update_toml_text(text, cal.values, table)
         except KeyError as exc:
@@ -288,26 +312,49 @@ def calibrate(model_file: str, free: tuple[str, ...], targets: tuple[str, ...],
             return path
 
         out = outputs.write(write, out, "--out")
+    loo = {m: lo for lo in (study or {}).get("cross_validation", []) for m in lo.modes}
     if as_json:
         click.echo(json.dumps(jsonable({
             "model": p.model.name, "free": cal.values,
             "groups": [list(g) for g in cal.groups], "targets": goal,
+            "bounds": {", ".join(g): list(b) for g, b in zip(cal.groups, cal.bounds,
+                                                             strict=True)},
             "analytic": cal.analytic, "simulated": cal.simulated, "error_pct": errors,
-            "cross_validation": cv, "at_bound": cal.at_bound, "iterations": cal.iterations,
+            "cross_validation": {m: {"left_out": list(r.modes), "predicted": r.predicted[m],
+                                     "target": goal[m], "error_pct": r.error_pct[m],
+                                     "identifiable": r.identifiable, "values": r.values,
+                                     "at_bound": r.at_bound} for m, r in loo.items()}
+            if study else None,
+            "distinct": [list(d) for d in study["distinct"]] if study else None,
+            "profile": study["profile"] if study else None,
+            "spread": study["spread"] if study else None, "uncertainty": u,
+            "at_bound": cal.at_bound, "iterations": cal.iterations,
             "written": str(out) if out else None, "wall_s": round(wall, 3)})))
         outputs.exit_if_failed()
         return
-    click.echo(f"fitted: {len(cal.groups)} number(s) for {len(goal)} measurement(s)")
-    for g in cal.groups:
+    n_distinct = len(study["distinct"]) if study else len(goal)
+    click.echo(f"fitted: {len(cal.groups)} number(s) for {len(goal)} measurement(s)"
+               + (f" ({n_distinct} distinct)" if study else ""))
+    for g, (lo, hi) in zip(cal.groups, cal.bounds, strict=True):
         label = ", ".join(g)
-        flag = "  (at a bound)" if label in cal.at_bound else ""
-        click.echo(f"  {cal.values[g[0]]:.4f}  {label}{flag}")
-    click.echo("mode  target   analytic  simulated  error    leave-one-out")
+        prof = ""
+        if study:
+            a, b = study["profile"][label]["interval"]
+            sp = study["spread"]["values"][label]
+            prof = f"  profile [{a:.3f}, {b:.3f}], spread [{sp[0]:.3f}, {sp[1]:.3f}]"
+        click.echo(f"  {cal.values[g[0]]:.4f}  {label}  (range [{lo:g}, {hi:g}]){prof}")
+    click.echo("mode  target   analytic  simulated  error    leave-out (with)  spread")
     for m in sorted(goal):
         s = cal.simulated.get(m, math.nan)
-        loo = f"{cv[m]['error_pct']:+6.2f} %" if cv and m in cv else "-"
+        cv_txt, sp_txt = "-", ""
+        if m in loo:
+            r = loo[m]
+            cv_txt = (f"{r.error_pct[m]:+6.2f} %" if r.identifiable else "not identifiable")
+            cv_txt += f" ({','.join(map(str, r.modes))})"
+            a, b = study["spread"]["tdr"][m]
+            sp_txt = f"  [{a:.3f}, {b:.3f}]"
         click.echo(f"  {m}   {goal[m]:6.3f}   {cal.analytic[m]:8.4f}  {s:9.4f}  "
-                   f"{errors.get(m, math.nan):+6.2f} %  {loo}")
+                   f"{errors.get(m, math.nan):+6.2f} %  {cv_txt}{sp_txt}")
     if out is not None:
         click.echo(f"model file written to {out}")
     click.echo(f"wall time {wall:.1f} s")

@@ -228,15 +228,29 @@ class Solver(Strict):
 
 
 class Calibration(Strict):
-    """What was fitted to what (written by ``drivedyn calibrate``).
+    """What may be fitted, within which ranges, and what was fitted to what (the record is
+    written by ``drivedyn calibrate``).
 
-    ``fitted`` lists the dotted keys whose values were fitted; ``tied`` groups keys that
-    share one fitted value (one group per fitted number); ``cross_validation`` gives the
-    leave-one-out error [%] of each mode (the error of its prediction by a fit to the other
-    modes). A record, not an input: a number the fit could not compute is kept as NaN."""
+    Inputs: ``bounds`` gives the physical range ``[low, high]`` of each friction
+    coefficient that may be fitted (dotted key -> range), with its source in
+    ``bounds_source``; ``uncertainty`` is the relative uncertainty of a measured TDR (0.03:
+    +-3 %; its source in ``uncertainty_source``), used for the cost profile and the spread.
+
+    Record: ``fitted`` lists the dotted keys whose values were fitted; ``tied`` groups keys
+    that share one fitted value (one group per fitted number); ``left_out_together`` the
+    modes the model cannot tell apart (one distinct measurement each); ``cross_validation``
+    the error [%] of each mode's prediction by a fit without its distinct measurement (NaN:
+    too few distinct measurements left); ``profile`` the range of each fitted number where
+    the chi-square rises by less than 1; ``spread`` the range of each fitted number and
+    predicted TDR with the measurements scaled by 1 +- uncertainty. A number the fit could not
+    compute is kept as NaN."""
 
     model_config = ConfigDict(extra="forbid", allow_inf_nan=True)
 
+    bounds: dict[str, list[float]] = Field(default_factory=dict)
+    bounds_source: str = ""
+    uncertainty: float = Field(default=0.03, gt=0.0, le=0.5)
+    uncertainty_source: str = ""
     fitted: list[str] = Field(default_factory=list)
     tied: list[list[str]] = Field(default_factory=list)
     targets: dict[str, float] = Field(default_factory=dict)
@@ -244,7 +258,23 @@ class Calibration(Strict):
     command: str = ""
     method: str = ""
     result: dict[str, float] = Field(default_factory=dict)
+    left_out_together: list[list[int]] = Field(default_factory=list)
     cross_validation: dict[str, float] = Field(default_factory=dict)
+    profile: dict[str, list[float]] = Field(default_factory=dict)
+    spread: dict[str, list[float]] = Field(default_factory=dict)
+
+    @field_validator("bounds")
+    @classmethod
+    def _ranges(cls, v: dict[str, list[float]]) -> dict[str, list[float]]:
+        for key, rng in v.items():
+            if not key.endswith("mu"):
+                raise ValueError(f"{key!r}: bounds are for friction coefficients (keys ending "
+                                 "in 'mu')")
+            if (len(rng) != 2 or not all(math.isfinite(x) for x in rng)
+                    or not 0.0 <= rng[0] < rng[1] <= 1.0):
+                raise ValueError(f"{key} = {rng!r}: expected [low, high] with "
+                                 "0 <= low < high <= 1")
+        return v
 
 
 class Experiment(Strict):

@@ -38,7 +38,9 @@ DIFFERENTIAL = Differential(
     housing_speed=_housing_speed,
     analytic_bench=analytic.bench_tdr,
     analytic_vehicle=analytic.vehicle_torques,
-    free=(("washers.mu",), ("pockets.mu",)),
+    # one boundary-friction coefficient for the washers and the pockets (steel on steel in
+    # the same oil): one number for two distinct measurements (modes 1 = 3, 2 = 4)
+    free=(("washers.mu", "pockets.mu"),),
     washers={"left": "left side gear - housing", "middle": "between the side gears",
              "right": "right side gear - housing"},
     axial_bodies=(("left", "left side gear"), ("right", "right side gear"),

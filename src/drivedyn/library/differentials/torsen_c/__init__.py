@@ -39,10 +39,11 @@ DIFFERENTIAL = Differential(
     housing_speed=_housing_speed,
     analytic_bench=analytic.bench_tdr,
     analytic_vehicle=analytic.vehicle_torques,
-    # W1 alone, W3-W5 shared, pockets: three numbers for four modes (W2: the paper's 0.03)
-    free=(("washers.sun_housing.mu",),
-          ("washers.coupling_case.mu", "washers.ring_housing.mu", "washers.ring_case.mu"),
-          ("pockets.mu",)),
+    # one boundary-friction coefficient for the steel contacts in the oil (W1, W3-W5 and the
+    # pockets; W2: the paper's 0.03): one number for four modes. Two numbers (washers,
+    # pockets) end on the upper bound 0.2 of their range (docs/torsen_c.md)
+    free=(("washers.sun_housing.mu", "washers.coupling_case.mu", "washers.ring_housing.mu",
+           "washers.ring_case.mu", "pockets.mu"),),
     washers={"sun_housing": "W1 sun - housing", "sun_coupling": "W2 sun - coupling",
              "coupling_case": "W3 coupling - case", "ring_housing": "W4 ring - housing",
              "ring_case": "W5 ring - case"},
