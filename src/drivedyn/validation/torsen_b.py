@@ -55,8 +55,9 @@ def torsen_b_bench(quick: bool = False, figure_dir: str | None = None) -> list[C
         if e:
             beside = f" [seeds' simulation {s}]" if s else ""
             out.append(compare(case, f"mode {m} TDR ({mode_name(p, m)}) vs measured{beside}",
-                               e, sim[m], "1", 0.03, "seed 003 Table 2, test bench; two "
-                               "friction coefficients fitted to the four modes"))
+                               e, sim[m], "1", 0.03, "seed 003 Table 2, test bench; one "
+                               "friction coefficient (washers and pockets) fitted to the four "
+                               "modes"))
         out.append(compare(case, f"mode {m} TDR vs analytic quasi-static",
                            at.bench_tdr(p, m), sim[m], "1", 0.01,
                            "drivedyn.library.differentials.torsen_b.analytic"))
