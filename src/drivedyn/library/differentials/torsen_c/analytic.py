@@ -14,12 +14,18 @@ planet with ``F_s t + |F_s| tan(alpha_t) r`` (separating force, ``tan alpha_t =
 tan alpha_n / cos beta``), the ring mesh with ``F_r t - |F_r| tan(alpha_t) r``. Reactions:
 sun torque ``-n F_s r_s``, ring torque ``-n F_r r_r``; axial thrusts
 ``A_s = h tan(beta) n F_s`` on the sun and ``A_r = -h tan(beta) n F_r`` on the ring
-(``h = +1`` right-hand sun). The planet's two thrusts cancel (their couple goes to its guide).
+(``h = +1`` right-hand sun). On the planet the two mesh thrusts are ``-h tan(beta) F_s``
+(sun mesh) and ``+h tan(beta) F_r`` (ring mesh): they cancel only without friction. The net
+thrust ``A_p = h tan(beta) (F_r - F_s)`` (with the pocket friction 40-60 % of one mesh's
+thrust at the bench) presses the planet's end face on a pocket floor (``pockets.end_faces``,
+friction radius ``r_e``), whose friction resists the planet's spin. The thrusts' couple
+``r_p tan(beta) (|F_s| + |F_r|)`` about the tangential axis goes to the planet's guide
+(held against tilt, no friction: the bore's end reactions are not modelled).
 
 **Planet in its pocket**: contact at the direction ``e = (cos psi, sin psi)`` from the planet
 centre, normal force ``-N e``, tip friction ``mu_p N`` opposing the slip of the tip circle
 (radius ``r_a``): force ``-sigma mu_p N (z x e)`` and torque ``-sigma mu_p N r_a``,
-``sigma = sign(w_p')``.
+``sigma = sign(w_p')``; end-face friction torque ``-sigma mu_p |A_p| r_e``.
 
 **Tooth friction** (``gears.tooth_friction`` ``mu_t``; law, normal force and mean arm
 derived in :mod:`drivedyn.library.differentials.tooth_friction`): each mesh puts a couple
@@ -38,7 +44,7 @@ sun ``-C_s s_sp``, on the ring ``+C_r s_pr``. With the centrifugal force ``m w_h
 
     r:  |F_s| tan(alpha_t) - |F_r| tan(alpha_t) - N cos psi + sigma mu_p N sin psi + m w_h^2 a = 0
     t:  F_s + F_r - N sin psi - sigma mu_p N cos psi = 0
-    z:  r_p (F_r - F_s) - sigma mu_p N r_a + C_s s_sp - C_r s_pr = 0
+    z:  r_p (F_r - F_s) - sigma mu_p (N r_a + |A_p| r_e) + C_s s_sp - C_r s_pr = 0
 
 **Spline** (screw joint of lead ``L``): the torque ``T_B`` it applies on the ring comes with
 the axial force ``2 pi T_B / L`` on the coupling and the opposite on the ring.
@@ -111,6 +117,8 @@ class QuasiStatic:
         washer_force: normal force of each washer (name -> N).
         washer_torque: friction torque magnitude of each washer (name -> N m).
         tooth_couple: tooth-friction couples of one planet's meshes (C_s, C_r) [N m].
+        planet_thrust: net axial thrust of the meshes on one planet, ``A_p`` [N] (on its
+            end face with ``pockets.end_faces``, else on its frictionless guide).
         residual: largest equation residual after the solve (scaled by the applied torque).
     """
 
@@ -125,6 +133,7 @@ class QuasiStatic:
     washer_force: dict[str, float]
     washer_torque: dict[str, float]
     tooth_couple: tuple[float, float]
+    planet_thrust: float
     residual: float
 
 
@@ -172,6 +181,7 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
     mu = {name: getattr(p.washers, name).mu * f for name in geo.washer_radius}
     rm = geo.washer_radius
     mup = p.pockets.mu * f
+    t_beta, r_end = abs(math.tan(g.helix_angle)), geo.r_end
     cen = p.bodies.planet.mass * wh**2 * a
     k_spl = 0.0 if math.isinf(geo.lead) else 2 * math.pi / geo.lead
     T0 = abs(torque) if torque != 0 else 1.0
@@ -213,7 +223,8 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
         e = [
             (abs(Fs) * ta - abs(Fr) * ta - N * c + sig * mup * N * s + cen) * rs / T0,
             (Fs + Fr - N * s - sig * mup * N * c) * rs / T0,
-            (rp * (Fr - Fs) - sig * mup * N * ra + Cs * s_sp - Cr * s_pr) * rs / (rp * T0),
+            (rp * (Fr - Fs) - sig * mup * (N * ra + t_beta * abs(Fr - Fs) * r_end)
+             + Cs * s_sp - Cr * s_pr) * rs / (rp * T0),
             (Ts - n * Fs * rs - n * Cs * s_sp - M["sun_housing"] * s_s
              + M["sun_coupling"] * s_cs) / T0,
             (-n * Fr * rr + n * Cr * s_pr - (M["ring_housing"] + M["ring_case"]) * s_c
@@ -251,7 +262,8 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
     W = washers(Fs, Fr, TB)
     return QuasiStatic(Ts, Tc, -(Ts + Tc), Fs, Fr, N, psi, TB, W,
                        {k: mu[k] * W[k] * rm[k] for k in W},
-                       (mut * abs(Fs) * k_sp, mut * abs(Fr) * k_pr), res)
+                       (mut * abs(Fs) * k_sp, mut * abs(Fr) * k_pr),
+                       tb * (Fr - Fs), res)
 
 
 def bench_speeds(p: TorsenCFile, side: str, drive: bool, speed_diff: float

@@ -5,8 +5,10 @@ Parts (axis = global z, front = -z, forward rotation = +z)::
     housing   carrier with one pocket per planet; hinge to the ground (the gearbox)
     case      bolted to the housing (fixed joint); carries the rear thrust washers
     sun       front output; cylindrical joint to the ground bearing (turns, slides)
-    planets   in the housing pockets: planar joint (held axially and against tilting),
-              radial load and tip friction by a JournalContact with the pocket bore
+    planets   in the housing pockets: parallel-axes joint (held against tilting), radial
+              load and tip friction by a JournalContact with the pocket bore, axial load
+              and end-face friction by ThrustWasherContacts on the two pocket floors
+              (``pockets.end_faces``; off: a planar joint holds them axially)
     ring      internal gear; helical spline to the coupling (the seeds' screw joint)
     coupling  rear output; cylindrical joint to the ground bearing
 
@@ -52,11 +54,13 @@ from drivedyn.elements import (
     Fixed,
     GearPair,
     Hinge,
+    ParallelAxes,
     Planar,
     Prismatic,
     Screw,
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
+from drivedyn.elements.contact.common import washer_friction_radius
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
@@ -88,6 +92,8 @@ class Geometry:
         lead: spline lead [m/rev], signed like the spline helix (inf: straight spline).
         hand: +1 right-hand sun, -1 left-hand.
         washer_radius: friction radius r_m of each washer (name -> m).
+        r_end: friction radius of a planet's end face on its pocket floor (0 without
+            ``pockets.end_faces``).
     """
 
     r_sun: float
@@ -99,6 +105,7 @@ class Geometry:
     lead: float
     hand: float
     washer_radius: dict[str, float]
+    r_end: float = 0.0
 
 
 def geometry(p: TorsenCFile) -> Geometry:
@@ -108,13 +115,12 @@ def geometry(p: TorsenCFile) -> Geometry:
     rs, rp, rr = (z * g.module / (2 * cb) for z in (g.teeth_sun, g.teeth_planet, g.teeth_ring))
     ts = math.tan(p.spline.helix_angle)
     lead = 2 * math.pi * p.spline.radius / ts if ts != 0 else math.inf
-    wr = {}
-    for name in WASHERS:
-        w = getattr(p.washers, name)
-        wr[name] = 2 * (w.r_ext**3 - w.r_int**3) / (3 * (w.r_ext**2 - w.r_int**2)) \
-            if w.r_ext > w.r_int else 0.0
+    wr = {name: washer_friction_radius(getattr(p.washers, name).r_int,
+                                       getattr(p.washers, name).r_ext) for name in WASHERS}
+    pk = p.pockets
+    r_end = washer_friction_radius(pk.end_r_int, pk.end_r_ext) if pk.end_faces else 0.0
     return Geometry(rs, rp, rr, rp + g.module, rs + rp, g.teeth_ring / g.teeth_sun, lead,
-                    1.0 if g.helix_angle >= 0 else -1.0, wr)
+                    1.0 if g.helix_angle >= 0 else -1.0, wr, r_end)
 
 
 def check_parameters(p: TorsenCFile) -> Geometry:
@@ -185,6 +191,15 @@ def check_parameters(p: TorsenCFile) -> Geometry:
                  f"radius is the spline radius {p.spline.radius * 1e3:.2f} mm")
     if g.backlash > 0.1 * g.module:
         fail("gears.backlash", g.backlash, f"expected < 0.1 gears.module = {0.1 * g.module:.2e} m")
+    pk = p.pockets
+    if pk.end_faces:
+        if pk.end_r_int >= pk.end_r_ext:
+            fail("pockets.end_r_int", pk.end_r_int, f"must be < end_r_ext = {pk.end_r_ext!r}")
+        root = geo.r_planet - 1.25 * g.module
+        if pk.end_r_ext > root:
+            fail("pockets.end_r_ext", pk.end_r_ext, "outside the planet's root radius "
+                 f"{root * 1e3:.2f} mm (gears.teeth_planet = {g.teeth_planet}, gears.module = "
+                 f"{g.module!r}): the end face is the planet's body inside its teeth")
     if p.pockets.clearance > 0.2 * g.module:
         fail("pockets.clearance", p.pockets.clearance, "expected a small radial clearance "
              f"(< 0.2 gears.module = {0.2 * g.module * 1e3:.3f} mm)")
@@ -272,11 +287,15 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
                           angular_velocity=(0, 0, wp))
         sp.add_marker(f"pocket{k + 1}", "housing", position=pos, axis=Z)
         sp.add_marker(f"m_{pl}", pl, axis=Z)
-        sp.add(Planar(f"{pl}_guide", f"pocket{k + 1}", f"m_{pl}"))
+        pocket_friction = _friction(p.pockets.mu, p, friction_scale)
+        if p.pockets.end_faces:
+            sp.add(ParallelAxes(f"{pl}_guide", f"pocket{k + 1}", f"m_{pl}"))
+            _end_faces(sp, p, pl, pos, b / 2, pocket_friction)
+        else:
+            sp.add(Planar(f"{pl}_guide", f"pocket{k + 1}", f"m_{pl}"))
         sp.add(JournalContact(f"{pl}_pocket", f"pocket{k + 1}", f"m_{pl}", law=_law(p),
                               bore_radius=geo.r_tip_planet + p.pockets.clearance,
-                              pin_radius=geo.r_tip_planet,
-                              friction=_friction(p.pockets.mu, p, friction_scale)))
+                              pin_radius=geo.r_tip_planet, friction=pocket_friction))
         # mesh phases of a planet at th: the sun's and the ring's teeth passed since planet 1
         sp.add(GearPair(f"sun_{pl}", "m_sun", f"m_{pl}", g.teeth_sun, g.teeth_planet,
                         helix_angle=g.helix_angle, mesh_phase=(g.teeth_sun * k / n) % 1.0,
@@ -314,6 +333,22 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
                                    friction=_friction(wd.mu, p, friction_scale)))
     _visuals(sp, p, geo, zc, flexible_case=p.flexible.case)
     return sp, geo
+
+
+def _end_faces(sp: Spec, p: TorsenCFile, planet: str, pos: np.ndarray, half: float,
+               friction: FrictionLaw | None) -> None:
+    """The planet's two end faces (at ``+-half`` [m] from its centre) on the pocket floors
+    of the housing, ``pockets.end_gap`` beyond them (marker A on the floor, normal towards
+    the planet)."""
+    pk = p.pockets
+    for tag, zf, axis in (("f", -half, Z), ("r", half, MZ)):
+        floor = zf + math.copysign(pk.end_gap, zf)
+        sp.add_marker(f"floor_{planet}{tag}", "housing",
+                      position=pos + np.array([0.0, 0.0, floor]), axis=axis)
+        sp.add_marker(f"face_{planet}{tag}", planet, position=(0, 0, zf), axis=Z)
+        sp.add(ThrustWasherContact(f"{planet}_end_{tag}", f"floor_{planet}{tag}",
+                                   f"face_{planet}{tag}", law=_law(p), r_int=pk.end_r_int,
+                                   r_ext=pk.end_r_ext, friction=friction))
 
 
 def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: bool) -> None:

@@ -84,10 +84,22 @@ class Washers(Strict):
 
 
 class Pockets(Strict):
-    """Planet tips in the housing pockets (radial clearance, friction)."""
+    """Planets in the housing pockets: the tips in the bore (radial ``clearance``) and, with
+    ``end_faces`` (default), the planet's end faces on the pocket floors (annulus
+    ``end_r_int..end_r_ext``, axial play ``end_gap``); ``mu`` is the coefficient of both.
+
+    The two meshes of a planet push it axially with ``tan(beta) (F_ring - F_sun)``: the
+    pocket friction makes the ring-mesh force differ from the sun-mesh force, so a net
+    thrust of 40-60 % of one mesh's thrust remains, which the floor carries with friction
+    against the planet's spin. ``end_faces = false``: a planar joint holds the planet
+    axially without friction (the floors' friction left out)."""
 
     clearance: PositiveLength
     mu: Coefficient
+    end_faces: bool = True
+    end_r_int: NonNegLength = 0.002
+    end_r_ext: PositiveLength = 0.006
+    end_gap: NonNegLength = 5e-5
 
 
 class FlexibleParts(Strict):
