@@ -141,7 +141,9 @@ def test_torsen_c_scene_draws_each_wheel_once_with_its_geometry() -> None:
     assert by_node["sun"]["helix_angle"] == pytest.approx(-by_node["planet1"]["helix_angle"])
     assert by_node["ring"]["helix_angle"] == pytest.approx(by_node["planet1"]["helix_angle"])
     washers = [s for s in d["shapes"] if s["role"] == "washer"]
-    assert len(washers) == 5
+    # five thrust washers and the two end faces of each of the four planets
+    assert len(washers) == 5 + 2 * 4
+    assert sum(s["label"].startswith("planet") for s in washers) == 8
     roles = {s["role"] for s in d["shapes"]}
     assert {"housing", "case", "shaft"} <= roles
     # every body is drawn by a declared shape: no stand-in box
@@ -252,9 +254,9 @@ def test_scene_of_a_run_follows_the_recorded_poses(torsen_c_run) -> None:
         for f in range(scene.frames):
             assert np.allclose(_rotation(scene.quaternion[f, i]), R[f], atol=1e-12)
     assert not scene.warnings
-    # force arrows: 5 washers, 4 pockets, 8 gear meshes
+    # force arrows: 5 washers, 4 pockets, 8 planet end faces, 8 gear meshes
     arrows = {a.name: a for a in scene.arrows}
-    assert len(arrows) == 17
+    assert len(arrows) == 25
     d = json.loads(ds.attrs["scene"])
     geo = {s["label"]: s for s in d["shapes"]}
     f = scene.frames - 1
@@ -299,7 +301,7 @@ def test_scene_of_a_run_follows_the_recorded_poses(torsen_c_run) -> None:
     x, Rm = scene.position[3, m.node], _rotation(scene.quaternion[3, m.node])
     assert np.allclose(geom["points"][: len(m.vertices)], m.vertices @ Rm.T + x)
     v = geom["vertices"]
-    assert len(v) == 17 and np.allclose(geom["points"][v], [a.origin[3] for a in scene.arrows])
+    assert len(v) == 25 and np.allclose(geom["points"][v], [a.origin[3] for a in scene.arrows])
     assert np.allclose(geom["force"][v], [a.vector[3] for a in scene.arrows])
     assert geom["triangles"].max() < len(geom["points"]) and len(geom["lines"]) == 0
 

@@ -289,10 +289,12 @@ def _c_cases(p):
 
 def test_type_c_power_balance_with_tooth_friction():
     """Housing frame, shipped parameters plus tooth friction: the external power equals the
-    friction power of washers, pockets and teeth, the teeth's computed here from the mesh
-    forces: ``n mu F_N s_eff |w_1' - w_2'|`` per mesh with ``F_N = |F_t| / (cos alpha_t
-    cos beta_b)`` and the element's arm. Bench and vehicle states; measured <= 3.3e-15,
-    asserted 1e-9 (the teeth dissipate at least 2.6 % as much as the rest).
+    friction power of washers, pocket tips, planet end faces and teeth, the end faces' and
+    the teeth's computed here from the mesh forces. End faces: ``n mu_p tan(beta) |F_r -
+    F_s| r_e |w_p'|`` (``r_e`` from the file's end-face radii); teeth: ``n mu F_N s_eff
+    |w_1' - w_2'|`` per mesh with ``F_N = |F_t| / (cos alpha_t cos beta_b)`` and the
+    element's arm. Bench and vehicle states; measured <= 3.3e-15, asserted 1e-9 (the teeth
+    dissipate at least 2.6 % as much as the rest).
 
     Mutation seen to fail: the ring mesh's couple with the wrong sign in the ring's moment
     equation only (the planet's unchanged)."""
@@ -313,9 +315,13 @@ def test_type_c_power_balance_with_tooth_friction():
         p_pockets = n * p.pockets.mu * q.pocket_force * r_tip * abs(wpr)
         p_teeth = n * MU_T * (abs(q.mesh_sun) * k_sp * abs(wsr - wpr)
                               + abs(q.mesh_ring) * k_pr * abs(wpr - wcr))
+        pk = p.pockets
+        r_e = 2 * (pk.end_r_ext**3 - pk.end_r_int**3) / (3 * (pk.end_r_ext**2 - pk.end_r_int**2))
+        p_ends = n * pk.mu * math.tan(abs(g.helix_angle)) * abs(q.mesh_ring - q.mesh_sun) \
+            * r_e * abs(wpr)
         assert p_teeth > 0.01 * (p_washers + p_pockets)  # the check sees the teeth
         p_ext = q.torque_sun * wsr + q.torque_coupling * wcr
-        assert p_ext == pytest.approx(p_washers + p_pockets + p_teeth, rel=1e-9)
+        assert p_ext == pytest.approx(p_washers + p_pockets + p_ends + p_teeth, rel=1e-9)
 
 
 def test_type_b_power_balance_with_tooth_friction():

@@ -65,6 +65,7 @@ def params(extra: dict | None = None):
 
 
 SHIPPED = params()
+NO_TEETH = params({"gears.tooth_friction": 0.0})
 
 
 def _set(name: str) -> dict:
@@ -72,6 +73,7 @@ def _set(name: str) -> dict:
     p = SHIPPED
     return {
         "shipped": {},
+        "shipped, no tooth friction": {"gears.tooth_friction": 0.0},
         # 3 planets: 50 + 70 = 120 is divisible by 3
         "3 planets": {"gears.planets": 3},
         "pocket mu 0.25, washer mu x0.6": {
@@ -169,17 +171,22 @@ def test_bench_arguments_are_checked():
 
 
 def test_bench_model_structure():
-    """One planar guide and one pocket per planet, two meshes per planet, five washers, and
-    the planar joint family is compiled (its tangents are checked by the registry loop of
-    tests/elements/test_tangents.py, which runs over every registered family)."""
+    """Per planet a parallel-axes guide, a pocket and two end faces on the floors, two
+    meshes; five washers; without ``pockets.end_faces`` a planar guide instead (both joint
+    families' tangents are checked by the registry loop of tests/elements/test_tangents.py,
+    which runs over every registered family)."""
     p = params({"gears.planets": 3})
     model = compile_model(bench_spec(p, "front")[0])
     count = {k: v["count"] for k, v in model_summary(model)["elements"].items()}
-    assert count["planar"] == 3
+    assert count["parallel_axes"] == 3 and "planar" not in count
     assert count["journal_contact"] == 3
     assert count["gear_pair"] == 6
-    assert count["thrust_washer_contact"] == 5
+    assert count["thrust_washer_contact"] == 5 + 2 * 3
     assert count["screw"] == 1
+    p = params({"gears.planets": 3, "pockets.end_faces": False})
+    count = {k: v["count"] for k, v in model_summary(compile_model(
+        bench_spec(p, "front")[0]))["elements"].items()}
+    assert count["planar"] == 3 and count["thrust_washer_contact"] == 5
 
 
 # -- analytic model ----------------------------------------------------------------------
@@ -525,14 +532,17 @@ def test_sim_tdr_independent_of_torque():
     """The analytic TDR is exactly torque-independent (test above). The simulated one varies
     with the load only through the compliance effect bounded above (the clearance is fixed,
     the deflections grow with the load): measured spread <= 0.11 % from the nominal over
-    60-250 N m; asserted 0.5 % (the sim-vs-analytic bound)."""
-    nominal = bench("shipped", "rear")
+    60-250 N m without tooth friction; asserted 0.5 % (the sim-vs-analytic bound). Tooth
+    friction on the flank the compliance closes adds to it (the analytic model has one flank
+    per mesh): with the file's 0.10, 0.77 % from the analytic TDR at 60 N m, which the
+    validation case checks at its 2 %."""
+    nominal = bench("shipped, no tooth friction", "rear")
     for torque in (60.0, 250.0):
-        run = bench("shipped", "rear", torque=torque)
+        run = bench("shipped, no tooth friction", "rear", torque=torque)
         _check_steady(run, TOL_SHIPPED_POCKET / 20)
         for mode, tdr in run.tdr.items():
             assert abs(tdr / nominal.tdr[mode] - 1) < TOL_SHIPPED_POCKET, (torque, mode)
-            assert abs(tdr / bench_tdr(SHIPPED, mode) - 1) < TOL_SHIPPED_POCKET
+            assert abs(tdr / bench_tdr(NO_TEETH, mode) - 1) < TOL_SHIPPED_POCKET
 
 
 @pytest.mark.slow

@@ -167,9 +167,12 @@ def profile(p: Any, groups: list[Group], targets: dict[int, float],
 
     Returns:
         group label -> {``values`` (grid over the range), ``delta_chi2`` (above the
-        profile's minimum), ``interval`` [low, high] where ``delta_chi2 <= 1`` (linear
-        interpolation between grid points; a bound of the range when it reaches it)}.
+        profile's minimum), ``minimum`` (the value at the minimum, refined between the grid
+        points), ``interval`` [low, high] where ``delta_chi2 <= 1`` (its ends found by root
+        bracketing to 1e-9; a bound of the range when it stays below 1 up to it)}.
     """
+    from scipy.optimize import brentq, minimize_scalar
+
     off = offsets or {}
     goal = {m: targets[m] / off.get(m, 1.0) for m in targets}
     sigma = {m: uncertainty for m in targets}
@@ -177,39 +180,33 @@ def profile(p: Any, groups: list[Group], targets: dict[int, float],
     out: dict[str, dict] = {}
     for i, g in enumerate(groups):
         lo, hi = bounds[i]
-        grid = np.linspace(lo, hi, points)
-        chi = []
         others = [h for j, h in enumerate(groups) if j != i]
         obox = [b for j, b in enumerate(bounds) if j != i]
-        for v in grid:
+
+        def chi(v: float, g=g, others=others, obox=obox, i=i) -> float:
             q = with_values(p, {k: float(v) for k in g})
-            if others:
-                xo, _ = _fit(q, others, goal, obox, np.delete(x0, i))
-                chi.append(_chi2(q, others, xo, goal, sigma))
-            else:
-                chi.append(_chi2(q, [], np.zeros(0), goal, sigma))
-        d = np.array(chi) - min(chi)
-        out[_label(g)] = {"values": grid.tolist(), "delta_chi2": d.tolist(),
-                          "interval": _interval(grid, d)}
+            if not others:
+                return _chi2(q, [], np.zeros(0), goal, sigma)
+            xo, _ = _fit(q, others, goal, obox, np.delete(x0, i))
+            return _chi2(q, others, xo, goal, sigma)
+
+        grid = np.linspace(lo, hi, points)
+        curve = np.array([chi(v) for v in grid])
+        k = int(np.argmin(curve))
+        a, b = grid[max(k - 1, 0)], grid[min(k + 1, points - 1)]
+        best = minimize_scalar(chi, bounds=(a, b), method="bounded",
+                               options={"xatol": 1e-10})
+        vmin, cmin = (float(best.x), float(best.fun)) if best.fun < curve[k] else (
+            float(grid[k]), float(curve[k]))
+
+        def rise(v: float, chi=chi, cmin=cmin) -> float:
+            return chi(v) - cmin - 1.0
+
+        low = lo if rise(lo) <= 0 else brentq(rise, lo, vmin, xtol=1e-9)
+        high = hi if rise(hi) <= 0 else brentq(rise, vmin, hi, xtol=1e-9)
+        out[_label(g)] = {"values": grid.tolist(), "delta_chi2": (curve - cmin).tolist(),
+                          "minimum": vmin, "interval": [float(low), float(high)]}
     return out
-
-
-def _interval(grid: np.ndarray, d: np.ndarray) -> list[float]:
-    """[low, high] of ``d <= 1`` around the minimum, interpolated between grid points."""
-    k = int(np.argmin(d))
-    lo_i, hi_i = k, k
-    while lo_i > 0 and d[lo_i - 1] <= 1.0:
-        lo_i -= 1
-    while hi_i < len(d) - 1 and d[hi_i + 1] <= 1.0:
-        hi_i += 1
-
-    def cross(a: int, b: int) -> float:  # d[a] <= 1 < d[b]
-        t = (1.0 - d[a]) / (d[b] - d[a])
-        return float(grid[a] + t * (grid[b] - grid[a]))
-
-    low = float(grid[0]) if lo_i == 0 else cross(lo_i, lo_i - 1)
-    high = float(grid[-1]) if hi_i == len(d) - 1 else cross(hi_i, hi_i + 1)
-    return [low, high]
 
 
 def spread(p: Any, groups: list[Group], targets: dict[int, float],

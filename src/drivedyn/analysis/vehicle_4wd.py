@@ -12,8 +12,10 @@ Checks (:func:`checks`, the issue's acceptance criteria):
   whatever the speeds); the lowest-friction wheel spins (its slip grows).
 * ``locked``: no tyre force exceeds its wheel's friction limit ``mu_x Fz`` (+2 %), and the
   wheel with more grip on each axle takes more torque.
-* ``torsen``: each axle's torque ratio (high / low) stays within that differential's highest
-  analytic TDR (+2 %) and the wheel with more grip gets more torque.
+* ``torsen``: each axle's torque ratio (high / low) lies in the band of that differential's
+  analytic TDRs (lowest -2 % to highest +2 %: on split-mu one wheel slips and the TORSEN
+  biases at its TDR; an open or a locked axle falls outside) and the wheel with more grip
+  gets more torque.
 * every configuration: torque balance of each differential (housing input vs outputs) and
   power balance of the driveline (engine power = wheel powers + driveline dissipation + rate
   of driveline kinetic energy) within 0.5 % over the window; the model's energy audit.
@@ -317,9 +319,11 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
                         abs(hi.torque) > abs(lo.torque)))
         tdr = s.tdr.get(axle)
         if kind == "torsen" and tdr:
-            lim = tdr[1] * (1 + tol)
-            out.append((f"torsen: {axle} torque ratio within the TDR", s.axle_ratio[axle], lim,
-                        s.axle_ratio[axle] <= lim))
+            lo, hi = tdr[0] * (1 - tol), tdr[1] * (1 + tol)
+            r = s.axle_ratio[axle]
+            # the limit shown is the band's end the ratio is nearer to
+            out.append((f"torsen: {axle} torque ratio at the TDR ({lo:.3f}-{hi:.3f})", r,
+                        hi if r >= lo else lo, lo <= r <= hi))
     for pos, e in s.torque_balance.items():
         out.append((f"{kind}: torque balance of the {pos} differential", e, balance,
                     e <= balance))

@@ -115,10 +115,13 @@ def geometry(p: TorsenCFile) -> Geometry:
     rs, rp, rr = (z * g.module / (2 * cb) for z in (g.teeth_sun, g.teeth_planet, g.teeth_ring))
     ts = math.tan(p.spline.helix_angle)
     lead = 2 * math.pi * p.spline.radius / ts if ts != 0 else math.inf
-    wr = {name: washer_friction_radius(getattr(p.washers, name).r_int,
-                                       getattr(p.washers, name).r_ext) for name in WASHERS}
+    def r_m(r_int: float, r_ext: float) -> float:  # 0 for an annulus check_parameters refuses
+        return washer_friction_radius(r_int, r_ext) if r_ext > r_int else 0.0
+
+    wr = {name: r_m(getattr(p.washers, name).r_int, getattr(p.washers, name).r_ext)
+          for name in WASHERS}
     pk = p.pockets
-    r_end = washer_friction_radius(pk.end_r_int, pk.end_r_ext) if pk.end_faces else 0.0
+    r_end = r_m(pk.end_r_int, pk.end_r_ext) if pk.end_faces else 0.0
     return Geometry(rs, rp, rr, rp + g.module, rs + rp, g.teeth_ring / g.teeth_sun, lead,
                     1.0 if g.helix_angle >= 0 else -1.0, wr, r_end)
 
