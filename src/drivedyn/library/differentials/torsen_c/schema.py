@@ -92,7 +92,10 @@ class Pockets(Strict):
     pocket friction makes the ring-mesh force differ from the sun-mesh force, so a net
     thrust of 40-60 % of one mesh's thrust remains, which the floor carries with friction
     against the planet's spin. ``end_faces = false``: a planar joint holds the planet
-    axially without friction (the floors' friction left out)."""
+    axially without friction (the floors' friction left out). ``end_film`` (off by default): the
+    gear oil (``viscosity``) between each end face and its floor, a squeeze film with metal
+    contact below the faces' roughness (``contact.elastic_washers.roughness``) and viscous
+    drag."""
 
     clearance: PositiveLength
     mu: Coefficient
@@ -100,6 +103,8 @@ class Pockets(Strict):
     end_r_int: NonNegLength = 0.002
     end_r_ext: PositiveLength = 0.006
     end_gap: NonNegLength = 5e-5
+    end_film: bool = False
+    viscosity: Annotated[float, scalar((-1, 1, -1, 0), positive=True)] = 0.05
 
 
 class FlexibleParts(Strict):
