@@ -243,12 +243,12 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
 
     The run keeps the friction set these figures were measured with (W1 0.3, W3-W5 0.18491,
     pockets 0.173023, no tooth friction, planets held axially): this test guards the Newton
-    rules above. With the file's calibration (one coefficient 0.1765, tooth friction, end
-    faces) the zero hold takes 3.7 times a loaded hold's work (1134 factorisations and 48
-    rejections in the hold against 165 and none); so it does without tooth friction and end
-    faces (1181 and 48): the coefficients decide it, not the new mechanisms. 1.6 times with
-    the oil film on the planets' end faces (``pockets.end_film``). Bringing that down is the
-    vehicle-speed work's (issue 46)."""
+    rules above. With the file's physics the unloaded planets float at a cost no Newton rule
+    removes: the zero hold takes 3.7 times a loaded hold's work (1134 factorisations and 48
+    rejections in the hold against 165 and none). Per mechanism, at the file's coefficient:
+    tooth friction alone 1181 and 48, the end faces alone (with their oil film) 1956 and 105,
+    neither 145 and 0; both with the film 1.6 times a loaded hold's work
+    (``pockets.end_film``). Bringing that down is the vehicle-speed work's (issue 46)."""
     p = read_library_file("torsen-c", [
         "vehicle.torque_levels=[125.0, 60.0, 0.0]", "vehicle.speed_diff=[-2.0, -2.0, -2.0]",
         "washers.sun_housing.mu=0.3", "washers.coupling_case.mu=0.18491",
