@@ -10,17 +10,17 @@ is wrong, and the fitted numbers mean nothing. A free parameter is one dotted ke
 model file (e.g. ``washers.sun_housing.mu``) or a group of keys that share one fitted value
 (e.g. the washer and pocket coefficients of the Type C: *one shared coefficient*). The
 analytic quasi-static model of the differential does the fitting; the bench simulation then
-confirms it. If the simulated
-TDRs differ from the analytic ones by more than ``sim_tol``, the targets are corrected by that
-ratio and the analytic fit is repeated (a fixed-point on the small model difference), so the
-shipped coefficients reproduce the measurements *in simulation*.
+confirms it. If the simulated TDRs differ from the analytic ones by more than ``sim_tol``,
+the targets are corrected by that ratio and the analytic fit is repeated (a fixed-point on
+the small model difference), so the shipped coefficients reproduce the measurements *in
+simulation*.
 
 A fit with as many free numbers as measurements reproduces them by construction and predicts
 nothing; :mod:`drivedyn.analysis.calibration_study` gives the honest predictive error
 (leave-out by distinct measurement), the cost profile of each fitted number and the spread
 under the measurement uncertainty.
 
-:func:`write_calibrated` writes the model file with the fitted values and a
+:func:`update_toml_text` writes the model file with the fitted values and a
 ``[calibration]`` table that states which values were fitted to which data and the command
 that reproduces the fit.
 """
@@ -135,7 +135,8 @@ def groups_of(free: list[str | Group]) -> list[Group]:
     return out
 
 
-def _expand(groups: list[Group], x: np.ndarray) -> dict[str, float]:
+def expand_groups(groups: list[Group], x: np.ndarray) -> dict[str, float]:
+    """Dotted key -> value of each free group's number ``x`` (tied keys share theirs)."""
     return {k: float(v) for g, v in zip(groups, x, strict=True) for k in g}
 
 
@@ -180,8 +181,8 @@ def bound_hits(groups: list[Group], x: np.ndarray,
             if min(v - lo, hi - v) <= BOUND_MARGIN * (hi - lo)]
 
 
-def _fit(p: Any, groups: list[Group], targets: dict[int, float],
-         bounds: list[tuple[float, float]], x0: np.ndarray) -> tuple[np.ndarray, float]:
+def fit_log_tdr(p: Any, groups: list[Group], targets: dict[int, float],
+                bounds: list[tuple[float, float]], x0: np.ndarray) -> tuple[np.ndarray, float]:
     """Bounded least squares of ``ln(TDR_m / target_m)`` (every measurement with the same
     relative uncertainty); returns the fitted numbers and the cost (half the sum of
     squares)."""
@@ -189,7 +190,7 @@ def _fit(p: Any, groups: list[Group], targets: dict[int, float],
     want = np.array([targets[m] for m in modes])
 
     def resid(x):
-        got = _analytic(with_values(p, _expand(groups, x)), modes)
+        got = _analytic(with_values(p, expand_groups(groups, x)), modes)
         return np.log(np.array([got[m] for m in modes]) / want)
 
     lo = np.array([b[0] for b in bounds])
@@ -268,9 +269,9 @@ def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
     box = group_bounds(p, groups, bounds)
     x0 = np.array([np.mean([get_value(p, k) for k in g]) for g in groups], float)
     goal = dict(targets)
-    x, cost = _fit(p, groups, goal, box, x0)
+    x, cost = fit_log_tdr(p, groups, goal, box, x0)
     _refuse(groups, x, box, p, refuse_at_bound)
-    q = with_values(p, _expand(groups, x))
+    q = with_values(p, expand_groups(groups, x))
     modes = [m.number for m in differentials.of(p).modes]
     ana = _analytic(q, modes)
     sim: dict[int, float] = {}
@@ -284,13 +285,13 @@ def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
                 break
             # correct the analytic targets by the model difference, refit
             goal = {m: targets[m] / off[m] for m in targets}
-            x, cost = _fit(p, groups, goal, box, x)
+            x, cost = fit_log_tdr(p, groups, goal, box, x)
             _refuse(groups, x, box, p, refuse_at_bound)
-            q = with_values(p, _expand(groups, x))
+            q = with_values(p, expand_groups(groups, x))
             ana = _analytic(q, modes)
             its += 1
     at_bound = [h[0] for h in bound_hits(groups, x, box)]
-    return Calibration(q, _expand(groups, x), groups, dict(targets), ana, sim, its, cost,
+    return Calibration(q, expand_groups(groups, x), groups, dict(targets), ana, sim, its, cost,
                        at_bound, off, box)
 
 

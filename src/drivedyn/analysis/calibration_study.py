@@ -35,9 +35,9 @@ import numpy as np
 
 from drivedyn.analysis.calibrate import (
     Group,
-    _expand,
-    _fit,
     bound_hits,
+    expand_groups,
+    fit_log_tdr,
     get_value,
     with_values,
 )
@@ -106,7 +106,7 @@ def distinct_measurements(p: Any, groups: list[Group], targets: dict[int, float]
     tol = TELL_APART * uncertainty
     logs = []
     for x in _points(bounds):
-        val = _analytic(with_values(p, _expand(groups, x)), modes)
+        val = _analytic(with_values(p, expand_groups(groups, x)), modes)
         logs.append({m: math.log(val[m]) for m in modes})
     out: list[tuple[int, ...]] = []
     for m in modes:
@@ -144,8 +144,8 @@ def cross_validate(p: Any, groups: list[Group], targets: dict[int, float],
             continue
         if progress:
             progress(f"leave-out: fitting without mode(s) {', '.join(map(str, left))}")
-        x, _ = _fit(p, groups, rest, bounds, _start(p, groups))
-        q = with_values(p, _expand(groups, x))
+        x, _ = fit_log_tdr(p, groups, rest, bounds, _start(p, groups))
+        q = with_values(p, expand_groups(groups, x))
         pred = {m: v * off.get(m, 1.0) for m, v in _analytic(q, list(left)).items()}
         out.append(LeftOut(left, pred,
                            {m: 100.0 * (pred[m] / targets[m] - 1.0) for m in left},
@@ -156,7 +156,7 @@ def cross_validate(p: Any, groups: list[Group], targets: dict[int, float],
 
 def _chi2(p: Any, groups: list[Group], x: np.ndarray, goal: dict[int, float],
           sigma: dict[int, float]) -> float:
-    val = _analytic(with_values(p, _expand(groups, x)), sorted(goal))
+    val = _analytic(with_values(p, expand_groups(groups, x)), sorted(goal))
     return float(sum((math.log(val[m] / goal[m]) / sigma[m]) ** 2 for m in goal))
 
 
@@ -187,7 +187,7 @@ def profile(p: Any, groups: list[Group], targets: dict[int, float],
             q = with_values(p, {k: float(v) for k in g})
             if not others:
                 return _chi2(q, [], np.zeros(0), goal, sigma)
-            xo, _ = _fit(q, others, goal, obox, np.delete(x0, i))
+            xo, _ = fit_log_tdr(q, others, goal, obox, np.delete(x0, i))
             return _chi2(q, others, xo, goal, sigma)
 
         grid = np.linspace(lo, hi, points)
@@ -226,9 +226,9 @@ def spread(p: Any, groups: list[Group], targets: dict[int, float],
     for signs in itertools.product((-1.0, 1.0), repeat=len(modes)):
         goal = {m: targets[m] * (1.0 + s * uncertainty) / off.get(m, 1.0)
                 for m, s in zip(modes, signs, strict=True)}
-        x, _ = _fit(p, groups, goal, bounds, x0)
+        x, _ = fit_log_tdr(p, groups, goal, bounds, x0)
         on_bound += bool(bound_hits(groups, x, bounds))
-        q = with_values(p, _expand(groups, x))
+        q = with_values(p, expand_groups(groups, x))
         vals.append(x)
         tdrs.append([v * off.get(m, 1.0) for m, v in _analytic(q, modes).items()])
     va, ta = np.array(vals), np.array(tdrs)
