@@ -343,7 +343,8 @@ def _end_faces(sp: Spec, p: TorsenCFile, planet: str, pos: np.ndarray, half: flo
                friction: FrictionLaw | None) -> None:
     """The planet's two end faces (at ``+-half`` [m] from its centre) on the pocket floors
     of the housing, ``pockets.end_gap`` beyond them (marker A on the floor, normal towards
-    the planet)."""
+    the planet). Both floors belong to the housing body: with a flexible case the rear floor
+    does not deform with it."""
     pk = p.pockets
     for tag, zf, axis in (("f", -half, Z), ("r", half, MZ)):
         floor = zf + math.copysign(pk.end_gap, zf)
