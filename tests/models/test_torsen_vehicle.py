@@ -248,7 +248,7 @@ def test_a_zero_torque_hold_costs_about_the_newton_work_of_a_loaded_one(caplog) 
     rejections in the hold against 165 and none). Per mechanism, at the file's coefficient:
     tooth friction alone 1181 and 48, the end faces alone (with their oil film) 1956 and 105,
     neither 145 and 0; both with the film 1.6 times a loaded hold's work
-    (``pockets.end_film``). Bringing that down is the vehicle-speed work's (issue 46)."""
+    (``pockets.end_film``). Bringing that down belongs to the vehicle-speed work."""
     p = read_library_file("torsen-c", [
         "vehicle.torque_levels=[125.0, 60.0, 0.0]", "vehicle.speed_diff=[-2.0, -2.0, -2.0]",
         "washers.sun_housing.mu=0.3", "washers.coupling_case.mu=0.18491",
