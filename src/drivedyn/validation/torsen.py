@@ -28,9 +28,8 @@ def torsen_c_tdr(quick: bool = False, figure_dir: str | None = None) -> list[Cas
     % and the planets' end faces by 2.5-3.1 %, so either left out of one model fails the 2 %;
     seen: the end faces' friction missing from the analytic moment equation put the
     simulation 3.7 % above it in mode 1: 3.724 against 3.590), a bench that leaks torque
-    (balance), and a
-    differential that does not lock as measured (order of the modes: an open differential
-    ties modes 1 and 2, a tie counts as out of order)."""
+    (balance), and a differential that does not lock as measured (order of the modes: an
+    open differential ties modes 1 and 2, a tie counts as out of order)."""
     from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes
     from drivedyn.analysis.tdr import seeds_simulation as seeds_of
     from drivedyn.config import read_library_file
