@@ -140,9 +140,15 @@ def expand_groups(groups: list[Group], x: np.ndarray) -> dict[str, float]:
     return {k: float(v) for g, v in zip(groups, x, strict=True) for k in g}
 
 
-def _analytic(p: Any, modes: list[int]) -> dict[int, float]:
+def analytic_tdrs(p: Any, modes: list[int]) -> dict[int, float]:
+    """mode -> TDR of the differential's analytic quasi-static model on the bench."""
     diff = differentials.of(p)
-    return {m: diff.analytic_bench(p, m) for m in modes}
+    return {m: float(diff.analytic_bench(p, m)) for m in modes}
+
+
+def start_values(p: Any, groups: list[Group]) -> np.ndarray:
+    """Start of a fit: each group's mean of its keys' values in ``p``."""
+    return np.array([np.mean([get_value(p, k) for k in g]) for g in groups], float)
 
 
 def group_bounds(p: Any, groups: list[Group],
@@ -190,7 +196,7 @@ def fit_log_tdr(p: Any, groups: list[Group], targets: dict[int, float],
     want = np.array([targets[m] for m in modes])
 
     def resid(x):
-        got = _analytic(with_values(p, expand_groups(groups, x)), modes)
+        got = analytic_tdrs(with_values(p, expand_groups(groups, x)), modes)
         return np.log(np.array([got[m] for m in modes]) / want)
 
     lo = np.array([b[0] for b in bounds])
@@ -267,13 +273,13 @@ def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
     groups = groups_of(free)
     check_free(p, groups, targets)
     box = group_bounds(p, groups, bounds)
-    x0 = np.array([np.mean([get_value(p, k) for k in g]) for g in groups], float)
+    x0 = start_values(p, groups)
     goal = dict(targets)
     x, cost = fit_log_tdr(p, groups, goal, box, x0)
     _refuse(groups, x, box, p, refuse_at_bound)
     q = with_values(p, expand_groups(groups, x))
     modes = [m.number for m in differentials.of(p).modes]
-    ana = _analytic(q, modes)
+    ana = analytic_tdrs(q, modes)
     sim: dict[int, float] = {}
     its = 1
     off = {m: 1.0 for m in modes}
@@ -288,7 +294,7 @@ def calibrate(p: Any, free: list[str | Group], targets: dict[int, float],
             x, cost = fit_log_tdr(p, groups, goal, box, x)
             _refuse(groups, x, box, p, refuse_at_bound)
             q = with_values(p, expand_groups(groups, x))
-            ana = _analytic(q, modes)
+            ana = analytic_tdrs(q, modes)
             its += 1
     at_bound = [h[0] for h in bound_hits(groups, x, box)]
     return Calibration(q, expand_groups(groups, x), groups, dict(targets), ana, sim, its, cost,

@@ -35,13 +35,13 @@ import numpy as np
 
 from drivedyn.analysis.calibrate import (
     Group,
+    analytic_tdrs,
     bound_hits,
     expand_groups,
     fit_log_tdr,
-    get_value,
+    start_values,
     with_values,
 )
-from drivedyn.library import differentials
 
 #: two modes are one measurement when their model TDRs differ by less than this fraction of
 #: the relative measurement uncertainty at every sampled point of the ranges
@@ -73,15 +73,6 @@ def _label(g: Group) -> str:
     return ", ".join(g)
 
 
-def _analytic(p: Any, modes: list[int]) -> dict[int, float]:
-    diff = differentials.of(p)
-    return {m: float(diff.analytic_bench(p, m)) for m in modes}
-
-
-def _start(p: Any, groups: list[Group]) -> np.ndarray:
-    return np.array([np.mean([get_value(p, k) for k in g]) for g in groups], float)
-
-
 def _points(bounds: list[tuple[float, float]]) -> list[np.ndarray]:
     """Sample points of the box: the quarter and three-quarter values of each range, all
     combinations (at most 8: the first three groups vary, the others at mid-range)."""
@@ -106,7 +97,7 @@ def distinct_measurements(p: Any, groups: list[Group], targets: dict[int, float]
     tol = TELL_APART * uncertainty
     logs = []
     for x in _points(bounds):
-        val = _analytic(with_values(p, expand_groups(groups, x)), modes)
+        val = analytic_tdrs(with_values(p, expand_groups(groups, x)), modes)
         logs.append({m: math.log(val[m]) for m in modes})
     out: list[tuple[int, ...]] = []
     for m in modes:
@@ -144,9 +135,9 @@ def cross_validate(p: Any, groups: list[Group], targets: dict[int, float],
             continue
         if progress:
             progress(f"leave-out: fitting without mode(s) {', '.join(map(str, left))}")
-        x, _ = fit_log_tdr(p, groups, rest, bounds, _start(p, groups))
+        x, _ = fit_log_tdr(p, groups, rest, bounds, start_values(p, groups))
         q = with_values(p, expand_groups(groups, x))
-        pred = {m: v * off.get(m, 1.0) for m, v in _analytic(q, list(left)).items()}
+        pred = {m: v * off.get(m, 1.0) for m, v in analytic_tdrs(q, list(left)).items()}
         out.append(LeftOut(left, pred,
                            {m: 100.0 * (pred[m] / targets[m] - 1.0) for m in left},
                            {_label(g): float(v) for g, v in zip(groups, x, strict=True)},
@@ -156,7 +147,7 @@ def cross_validate(p: Any, groups: list[Group], targets: dict[int, float],
 
 def _chi2(p: Any, groups: list[Group], x: np.ndarray, goal: dict[int, float],
           sigma: dict[int, float]) -> float:
-    val = _analytic(with_values(p, expand_groups(groups, x)), sorted(goal))
+    val = analytic_tdrs(with_values(p, expand_groups(groups, x)), sorted(goal))
     return float(sum((math.log(val[m] / goal[m]) / sigma[m]) ** 2 for m in goal))
 
 
@@ -176,7 +167,7 @@ def profile(p: Any, groups: list[Group], targets: dict[int, float],
     off = offsets or {}
     goal = {m: targets[m] / off.get(m, 1.0) for m in targets}
     sigma = {m: uncertainty for m in targets}
-    x0 = _start(p, groups)
+    x0 = start_values(p, groups)
     out: dict[str, dict] = {}
     for i, g in enumerate(groups):
         lo, hi = bounds[i]
@@ -221,7 +212,7 @@ def spread(p: Any, groups: list[Group], targets: dict[int, float],
     """
     off = offsets or {}
     modes = sorted(targets)
-    x0 = _start(p, groups)
+    x0 = start_values(p, groups)
     vals, tdrs, on_bound = [], [], 0
     for signs in itertools.product((-1.0, 1.0), repeat=len(modes)):
         goal = {m: targets[m] * (1.0 + s * uncertainty) / off.get(m, 1.0)
@@ -230,7 +221,7 @@ def spread(p: Any, groups: list[Group], targets: dict[int, float],
         on_bound += bool(bound_hits(groups, x, bounds))
         q = with_values(p, expand_groups(groups, x))
         vals.append(x)
-        tdrs.append([v * off.get(m, 1.0) for m, v in _analytic(q, modes).items()])
+        tdrs.append([v * off.get(m, 1.0) for m, v in analytic_tdrs(q, modes).items()])
     va, ta = np.array(vals), np.array(tdrs)
     return {"values": {_label(g): [float(va[:, i].min()), float(va[:, i].max())]
                        for i, g in enumerate(groups)},
