@@ -19,10 +19,10 @@ def torsen_b_bench(quick: bool = False, figure_dir: str | None = None) -> list[C
     (mode 1 = mode 3, mode 2 = mode 4, 0.5 %) and the torque balance of the bench.
 
     Errors it catches: a simulator/analytic disagreement in a mechanism the two models share
-    (the tooth-friction couples raise the TDRs by 9.9-11 %: a couple of the wrong sign in
-    either model puts them about 20 % apart), and a calibration that no longer matches Table 2
-    (the fitted coefficient moved by 10 %, 0.1086 to 0.1195, moves mode 1 from 1.632 to 1.701:
-    6.3 % off the measurement)."""
+    (seen: the element gears' tooth-friction couple with the wrong sign in the analytic
+    moment equations puts the simulated TDRs 17-19.5 % above it), and a calibration that no
+    longer matches Table 2 (the fitted coefficient moved by 10 %, 0.1086 to 0.1195, moves
+    the analytic mode 1 from 1.632 to 1.701: 6.3 % off the measurement)."""
     from drivedyn.analysis.tdr import experimental, mode_name, run_bench, side_modes
     from drivedyn.analysis.tdr import seeds_simulation as seeds_of
     from drivedyn.config import read_library_file
