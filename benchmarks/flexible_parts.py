@@ -45,12 +45,12 @@ def reduction_times() -> dict:
     """Cold and warm reduction of the five washers and the case [s]."""
     code = (
         "import time; from drivedyn.config import read_library_file;"
-        "from drivedyn.library.differentials.torsen_c.model import washer_part, case_part, "
-        "WASHERS, build_spec;"
+        "from drivedyn.library.differentials.torsen_c.model import WASHERS, build_spec;"
+        "from drivedyn.library.differentials.flexible_washers import washer_part;"
         "p, _, _ = read_library_file('torsen-c', ['flexible.washers=true', "
         "'flexible.case=true']);"
-        "import drivedyn.library.differentials.torsen_c.model as tc;"
-        "t = time.perf_counter(); [washer_part(p, w) for w in WASHERS];"
+        "t = time.perf_counter(); [washer_part(p.flexible, w, getattr(p.washers, w).r_int, "
+        "getattr(p.washers, w).r_ext) for w in WASHERS];"
         "tw = time.perf_counter() - t; t = time.perf_counter(); build_spec(p);"
         "print(tw, time.perf_counter() - t)"
     )

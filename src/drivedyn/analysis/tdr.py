@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drivedyn.library import differentials
+from drivedyn.library.differentials.flexible_washers import SEED_COORDINATES
 from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.results.metrics import run_metrics
 from drivedyn.results.provenance import record_provenance
@@ -53,11 +54,12 @@ class BenchRun:
     size: dict = field(default_factory=dict)
 
 
-def model_size(model) -> dict:
+def model_size(model, library: str = "") -> dict:
     """Sizes of a compiled model: ``unknowns`` (coordinates + multipliers), ``coordinates``
     (6 per node, elastic coordinates of flexible parts included), ``multipliers``, and per
     flexible part its finite-element dofs and elastic coordinates (``parts``: name ->
-    (fe_dofs, nq))."""
+    (fe_dofs, nq)); ``seed_coordinates``: the size of the papers' flexible model of the
+    differential ``library`` (``"torsen_c"``), if they give one."""
     parts = {}
     checks = []
     for g in model.groups:
@@ -66,7 +68,8 @@ def model_size(model) -> dict:
             checks.append(part.check_text())
     return {"unknowns": model.neq, "coordinates": model.nd, "multipliers": model.nm,
             "parts": parts, "fe_dofs": sum(v[0] for v in parts.values()),
-            "elastic_coordinates": sum(v[1] for v in parts.values()), "checks": checks}
+            "elastic_coordinates": sum(v[1] for v in parts.values()), "checks": checks,
+            "seed_coordinates": SEED_COORDINATES.get(library)}
 
 
 def size_text(size: dict) -> str:
@@ -76,8 +79,10 @@ def size_text(size: dict) -> str:
     if size["parts"]:
         txt += (f"; {len(size['parts'])} flexible parts ({', '.join(size['parts'])}): "
                 f"{size['fe_dofs']} finite-element dofs reduced to "
-                f"{size['elastic_coordinates']} elastic coordinates (the seeds' bench with "
-                "four flexible washers: 8161 coordinates)")
+                f"{size['elastic_coordinates']} elastic coordinates")
+        if size.get("seed_coordinates"):
+            txt += (f" (the seeds' flexible model of this differential: "
+                    f"{size['seed_coordinates']} coordinates)")
         txt += "".join("\n  " + c for c in size["checks"])
     return txt
 
@@ -150,7 +155,7 @@ def run_bench(p, side: str, torque: float | None = None,
                       library_model=p.model.library, configuration=config)
     run = BenchRun(side, results=res, wall_s=time.perf_counter() - t0,
                    success=bool(res.success), message="" if res.success else str(res.message),
-                   size=model_size(model))
+                   size=model_size(model, p.model.library))
     windows = (p.bench.window_drive, p.bench.window_coast)
     for mode, win in zip(diff.side_modes[side], windows, strict=True):
         if not res.success and res.values("time")[-1] < win[1]:

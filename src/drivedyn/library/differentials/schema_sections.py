@@ -135,6 +135,38 @@ def elastic_washer_stiffness(e: ElasticWashers, r_int: float, r_ext: float, expo
     return e.rated_load / delta**exponent
 
 
+class FlexibleWashers(Strict):
+    """Meshed flexible thrust washers (Craig-Bampton reduced, floating frame of reference).
+
+    ``washers = true`` replaces every rigid washer contact by a flexible steel annulus of the
+    washer's radii and ``washer_thickness`` (chosen: a usual thrust-washer thickness), mounted
+    by its back face on the body that carries the washer, its face where the rigid washer's
+    face is, pressed by the rigid gear face node by node
+    (:class:`~drivedyn.elements.flexible.FlexibleWasherContact`; the washer's own compression
+    is then the mesh's, the law keeps the rough faces). Each washer keeps ``washer_modes``
+    fixed-interface modes and the static modes of its face loads: the four normal pressure
+    patterns and ``friction_patterns`` circumferential friction patterns (1: the friction of
+    the mean pressure, the torque the friction puts through the washer; 4: exact for the
+    friction of a tilted or conical pressure as well, 3 more coordinates per washer; 0: the
+    friction does not deform the washer, see :func:`drivedyn.fe.face_load_patterns`)."""
+
+    washers: bool = False
+    washer_thickness: PositiveLength = 2e-3
+    washer_modes: int = Field(default=2, ge=0, le=60)
+    washer_cells: tuple[int, int] = (2, 24)  # across the width, around
+    friction_patterns: Literal[0, 1, 4] = 1
+    youngs_modulus: Modulus = 210e9
+    poisson_ratio: float = Field(default=0.3, gt=-1.0, lt=0.5)
+    density: Annotated[float, scalar(U.DENSITY, positive=True)] = 7850.0
+
+    @model_validator(mode="after")
+    def _washer_cells(self) -> FlexibleWashers:
+        nr, nt = self.washer_cells
+        if nr < 1 or nt < 6:
+            raise ValueError(f"washer_cells = {[nr, nt]}: expected [n_r >= 1, n_theta >= 6]")
+        return self
+
+
 class Body(Strict):
     mass: Mass
     inertia: Inertia

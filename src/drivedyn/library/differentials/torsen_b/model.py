@@ -52,6 +52,7 @@ from drivedyn.elements.contact import (
 from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import CylindricalPair, top_land, undercut_limits
+from drivedyn.library.differentials.flexible_washers import add_flexible_washer
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 from drivedyn.model.spec import ModelError, Spec
 
@@ -191,6 +192,14 @@ def check_parameters(p: TorsenBFile) -> Geometry:
     if w.middle.gap >= g.side_gap:
         fail("washers.middle.gap", w.middle.gap, f"must be < gears.side_gap = {g.side_gap!r} "
              "(the middle washer fills the space between the side gears)")
+    fx = p.flexible
+    if fx.washers and fx.washer_thickness > g.side_gap - w.middle.gap:
+        fail("flexible.washer_thickness", fx.washer_thickness, "the flexible middle washer "
+             f"must fit between the side gears (<= gears.side_gap - washers.middle.gap = "
+             f"{(g.side_gap - w.middle.gap) * 1e3:.2f} mm)")
+    if fx.washers and w.squeeze_film:
+        fail("washers.squeeze_film", w.squeeze_film, "false with flexible.washers = true "
+             "(the oil film is not coupled to a flexible washer's face)")
     pk = p.pockets
     if pk.end_r_int >= pk.end_r_ext:
         fail("pockets.end_r_int", pk.end_r_int, f"must be < end_r_ext = {pk.end_r_ext!r}")
@@ -330,15 +339,22 @@ def build_spec(p: TorsenBFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     # thrust washers (marker A = washer face, z = normal towards the face of marker B)
     fw = _friction(w.mu, p, friction_scale)
     hb = g.face_width / 2
-    sp.add_marker("w_left", "housing", position=(0, 0, -zs - hb - w.left.gap), axis=Z)
-    sp.add_marker("f_left", "left", position=(0, 0, -hb), axis=Z)
-    sp.add_marker("w_right", "housing", position=(0, 0, zs + hb + w.right.gap), axis=MZ)
-    sp.add_marker("f_right", "right", position=(0, 0, hb), axis=Z)
-    # the middle washer turns with the left gear and fills the side gap but for its play
-    sp.add_marker("w_middle", "left", position=(0, 0, hb + g.side_gap - w.middle.gap), axis=Z)
-    sp.add_marker("f_middle", "right", position=(0, 0, -hb), axis=Z)
+    # washer face: (body, z in its frame, normal along z); counter face: (body, z)
+    faces = {
+        "left": (("housing", -zs - hb - w.left.gap, 1.0), ("left", -hb)),
+        "right": (("housing", zs + hb + w.right.gap, -1.0), ("right", hb)),
+        # the middle washer turns with the left gear and fills the side gap but for its play
+        "middle": (("left", hb + g.side_gap - w.middle.gap, 1.0), ("right", -hb)),
+    }
     for name in WASHERS:
         f = getattr(w, name)
+        (ba, za, normal), (bb, zb) = faces[name]
+        if p.flexible.washers:
+            add_flexible_washer(sp, p.flexible, p.contact, name, ba, za, normal, bb, zb,
+                                f.r_int, f.r_ext, fw)
+            continue
+        sp.add_marker(f"w_{name}", ba, position=(0, 0, za), axis=(0.0, 0.0, normal))
+        sp.add_marker(f"f_{name}", bb, position=(0, 0, zb), axis=Z)
         _washer(sp, p, name, f"w_{name}", f"f_{name}", f.r_int, f.r_ext, fw)
     _visuals(sp, p, geo)
     return sp, geo

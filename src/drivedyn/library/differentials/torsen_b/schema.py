@@ -22,6 +22,7 @@ from drivedyn.library.differentials.schema_sections import (
     Coefficient,
     Contact,
     Experiment,
+    FlexibleWashers,
     Modulus,
     Provenance,
     Scenario,
@@ -118,6 +119,7 @@ class TorsenBFile(Strict):
     washers: Washers
     pockets: Pockets
     contact: Contact = Field(default_factory=Contact)
+    flexible: FlexibleWashers = Field(default_factory=FlexibleWashers)
     bodies: Bodies
     bench: Bench = Field(default_factory=Bench)
     vehicle: Vehicle = Field(default_factory=Vehicle)

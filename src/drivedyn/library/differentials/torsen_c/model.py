@@ -64,6 +64,7 @@ from drivedyn.elements.contact.common import washer_friction_radius
 from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import undercut_limits
+from drivedyn.library.differentials.flexible_washers import add_flexible_washer
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
 
@@ -326,8 +327,9 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
                           _friction(wd.mu, p, friction_scale))
             continue
         if p.flexible.washers:
-            _flexible_washer(sp, p, name, ba, za - z_body[ba], axis, bb, zb - z_body[bb],
-                             _friction(wd.mu, p, friction_scale))
+            add_flexible_washer(sp, p.flexible, p.contact, name, ba, za - z_body[ba], axis[2],
+                                bb, zb - z_body[bb], wd.r_int, wd.r_ext,
+                                _friction(wd.mu, p, friction_scale))
             continue
         sp.add_marker(f"w_{name}", ba, position=(0, 0, za - z_body[ba]), axis=axis)
         sp.add_marker(f"f_{name}", bb, position=(0, 0, zb - z_body[bb]), axis=Z)
@@ -394,30 +396,6 @@ def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: 
                            role="shaft", label="rear output (coupling)"))
 
 
-def washer_part(p: TorsenCFile, name: str):
-    """(solid, reduced part) of washer ``name``: steel annulus ``r_int..r_ext`` of
-    ``flexible.washer_thickness``, mounted by its back face (z = 0), ``washer_modes``
-    fixed-interface modes and the 4 static modes of the face pressure patterns (cached on
-    disk)."""
-    from drivedyn.fe import (
-        Interface,
-        SolidMaterial,
-        SolidModel,
-        annular_washer,
-        craig_bampton,
-        face_load_patterns,
-    )
-
-    f = p.flexible
-    wd = getattr(p.washers, name)
-    nr, nt = f.washer_cells
-    solid = SolidModel(annular_washer(wd.r_int, wd.r_ext, f.washer_thickness, nr, nt, 1),
-                       SolidMaterial(f.youngs_modulus, f.poisson_ratio, f.density))
-    back = Interface("back", solid.select("z", 0.0), np.zeros(3))
-    loads = face_load_patterns(solid, solid.select("z", f.washer_thickness))
-    return solid, craig_bampton(solid, [back], f.washer_modes, f"washer_{name}", loads=loads)
-
-
 def case_part(p: TorsenCFile, faces: dict):
     """(solid, reduced part, z of the bolting face [m]) of the flexible case (see
     :class:`~drivedyn.library.differentials.torsen_c.schema.FlexibleParts`): part frame z = 0
@@ -450,7 +428,8 @@ def case_part(p: TorsenCFile, faces: dict):
     bolts = Interface("bolts", solid.select("z", 0.0, r_min=ro), np.zeros(3))
     seats = [solid.select("z", 0.0, w.ring_case.r_int, w.ring_case.r_ext),
              solid.select("z", z_seat, w.coupling_case.r_int, w.coupling_case.r_ext)]
-    loads = np.hstack([face_load_patterns(solid, s) for s in seats])
+    loads = np.hstack([face_load_patterns(solid, s, friction=f.friction_patterns)
+                       for s in seats])
     return solid, craig_bampton(solid, [bolts], f.case_modes, "case", loads=loads), z0
 
 
@@ -478,21 +457,3 @@ def _seat_contact(sp: Spec, p: TorsenCFile, name: str, case: tuple, za: float, b
     sp.add(FlexibleWasherContact(name, "m_case", f"f_{name}", body="case", face=face,
                                  law=p.contact.washer_law(wd.r_int, wd.r_ext, layer=False),
                                  friction=friction))
-
-
-def _flexible_washer(sp: Spec, p: TorsenCFile, name: str, body_a: str, za: float, axis,
-                     body_b: str, zb: float, friction) -> None:
-    """Washer ``name`` as a flexible part on ``body_a`` (its face where the rigid washer's
-    face is, its back face ``washer_thickness`` behind it) pressed by ``body_b``'s face."""
-    from drivedyn.elements.flexible import FlexibleWasherContact
-    from drivedyn.model.flexible import add_flexible_body
-
-    solid, part = washer_part(p, name)
-    wd = getattr(p.washers, name)
-    t = p.flexible.washer_thickness
-    sp.add_marker(f"w_{name}", body_a, position=(0, 0, za - t * axis[2]), axis=axis)
-    sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=(0.0, 0.0, -axis[2]))
-    fb = add_flexible_body(sp, f"washer_{name}", part, f"w_{name}")
-    sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
-                                 face=solid.select("z", t), friction=friction,
-                                 law=p.contact.washer_law(wd.r_int, wd.r_ext, layer=False)))

@@ -22,6 +22,7 @@ from drivedyn.library.differentials.schema_sections import (
     Coefficient,
     Contact,
     Experiment,
+    FlexibleWashers,
     Modulus,
     Provenance,
     Scenario,
@@ -107,13 +108,9 @@ class Pockets(Strict):
     viscosity: Annotated[float, scalar((-1, 1, -1, 0), positive=True)] = 0.05
 
 
-class FlexibleParts(Strict):
-    """Meshed flexible parts (Craig-Bampton reduced, floating frame of reference).
-
-    ``washers = true`` replaces the five rigid washer contacts by flexible steel washers
-    (annular meshes of ``washer_thickness`` mounted by their back face on the body that
-    carries them), pressed by the rigid gear faces node by node
-    (:class:`~drivedyn.elements.flexible.FlexibleWasherContact`).
+class FlexibleParts(FlexibleWashers):
+    """Meshed flexible parts (Craig-Bampton reduced, floating frame of reference): the five
+    washers (``washers``, see :class:`FlexibleWashers`) and the case.
 
     ``case = true`` replaces the rigid case by a meshed steel cup bolted to the housing by its
     flange face (schematic geometry, chosen, not fitted: a wall ``case_wall`` from the
@@ -124,26 +121,18 @@ class FlexibleParts(Strict):
     and inertia come from the mesh (2.6 kg of steel with the defaults), not from
     ``bodies.case``."""
 
-    washers: bool = False
     case: bool = False
-    washer_thickness: PositiveLength = 2e-3
-    washer_modes: int = Field(default=2, ge=0, le=60)
-    washer_cells: tuple[int, int] = (2, 24)  # across the width, around
     case_modes: int = Field(default=6, ge=0, le=60)
     case_wall: tuple[PositiveLength, PositiveLength] = (0.076, 0.085)  # inner, outer radius
     case_flange_radius: PositiveLength = 0.100
     case_plate: PositiveLength = 0.006  # thickness of the flange, the seat lip, the end plate
     case_cells: tuple[int, int] = (1, 24)
-    youngs_modulus: Modulus = 210e9
-    poisson_ratio: float = Field(default=0.3, gt=-1.0, lt=0.5)
-    density: Annotated[float, scalar(U.DENSITY, positive=True)] = 7850.0
 
     @model_validator(mode="after")
-    def _cells(self) -> FlexibleParts:
-        for key in ("washer_cells", "case_cells"):
-            nr, nt = getattr(self, key)
-            if nr < 1 or nt < 6:
-                raise ValueError(f"{key} = {[nr, nt]}: expected [n_r >= 1, n_theta >= 6]")
+    def _case_cells(self) -> FlexibleParts:
+        nr, nt = self.case_cells
+        if nr < 1 or nt < 6:
+            raise ValueError(f"case_cells = {[nr, nt]}: expected [n_r >= 1, n_theta >= 6]")
         ri, ro = self.case_wall
         if not ri < ro < self.case_flange_radius:
             raise ValueError(f"case_wall = {[ri, ro]} and case_flange_radius = "

@@ -1,0 +1,81 @@
+"""Flexible thrust washers of the differentials (``[flexible] washers = true``).
+
+A washer is a meshed steel annulus (:func:`drivedyn.fe.annular_washer`), Craig-Bampton
+reduced with its back face as the mounting interface, mounted on the body that carries the
+washer in the rigid model and pressed by the counter face node by node
+(:class:`~drivedyn.elements.flexible.FlexibleWasherContact`). One builder for every
+differential: the schema section is
+:class:`~drivedyn.library.differentials.schema_sections.FlexibleWashers`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from drivedyn.elements.contact import FrictionLaw
+from drivedyn.library.differentials.schema_sections import Contact, FlexibleWashers
+from drivedyn.model.spec import Spec
+
+#: coordinates of the papers' flexible models (seed 003): the Type C bench with four
+#: flexible washers, the Type B with three
+SEED_COORDINATES = {"torsen_c": 8161, "torsen_b": 21164}
+
+
+def washer_part(f: FlexibleWashers, name: str, r_int: float, r_ext: float) -> tuple[Any, Any]:
+    """(solid, reduced part) of washer ``name``: steel annulus ``r_int..r_ext`` [m] of
+    ``f.washer_thickness``, part frame on its back face (z = 0, face at z = thickness),
+    ``f.washer_modes`` fixed-interface modes and the static modes of the face loads (cached
+    on disk)."""
+    from drivedyn.fe import (
+        Interface,
+        SolidMaterial,
+        SolidModel,
+        annular_washer,
+        craig_bampton,
+        face_load_patterns,
+    )
+
+    nr, nt = f.washer_cells
+    solid = SolidModel(annular_washer(r_int, r_ext, f.washer_thickness, nr, nt, 1),
+                       SolidMaterial(f.youngs_modulus, f.poisson_ratio, f.density))
+    back = Interface("back", solid.select("z", 0.0), np.zeros(3))
+    loads = face_load_patterns(solid, solid.select("z", f.washer_thickness),
+                               friction=f.friction_patterns)
+    return solid, craig_bampton(solid, [back], f.washer_modes, f"washer_{name}", loads=loads)
+
+
+def add_flexible_washer(sp: Spec, f: FlexibleWashers, contact: Contact, name: str,
+                        body_a: str, za: float, normal: float, body_b: str, zb: float,
+                        r_int: float, r_ext: float, friction: FrictionLaw | None) -> None:
+    """Washer ``name`` as a flexible part on ``body_a``, pressed by ``body_b``'s face.
+
+    Args:
+        sp: the model being built.
+        f: the ``[flexible]`` section.
+        contact: the ``[contact]`` section (the washer law without its layer: the mesh
+            carries the washer's compression).
+        name: washer name; adds markers ``w_{name}`` (mounting, on ``body_a``) and
+            ``f_{name}`` (counter face, on ``body_b``), the part ``washer_{name}`` and the
+            contact ``{name}``.
+        body_a, za: the body carrying the washer and the z [m] (body frame) of the washer's
+            face, where the rigid washer's face is; the back face is ``washer_thickness``
+            behind it.
+        normal: +1 or -1, the washer face's normal along the body's z (towards ``body_b``).
+        body_b, zb: the pressing body and the z [m] (its frame) of its face.
+        r_int, r_ext: radii of the annulus [m].
+        friction: the face friction law, or None.
+    """
+    from drivedyn.elements.flexible import FlexibleWasherContact
+    from drivedyn.model.flexible import add_flexible_body
+
+    solid, part = washer_part(f, name, r_int, r_ext)
+    t = f.washer_thickness
+    sp.add_marker(f"w_{name}", body_a, position=(0, 0, za - t * normal),
+                  axis=(0.0, 0.0, normal))
+    sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=(0.0, 0.0, -normal))
+    fb = add_flexible_body(sp, f"washer_{name}", part, f"w_{name}")
+    sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
+                                 face=solid.select("z", t), friction=friction,
+                                 law=contact.washer_law(r_int, r_ext, layer=False)))
