@@ -5,6 +5,7 @@ exact or published reference. One module per subject registers its cases:
 :mod:`~drivedyn.validation.contact`, :mod:`~drivedyn.validation.gears`,
 :mod:`~drivedyn.validation.beams`, :mod:`~drivedyn.validation.fe`,
 :mod:`~drivedyn.validation.torsen`, :mod:`~drivedyn.validation.torsen_b`,
+:mod:`~drivedyn.validation.flexible_torsen`,
 :mod:`~drivedyn.validation.vehicles`, :mod:`~drivedyn.validation.bushings`,
 :mod:`~drivedyn.validation.chassis`, :mod:`~drivedyn.validation.suspensions`,
 :mod:`~drivedyn.validation.vehicle_rwd` and :mod:`~drivedyn.validation.rwd_cornering`."""
@@ -23,6 +24,7 @@ from drivedyn.validation import beams  # noqa: F401
 from drivedyn.validation import fe  # noqa: F401
 from drivedyn.validation import torsen  # noqa: F401
 from drivedyn.validation import torsen_b  # noqa: F401
+from drivedyn.validation import flexible_torsen  # noqa: F401
 from drivedyn.validation import vehicles  # noqa: F401
 from drivedyn.validation import bushings  # noqa: F401
 from drivedyn.validation import chassis  # noqa: F401
