@@ -1,11 +1,12 @@
 """A rigid gear face pressed on a flexible thrust washer, from the Python API.
 
 A steel washer (r 20..35 mm, 2 mm) is meshed with 27-node hexahedra, reduced by
-Craig-Bampton (4 fixed-interface modes and the 4 static modes of its face pressures) and
-mounted by its back face on a carrier bolted to the ground. A gear spinning at 10 rad/s is
-pushed on it with 2 kN. The example prints the integrated face pressure against the load,
-the friction torque against mu F r_m (uniform pressure) and the washer's largest von Mises
-stress against the full finite-element model under the same pressures.
+Craig-Bampton (4 fixed-interface modes and the 8 static modes of its face loads: pressure
+and friction) and mounted by its back face on a carrier bolted to the ground. A gear
+spinning at 10 rad/s is pushed on it with 2 kN. The example prints the integrated face
+pressure against the load, the friction torque against mu F r_m (uniform pressure) and the
+washer's largest von Mises stress against the full finite-element model under the same
+pressures and their friction tractions.
 
 Run: ``python examples/07_flexible_washer.py``
 """
@@ -57,9 +58,15 @@ def main() -> dict:
     F = float(ds["contact.normal_force"].values[-1])
     M = abs(float(ds["contact.friction_torque"].values[-1]))
     rm = 2 * (R_EXT**3 - R_INT**3) / (3 * (R_EXT**2 - R_INT**2))
-    # the full FE model under the nodal pressures of the last output
+    # the full FE model under the nodal pressures of the last output and their friction
+    # (mu p along the circle, the direction the gear face drags the washer: +e_theta)
+    fn = ds["contact.nodal_pressure"].values[-1] * solid.face_areas(face)  # nodal forces [N]
+    X = solid.nodes[face]
+    r = np.hypot(X[:, 0], X[:, 1])
     f = np.zeros(3 * solid.n)
-    f[3 * face + 2] = -ds["contact.nodal_pressure"].values[-1] * solid.face_areas(face)
+    f[3 * face + 2] = -fn
+    f[3 * face] = -MU * fn * X[:, 1] / r
+    f[3 * face + 1] = MU * fn * X[:, 0] / r
     u = solid.static((3 * back[:, None] + np.arange(3)).ravel(), f)
     vm_full = float(von_mises(solid.stress_modes(u[:, None])[:, :, 0]).max())
     vm = float(ds["washer.max_von_mises"].values[-1])

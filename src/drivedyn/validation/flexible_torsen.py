@@ -34,18 +34,23 @@ def flexible_params(base_params, washers: bool = True, case: bool | None = None)
         update=update)})
 
 
-def friction_radii(res, window: tuple[float, float], names) -> dict[str, float]:
+def washer_mu(p, name: str) -> float:
+    """Friction coefficient of washer ``name`` (Type C: its own; Type B: the shared one)."""
+    own = getattr(getattr(p.washers, name), "mu", None)
+    return float(p.washers.mu if own is None else own)
+
+
+def friction_radii(res, window: tuple[float, float], mus: dict[str, float]) -> dict[str, float]:
     """Effective friction radius [m] of each loaded washer contact over ``window`` [s]:
-    mean friction torque / mean normal force (the coefficient left out: a ratio of two runs
-    with the same coefficient is the ratio of their pressure-weighted radii). Contacts that
-    carry less than 1 N are left out."""
+    mean friction torque / (mu mean normal force), ``mus`` the coefficient of each contact
+    (name -> mu). Contacts that carry less than 1 N or have no friction are left out."""
     t = res.values("time")
     k = (t >= window[0]) & (t <= window[1])
     out = {}
-    for c in names:
+    for c, mu in mus.items():
         F = float(np.mean(res.values(f"{c}.normal_force")[k]))
-        if F > 1.0:
-            out[c] = abs(float(np.mean(res.values(f"{c}.friction_torque")[k]))) / F
+        if F > 1.0 and mu > 0.0:
+            out[c] = abs(float(np.mean(res.values(f"{c}.friction_torque")[k]))) / (mu * F)
     return out
 
 
@@ -76,7 +81,7 @@ def _bench_pairs(case: str, p, pf, label: str, out: list[CaseResult],
     from drivedyn.library import differentials
     from drivedyn.validation.common import failed_check
 
-    names = list(differentials.of(p).washers)
+    mus = {c: washer_mu(p, c) for c in differentials.of(p).washers}
     runs = {}
     rigid_runs = {} if rigid_runs is None else rigid_runs
     for side, modes in side_modes(p).items():
@@ -95,8 +100,8 @@ def _bench_pairs(case: str, p, pf, label: str, out: list[CaseResult],
                 out.append(compare(case, f"{q} vs rigid", rigid.tdr[m], flex.tdr[m], "1",
                                    FLEX_TOL, f"the rigid model; {size}"))
                 continue
-            rr = friction_radii(rigid.results, win, names)
-            rf = friction_radii(flex.results, win, names)
+            rr = friction_radii(rigid.results, win, mus)
+            rf = friction_radii(flex.results, win, mus)
             moved = ", ".join(f"{c} {1e3 * rf[c]:.2f} mm ({100 * (rf[c] / rr[c] - 1):+.1f} %)"
                               for c in rf if c in rr)
             out.append(compare(
