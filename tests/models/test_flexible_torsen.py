@@ -89,3 +89,67 @@ def test_radius_correction_is_the_analytic_model_with_moved_radii():
     got = radius_corrected_tdr(p, 4, 1.7, radii, moved)
     assert got == pytest.approx(1.7 * bench_tdr(q, 4) / bench_tdr(p, 4), rel=1e-12)
     assert got > 1.7 * 1.02  # W3 carries the coast load of mode 4
+
+
+def test_torsen_c_shafts_carry_the_outputs_to_their_bearings():
+    """``flexible.shafts``: each output gear keeps its own bearing (``*_support``) and a beam
+    shaft runs to the bearing the bench and the vehicle drive (``*_bearing``) and to the
+    loaded marker, at the shaft's end. Seen to fail: the driver left on the gear's own
+    bearing (the shaft would carry no torque, and the shaft stress check would read 0)."""
+    from drivedyn.config import read_library_file
+    from drivedyn.library import differentials
+    from drivedyn.library.differentials.scenarios import bench_spec
+
+    p, _, _ = read_library_file("torsen-c", ["flexible.shafts=true"])
+    diff = differentials.of(p)
+    sp, _ = bench_spec(diff, p, "rear")
+    joints = {e.name: e for e in sp.elements}
+    fx = p.flexible
+    for o, shaft, sign in zip(diff.outputs, (fx.shaft_front, fx.shaft_rear), (-1, 1),
+                              strict=True):
+        bearing = joints[o.bearing]
+        tip = f"{o.body}_shaft.n{shaft.elements}"
+        assert sp.markers[bearing.marker_b].body == tip
+        assert sp.markers[o.marker].body == tip
+        assert sp.markers[joints[f"{o.body}_support"].marker_b].body == o.body
+        ground = sp.markers[bearing.marker_a].position
+        z0 = sp.bodies[o.body].position[2] if o.body in sp.bodies else 0.0
+        assert ground[2] == pytest.approx(z0 + sign * shaft.length)
+        beams = [e for e in sp.elements if e.name.startswith(f"{o.body}_shaft.e")]
+        assert len(beams) == shaft.elements
+    # torque on the rear: the bench drives the front output's speed at its shaft's end
+    assert joints["speed_control"].joint == "sun_bearing"
+
+
+def test_dashboard_has_the_stresses_of_the_flexible_parts():
+    """A model with flexible parts gets a third dashboard page: the case, the washers and
+    each shaft's largest von Mises stress, and the shafts' torques; a rigid one does not."""
+    from drivedyn.config import read_library_file
+    from drivedyn.library import differentials
+    from drivedyn.library.differentials.dashboard import differential_dashboard
+
+    rigid, _, _ = read_library_file("torsen-c")
+    diff = differentials.of(rigid)
+    assert len(differential_dashboard(diff, rigid).pages) == 2
+    flex, _, _ = read_library_file("torsen-c", ["flexible.shafts=true", "flexible.case=true",
+                                                "flexible.washers=true"])
+    page = differential_dashboard(diff, flex).pages[2]
+    stress = page.panels[0]
+    patterns = [t.pattern for c in stress.curves for t in c.terms]
+    assert patterns == ["case.max_von_mises", "washer_*.max_von_mises",
+                        "sun_shaft.e*.von_mises", "coupling_shaft.e*.von_mises"]
+    assert all(t.reduce == "max" for c in stress.curves for t in c.terms)
+    b, _, _ = read_library_file("torsen-b", ["flexible.washers=true"])
+    assert len(differential_dashboard(differentials.of(b), b).pages) == 3
+
+
+def test_torsen_c_shaft_refusals():
+    from click.testing import CliRunner
+
+    from drivedyn.cli import main
+
+    r = CliRunner().invoke(main, ["tdr", "torsen-c", "--analytic-only", "--set",
+                                  'flexible.shaft_rear.inner_diameter="80 mm"'])
+    assert r.exit_code == 2, r.output
+    assert "shaft_rear" in r.output and "outer_diameter" in r.output, r.output
+    assert "Traceback" not in r.output

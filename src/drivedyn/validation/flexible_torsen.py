@@ -117,8 +117,10 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     """TORSEN Type C with meshed flexible parts and the shipped washer law: bench TDR of the
     four modes with the five washers flexible against the rigid model (2 %); with the washers
     and the case flexible, against the rigid TDR moved by the analytic model to the washer
-    friction radii of the flexible run (0.1 %); a vehicle-configuration run at 125 N m drive:
-    torque balance, the washer pressure maps and the case stress history.
+    friction radii of the flexible run (0.1 %); a vehicle-configuration run at 125 N m drive
+    with the case and the output shafts flexible (seed 002): torque balance, each shaft's
+    stress at its gear end against pure torsion under its output torque (0.1 %), the washer
+    pressure maps and the case stress history.
 
     The flexible case raises mode 4 by 3.9 % and mode 2 by 1.4 % (docs/flexible.md): the
     end plate dishes under the coupling's coast load and the pressure on the case washer
@@ -142,8 +144,10 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     pf = flexible_params(p, case=True)
     _bench_pairs(case, p, pf, "flexible washers and case", out, radius_check=True,
                  rigid_runs=rigid)
-    # vehicle configuration: one drive level, then the figures
-    pv = pf.model_copy(update={"vehicle": pf.vehicle.model_copy(update={
+    # vehicle configuration with the case and the output shafts flexible: one drive level
+    ps = flexible_params(pf, washers=False, case=True)
+    ps = ps.model_copy(update={"flexible": ps.flexible.model_copy(update={"shafts": True})})
+    pv = ps.model_copy(update={"vehicle": ps.vehicle.model_copy(update={
         "torque_levels": [125.0], "speed_diff": [-2.0], "hold": 0.3 if quick else 0.5})})
     run = run_vehicle(pv)
     if not run.success or not run.levels:
@@ -153,11 +157,41 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     lv = run.levels[0]
     out.append(compare(case, "vehicle configuration, 125 N m drive: |T_h - (T_f + T_r)| / |T_h|",
                        0.0, lv["balance_error"], "1", 1e-3,
-                       "torque balance of the differential (steady window)"))
+                       "torque balance of the differential (steady window); flexible case "
+                       "and output shafts"))
+    window = level_windows(pv)[0]
+    out += shaft_stress_checks(case, pv, run.results, (window[1], window[2]))
     if figure_dir:
-        figures += _flexible_figures("torsen_c", run.results, figure_dir,
-                                     level_windows(pv)[0])
+        figures += _flexible_figures("torsen_c", run.results, figure_dir, window)
     return finish_case(out, t0, figures)
+
+
+def shaft_stress_checks(case: str, p, res, window: tuple[float, float]) -> list[CaseResult]:
+    """Each output shaft's von Mises stress at its gear end against pure torsion,
+    ``sqrt(3) |T| r_o / J_p`` (``J_p = pi (d_o^4 - d_i^4) / 32``), with ``T`` the torque its
+    bearing's speed driver holds, window means over ``window`` [s] (0.1 %: in a steady
+    window a shaft between two coaxial bearings carries its output torque and nothing else;
+    measured within 1e-5). Fails on a stress recovered with the bending inertia ``I``
+    in place of ``J_p = 2 I`` (twice the stress) or a driver left on the gear's own bearing
+    (a shaft that carries nothing)."""
+    import math
+
+    from drivedyn.library import differentials
+
+    t = res.values("time")
+    k = (t >= window[0]) & (t <= window[1])
+    out = []
+    fx = p.flexible
+    for o, shaft in zip(differentials.of(p).outputs, (fx.shaft_front, fx.shaft_rear),
+                        strict=True):
+        T = float(np.mean(res.values(f"{o.name}_speed.torque")[k]))
+        do, di = shaft.outer_diameter, shaft.inner_diameter
+        ref = math.sqrt(3.0) * abs(T) * (do / 2) * 32.0 / (math.pi * (do**4 - di**4))
+        vm = float(np.mean(res.values(f"{o.body}_shaft.e0.von_mises")[k]))
+        out.append(compare(case, f"{o.label} shaft: von Mises stress at the gear end",
+                           ref, vm, "Pa", 1e-3, f"pure torsion under the output torque "
+                           f"{T:.2f} N m, tube {do * 1e3:g}/{di * 1e3:g} mm"))
+    return out
 
 
 @register_case("torsen_b_flexible")

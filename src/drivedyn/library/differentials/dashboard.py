@@ -2,7 +2,7 @@
 :class:`~drivedyn.library.differentials.base.Differential` record and the scenario of its
 parameters (:mod:`drivedyn.library.dashboards` says how it is drawn).
 
-Two pages:
+Two or three pages:
 
 * torques and speeds: input and output torques, the torque distribution ratio (TDR) over
   time with the windows where it is measured (bench: ``bench.window_drive`` and
@@ -12,7 +12,9 @@ Two pages:
   the relative speeds;
 * axial motion, washers and losses: axial travel of the gears (``axial_bodies``, change since
   the start), normal force and mean pressure of each thrust washer, and the dissipated power
-  of the washers, of each element group (``element_groups``) and in total.
+  of the washers, of each element group (``element_groups``) and in total;
+* with flexible parts (``[flexible]``): the largest von Mises stress of the case, the washers
+  and each output shaft over time, and the shafts' torques.
 
 Torques: vehicle configuration, the torques the outputs deliver to the axles (minus the speed
 drivers' torques) and the engine torque on the housing; bench, the applied torque on the
@@ -113,14 +115,44 @@ def _axial_and_losses(diff: Differential) -> tuple[Panel, ...]:
     return axial, loads, pressures, losses
 
 
+def _stresses(diff: Differential, p: Any) -> tuple[Panel, ...]:
+    """Stress histories of the flexible parts ``p.flexible`` switches on: the largest von
+    Mises stress of the case, of the washers and of each output shaft (over its beam
+    elements), and the shafts' torques at their gear ends. Empty for a rigid model."""
+    fx = getattr(p, "flexible", None)
+    if fx is None:
+        return ()
+    curves = []
+    if getattr(fx, "case", False):
+        curves.append(Curve("case", (Term("case.max_von_mises", reduce="max"),)))
+    if fx.washers:
+        curves.append(Curve("washers (largest)", (Term("washer_*.max_von_mises",
+                                                        reduce="max"),)))
+    shafts = [o for o in diff.outputs if getattr(fx, "shafts", False)]
+    curves += [Curve(f"{o.label} shaft", (Term(f"{o.body}_shaft.e*.von_mises", reduce="max"),))
+               for o in shafts]
+    if not curves:
+        return ()
+    panels = [Panel("largest von Mises stress of the flexible parts", "stress", "Pa",
+                    tuple(curves))]
+    if shafts:
+        panels.append(Panel("output shaft torques (gear end)", "torque", "N m",
+                            tuple(Curve(f"{o.label} shaft", (Term(f"{o.body}_shaft.e0.torque"),))
+                                  for o in shafts)))
+    return tuple(panels)
+
+
 def differential_dashboard(diff: Differential, p: Any) -> Dashboard:
     """The dashboard of a run of differential ``diff`` with validated parameters ``p``
-    (its scenario: ``p.scenario.kind``, ``"vehicle"`` or ``"bench"``)."""
+    (its scenario: ``p.scenario.kind``, ``"vehicle"`` or ``"bench"``); a third page with
+    the stresses of the flexible parts, if the model has any."""
     bench = p.scenario.kind == "bench"
     torques, tdr = _bench_torques(diff, p) if bench else _vehicle_torques(diff, p)
     where = "bench" if bench else "vehicle configuration"
-    return Dashboard(
-        name=f"dashboard_{diff.library}",
-        title=f"{diff.title}, {where}",
-        pages=(Page("torques and speeds", (torques, tdr, *_speeds(diff))),
-               Page("axial motion, thrust washers and losses", _axial_and_losses(diff))))
+    pages = [Page("torques and speeds", (torques, tdr, *_speeds(diff))),
+             Page("axial motion, thrust washers and losses", _axial_and_losses(diff))]
+    stresses = _stresses(diff, p)
+    if stresses:
+        pages.append(Page("stresses of the flexible parts", stresses))
+    return Dashboard(name=f"dashboard_{diff.library}", title=f"{diff.title}, {where}",
+                     pages=tuple(pages))

@@ -256,13 +256,18 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     sp.add_rigid_body("coupling", B.coupling.mass, B.coupling.inertia, position=(0, 0, zc),
                       angular_velocity=(0, 0, wc))
     # bearings and fixings
-    for name, body, z in (("housing", "housing", 0.0), ("sun", "sun", 0.0),
-                          ("coupling", "coupling", zc)):
-        sp.add_marker(f"g_{name}", "ground", position=(0, 0, z), axis=Z)
-        sp.add_marker(f"b_{name}", body, axis=Z)
+    sp.add_marker("g_housing", "ground", axis=Z)
+    sp.add_marker("b_housing", "housing", axis=Z)
     sp.add(Hinge("housing_bearing", "g_housing", "b_housing"))
-    sp.add(Cylindrical("sun_bearing", "g_sun", "b_sun"))
-    sp.add(Cylindrical("coupling_bearing", "g_coupling", "b_coupling"))
+    fx = p.flexible
+    for name, z, shaft, sign, speed in (("sun", 0.0, fx.shaft_front, -1.0, ws),
+                                        ("coupling", zc, fx.shaft_rear, 1.0, wc)):
+        if fx.shafts:
+            _output_shaft(sp, p, name, z, shaft, sign, speed)
+            continue
+        sp.add_marker(f"g_{name}", "ground", position=(0, 0, z), axis=Z)
+        sp.add_marker(f"b_{name}", name, axis=Z)
+        sp.add(Cylindrical(f"{name}_bearing", f"g_{name}", f"b_{name}"))
     if not p.flexible.case:
         sp.add_marker("h_case", "housing", position=(0, 0, zc), axis=Z)
         sp.add_marker("c_case", "case", axis=Z)
@@ -341,6 +346,31 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     return sp, geo
 
 
+def _output_shaft(sp: Spec, p: TorsenCFile, body: str, z: float, shaft, sign: float,
+                  speed: float) -> None:
+    """Output ``body`` (its centre at ``z`` [m]) on its own bearing (``{body}_support``) and
+    its shaft as beams ``{body}_shaft.e*`` out to ``z + sign * shaft.length``, where the
+    output's bearing (``{body}_bearing``, the joint the bench and the vehicle drive) and
+    its load marker (``b_{body}``) are; ``speed`` [rad/s] about +z at the start."""
+    from drivedyn.elements.beams.section import HollowCircular, Material
+    from drivedyn.model.beams import add_straight_beam
+
+    fx = p.flexible
+    sp.add_marker(f"g_{body}_support", "ground", position=(0, 0, z), axis=Z)
+    sp.add_marker(f"s_{body}", body, axis=Z)
+    sp.add(Cylindrical(f"{body}_support", f"g_{body}_support", f"s_{body}"))
+    tip = z + sign * shaft.length
+    nodes = add_straight_beam(
+        sp, f"{body}_shaft", (0.0, 0.0, z), (0.0, 0.0, tip), shaft.elements,
+        HollowCircular(shaft.outer_diameter, shaft.inner_diameter),
+        Material.from_nu(fx.youngs_modulus, fx.poisson_ratio, fx.density),
+        damping=fx.shaft_damping, node_a=body, angular_velocity=(0.0, 0.0, speed))
+    # the beam nodes' x axis is the shaft axis (sign * global z)
+    sp.add_marker(f"g_{body}", "ground", position=(0, 0, tip), axis=Z)
+    sp.add_marker(f"b_{body}", nodes[-1], axis=(sign, 0.0, 0.0))
+    sp.add(Cylindrical(f"{body}_bearing", f"g_{body}", f"b_{body}"))
+
+
 def _end_faces(sp: Spec, p: TorsenCFile, planet: str, pos: np.ndarray, half: float,
                friction: FrictionLaw | None) -> None:
     """The planet's two end faces (at ``+-half`` [m] from its centre) on the pocket floors
@@ -386,9 +416,12 @@ def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: 
                                label="case"))
         sp.add_visual(cylinder("c_case", r_in + wall, wall, inner_radius=0.6 * geo.r_sun,
                                z0=back, role="case", label="case"))
-    sp.add_visual(cylinder("b_coupling", 0.8 * geo.r_ring, COUPLING_LENGTH,
+    hub = "s_coupling" if p.flexible.shafts else "b_coupling"  # a marker at its centre
+    sp.add_visual(cylinder(hub, 0.8 * geo.r_ring, COUPLING_LENGTH,
                            inner_radius=0.3 * geo.r_sun, role="pin", label="coupling",
                            opacity=0.6))
+    if p.flexible.shafts:
+        return  # the shafts are beams, drawn as such
     shaft = 1.5 * geo.r_ring
     sp.add_visual(cylinder("m_sun", 0.3 * geo.r_sun, shaft, z0=-b / 2 - shaft, role="shaft",
                            label="front output (sun)"))

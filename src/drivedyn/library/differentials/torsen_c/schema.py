@@ -108,6 +108,24 @@ class Pockets(Strict):
     viscosity: Annotated[float, scalar((-1, 1, -1, 0), positive=True)] = 0.05
 
 
+class Shaft(Strict):
+    """An output shaft as a geometrically exact beam: a steel tube (``inner_diameter`` 0: a
+    solid bar) of ``length`` [m] from the output gear's centre outwards, in ``elements``
+    equal beam elements."""
+
+    length: PositiveLength
+    outer_diameter: PositiveLength
+    inner_diameter: NonNegLength = 0.0
+    elements: int = Field(default=6, ge=1, le=100)
+
+    @model_validator(mode="after")
+    def _section(self) -> Shaft:
+        if not self.inner_diameter < self.outer_diameter:
+            raise ValueError(f"inner_diameter = {self.inner_diameter} m: expected < "
+                             f"outer_diameter = {self.outer_diameter} m")
+        return self
+
+
 class FlexibleParts(FlexibleWashers):
     """Meshed flexible parts (Craig-Bampton reduced, floating frame of reference): the five
     washers (``washers``, see :class:`FlexibleWashers`) and the case.
@@ -119,9 +137,24 @@ class FlexibleParts(FlexibleWashers):
     coupling seat, all ``case_plate`` thick); the coupling and the internal gear then press
     directly on the case's seat faces, so the case deforms under the washer loads. Its mass
     and inertia come from the mesh (2.6 kg of steel with the defaults), not from
-    ``bodies.case``."""
+    ``bodies.case``.
+
+    ``shafts = true`` adds the two output shafts as geometrically exact beams (seed 002's
+    flexible driveshafts): the front one (``shaft_front``) from the sun outwards along -z,
+    the rear one (``shaft_rear``) from the coupling along +z, each ending in a bearing to
+    the ground; the bench and the vehicle configuration then drive and load the outputs at
+    the shaft ends, and the shafts' section forces and stresses are recorded. Chosen
+    dimensions (no source: a short solid front output shaft and a tubular propeller shaft
+    to the rear) and ``shaft_damping`` (stiffness-proportional, about 3 % of critical on the
+    first torsion mode near 1 kHz)."""
 
     case: bool = False
+    shafts: bool = False
+    shaft_front: Shaft = Field(default_factory=lambda: Shaft(
+        length=0.45, outer_diameter=0.030, elements=6))
+    shaft_rear: Shaft = Field(default_factory=lambda: Shaft(
+        length=1.2, outer_diameter=0.070, inner_diameter=0.064, elements=8))
+    shaft_damping: Annotated[float, scalar(U.TIME), Field(ge=0.0)] = 1e-5
     case_modes: int = Field(default=6, ge=0, le=60)
     case_wall: tuple[PositiveLength, PositiveLength] = (0.076, 0.085)  # inner, outer radius
     case_flange_radius: PositiveLength = 0.100
