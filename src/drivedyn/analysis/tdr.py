@@ -58,10 +58,12 @@ def model_size(model, library: str = "") -> dict:
     """Sizes of a compiled model: ``unknowns`` (coordinates + multipliers), ``coordinates``
     (6 per node, elastic coordinates of flexible parts included), ``multipliers``, and per
     flexible part its finite-element dofs and elastic coordinates (``parts``: name ->
-    (fe_dofs, nq)); ``seed_coordinates``: the size of the papers' flexible model of the
-    differential ``library`` (``"torsen_c"``), if they give one."""
+    (fe_dofs, nq)); ``beam_elements``: the number of beam elements; ``seed_coordinates``: the
+    size of the papers' flexible bench model of the differential ``library``
+    (``"torsen_c"``), if they give one."""
     parts = {}
     checks = []
+    beams = sum(len(g.names) for g in model.groups if g.family == "beam")
     for g in model.groups:
         for name, part in zip(g.names, g.extra.get("parts", ()), strict=False):
             parts[name] = (3 * part.n, part.nq)
@@ -69,13 +71,15 @@ def model_size(model, library: str = "") -> dict:
     return {"unknowns": model.neq, "coordinates": model.nd, "multipliers": model.nm,
             "parts": parts, "fe_dofs": sum(v[0] for v in parts.values()),
             "elastic_coordinates": sum(v[1] for v in parts.values()), "checks": checks,
-            "seed_coordinates": SEED_COORDINATES.get(library)}
+            "beam_elements": beams, "seed_coordinates": SEED_COORDINATES.get(library)}
 
 
 def size_text(size: dict) -> str:
     """One line describing :func:`model_size` (printed by ``drivedyn tdr``)."""
     txt = (f"model: {size['unknowns']} unknowns ({size['coordinates']} coordinates, "
            f"{size['multipliers']} multipliers)")
+    if size.get("beam_elements"):
+        txt += f"; {size['beam_elements']} beam elements"
     if size["parts"]:
         txt += (f"; {len(size['parts'])} flexible parts ({', '.join(size['parts'])}): "
                 f"{size['fe_dofs']} finite-element dofs reduced to "
