@@ -119,6 +119,29 @@ def test_split_mu_checks(runs, config):
     assert not failed, failed
 
 
+def test_central_split_follows_the_torsen_law(runs):
+    """The central Type C sticks on the split-mu rolling start (its outputs within 1e-3 of
+    each other) and its rear / front split lies inside its locking band; the same split
+    with the outputs slipping fails (a TORSEN that slips sits at a band end): seen with the
+    central's friction lost in the simulation only (washers, pockets and teeth at mu 0),
+    which slips by -43 % and splits at its nominal 1.40, 61 % from the nearest end (3.58);
+    a stuck split outside the band fails too."""
+    import dataclasses
+
+    import drivedyn.analysis.vehicle_4wd as V  # noqa: N812
+
+    s, _ = runs["torsen"]
+    assert abs(s.central_slip) < V.CENTRAL_STICK
+    (name, value, _, ok), = V._central_checks(s, 0.02)
+    assert ok and "sticks" in name and value == s.central_ratio
+    slipping = dataclasses.replace(s, central_slip=-0.43, central_ratio=1.403)
+    (name, dev, _, ok), = V._central_checks(slipping, 0.02)
+    assert not ok and "slips" in name and dev > 0.5
+    outside = dataclasses.replace(s, central_ratio=1.05 * s.central_modes[0] * 1.02)
+    assert not V._central_checks(outside, 0.02)[0][3]
+    assert V._central_checks(runs["open"][0], 0.02) == []  # no TORSEN in the centre
+
+
 def test_balances_are_exact_identities(runs):
     """Euler's law on each differential and the driveline power balance hold to the
     integration error (measured <= 1.2e-5 and 1.2e-4), far inside the 0.5 % of the issue."""

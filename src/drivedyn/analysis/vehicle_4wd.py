@@ -17,7 +17,9 @@ Checks (:func:`checks`, the issue's acceptance criteria):
 * ``torsen``: each axle's torque ratio (high / low) lies in the band of that differential's
   analytic TDRs (lowest -2 % to highest +2 %: on split-mu one wheel slips and the TORSEN
   biases at its TDR; an open or a locked axle falls outside) and the wheel with more grip
-  gets more torque.
+  gets more torque; the central Type C's rear / front split lies inside its locking band
+  (``[1 / TDR_3, TDR_1]`` in drive) while its outputs turn together and at one end of it
+  while they slip (:data:`CENTRAL_STICK`).
 * every configuration: torque balance of each differential (housing input vs outputs) and
   power balance of the driveline (engine power = wheel powers + driveline dissipation + rate
   of driveline kinetic energy) within 0.5 % over the window; the model's energy audit.
@@ -68,6 +70,10 @@ class Summary:
         axle_ratio: axle -> higher / lower wheel torque magnitude of that axle (drive or
             coast).
         central_ratio: rear / front axle torque.
+        central_slip: the central differential's rear minus front output speed over their
+            mean magnitude (window means about its axis; 0: it sticks).
+        central_modes: the central TORSEN's analytic bench TDRs of modes 1-4 (None for the
+            other types).
         traction: sum of the four tyre forces [N].
         torque_balance: position -> |input - outputs| / |input| of that differential.
         power_balance: |P_engine - P_wheels - D_driveline - dK/dt| / P_engine.
@@ -85,6 +91,7 @@ class Summary:
     left_share: dict[str, float]
     axle_ratio: dict[str, float]
     central_ratio: float
+    central_slip: float
     traction: float
     torque_balance: dict[str, float]
     power_balance: float
@@ -94,6 +101,7 @@ class Summary:
     rejected: int = 0
     newton: int = 0
     tdr: dict[str, Any] = field(default_factory=dict)
+    central_modes: list[float] | None = None
 
     @property
     def name(self) -> str:
@@ -108,6 +116,11 @@ def configure(p: Vehicle4WDFile, config: str) -> Vehicle4WDFile:
     d = p.differentials.model_copy(update={"central": c, "front": f, "rear": r})
     return p.model_copy(update={"differentials": d})
 
+
+#: relative speed of the central's outputs below which it sticks (measured 1.1e-4 on the
+#: split-mu launch: the regularised friction's creep and the shafts' compliance; the
+#: frictionless central slips by several per cent)
+CENTRAL_STICK = 1e-3
 
 #: recording interval [s] of :func:`run` (the window means need at least 3 samples)
 OUTPUT_DT = 1e-3
@@ -175,6 +188,12 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
     axis = res.values(f"{lay.housings['central']}.rotation")[:, :, 2]
     tq = np.stack([res.values(f"{lay.engine}.torque_{c}") for c in "xyz"], axis=1)
     eng = float(np.mean(np.einsum("ij,ij->i", tq, axis)[sel]))
+    # the central's outputs (front, rear) about its axis
+    w_out = [float(np.mean(np.einsum("ij,ij->i", res.values(f"{b}.angular_velocity"),
+                                     axis)[sel]))
+             for b in lay.outputs.get("central", ())]
+    slip = _div(w_out[1] - w_out[0], 0.5 * (abs(w_out[0]) + abs(w_out[1]))) \
+        if len(w_out) == 2 else math.nan
     inputs = {"central": eng,
               "front": _mean(res, f"{lay.bevels['front']}.torque_b", sel),
               "rear": _mean(res, f"{lay.bevels['rear']}.torque_b", sel)}
@@ -207,10 +226,12 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
         front_share=_div(front, front + rear),
         left_share={"front": _div(T["fl"], front), "rear": _div(T["rl"], rear)},
         axle_ratio={"front": _ratio(T["fl"], T["fr"]), "rear": _ratio(T["rl"], T["rr"])},
-        central_ratio=_div(rear, front), traction=sum(wh.fx for wh in wheels.values()),
+        central_ratio=_div(rear, front), central_slip=slip,
+        traction=sum(wh.fx for wh in wheels.values()),
         torque_balance=tb, power_balance=pb, energy_error=ee,
         wall=res.stats.wall_s, steps=res.stats.steps, rejected=res.stats.rejected,
-        newton=res.stats.newton_iterations, tdr=dict(lay.tdr))
+        newton=res.stats.newton_iterations, tdr=dict(lay.tdr),
+        central_modes=lay.modes.get("central"))
 
 
 def _ratio(a: float, b: float) -> float:
@@ -331,6 +352,7 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
             # the limit shown is the band's end the ratio is nearer to
             out.append((f"torsen: {axle} torque ratio at the TDR ({lo:.3f}-{hi:.3f})", r,
                         hi if r >= lo else lo, lo <= r <= hi))
+    out += _central_checks(s, tol)
     for pos, e in s.torque_balance.items():
         out.append((f"{kind}: torque balance of the {pos} differential", e, balance,
                     e <= balance))
@@ -339,6 +361,29 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
     out.append((f"{kind}: energy audit (balance error / work in)", s.energy_error, 1e-2,
                 s.energy_error <= 1e-2))
     return out
+
+
+def _central_checks(s: Summary, tol: float) -> list[tuple[str, float, float, bool]]:
+    """The central TORSEN Type C's split: rear / front torque inside its locking band
+    ``[1 / TDR_3, TDR_1]`` in drive (``[1 / TDR_4, TDR_2]`` in coast, the analytic bench
+    TDRs, +-``tol``) while it sticks (``|central_slip| <= CENTRAL_STICK``), at one end of
+    it (within ``tol``) while it slips."""
+    modes = s.central_modes
+    if s.types.get("central") != "torsen-c" or not modes:
+        return []
+    drive = s.engine > 0
+    lo_r = 1.0 / (modes[2] if drive else modes[3])
+    hi_r = modes[0] if drive else modes[1]
+    r, slip = abs(s.central_ratio), s.central_slip
+    if abs(slip) <= CENTRAL_STICK:
+        lo, hi = lo_r * (1 - tol), hi_r * (1 + tol)
+        return [(f"torsen: central sticks (slip {slip:.1e}), rear/front split inside its "
+                 f"locking band ({lo:.3f}-{hi:.3f})", r, hi if r >= lo else lo,
+                 lo <= r <= hi)]
+    end = lo_r if abs(r / lo_r - 1) < abs(r / hi_r - 1) else hi_r
+    dev = abs(r / end - 1)
+    return [(f"torsen: central slips (slip {slip:.1e}), rear/front split at its TDR "
+             f"{end:.3f} (relative deviation)", dev, tol, dev <= tol)]
 
 
 def compare(p: Vehicle4WDFile, torsen: dict, configs: list[str], base_dir: str | Path = ".",

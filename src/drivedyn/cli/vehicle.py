@@ -109,7 +109,8 @@ def vehicle(model_file: str, configs: str | None, t_end: float | None, sets: tup
         sets, out, outputs)
     results = [{"configuration": s.name, "wheels": {w: vars(x) for w, x in s.wheels.items()},
                 "front_share": s.front_share, "axle_ratio": s.axle_ratio,
-                "central_ratio": s.central_ratio, "traction": s.traction, "speed": s.speed,
+                "central_ratio": s.central_ratio, "central_slip": s.central_slip,
+                "traction": s.traction, "speed": s.speed,
                 "torque_balance": s.torque_balance, "power_balance": s.power_balance,
                 "energy_error": s.energy_error, "wall": s.wall, "steps": s.steps,
                 "checks": check_dicts(V.checks(s))} for s in summaries]

@@ -92,6 +92,10 @@ class Layout:
         total_mass: [kg].
         tdr: position -> (lowest, highest) analytic bench TDR of a TORSEN's four modes
             (None for the other types).
+        modes: position -> the analytic bench TDRs of a TORSEN's modes 1-4 (None for the
+            other types).
+        outputs: position -> (output body at the lower, at the higher z of the
+            differential's own frame).
         driveline: body -> mass [kg] of every body between the engine and the wheels
             (shafts and differentials).
     """
@@ -110,6 +114,8 @@ class Layout:
     static_load: dict[str, float] = field(default_factory=dict)
     total_mass: float = 0.0
     tdr: dict[str, tuple[float, float] | None] = field(default_factory=dict)
+    modes: dict[str, list[float] | None] = field(default_factory=dict)
+    outputs: dict[str, tuple[str, str]] = field(default_factory=dict)
     driveline: dict[str, float] = field(default_factory=dict)
 
 
@@ -174,9 +180,9 @@ FINAL_DRIVE_KEYS = {"teeth_a": "teeth_pinion", "teeth_b": "teeth_ring", "module"
 
 
 def _differential(p: Vehicle4WDFile, pos: str, torsen: dict, omega: float
-                  ) -> tuple[Spec, str, str, str, tuple[float, float] | None]:
+                  ) -> tuple[Spec, str, str, str, list[float] | None]:
     """The differential at ``pos`` in its own frame: (spec, housing, output at lower z,
-    output at higher z, analytic TDR range or None)."""
+    output at higher z, analytic bench TDRs of its four modes or None)."""
     kind = getattr(p.differentials, pos)
     if kind in ("open", "locked", "clutch"):
         return build_bevel(p.differentials.bevel, kind, omega), "housing", "a", "b", None
@@ -193,7 +199,7 @@ def _differential(p: Vehicle4WDFile, pos: str, torsen: dict, omega: float
         key = kind.replace("-", "_")
         raise ModelError(f"differentials.{key} = {getattr(p.differentials, key)!r}: the "
                          f"analytic model of the {kind} finds no TDR ({exc})") from None
-    return spec, "housing", lo, hi, (min(tdrs), max(tdrs))
+    return spec, "housing", lo, hi, list(tdrs)
 
 
 def diff_analytic(kind: str):
@@ -287,7 +293,7 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
                  "rear": (np.array([x_rear, 0.0, h]), R_AXLE)}
     outs = {}
     for pos in POSITIONS:
-        sub, housing, lo, hi, rng = parts[pos]
+        sub, housing, lo, hi, tdrs = parts[pos]
         _output_marker(sub, lo, "vehicle_lo")
         _output_marker(sub, hi, "vehicle_hi")
         _output_marker(sub, housing, "vehicle_housing")
@@ -295,7 +301,9 @@ def build_spec(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".",
         include(sp, sub, f"{pos}_", position=at, rotation=R, ground="body", velocity=vel)
         lay.housings[pos] = f"{pos}_{housing}"
         lay.types[pos] = getattr(p.differentials, pos)
-        lay.tdr[pos] = rng
+        lay.tdr[pos] = None if tdrs is None else (min(tdrs), max(tdrs))
+        lay.modes[pos] = tdrs
+        lay.outputs[pos] = (f"{pos}_{lo}", f"{pos}_{hi}")
         outs[pos] = (f"{pos}_vehicle_lo", f"{pos}_vehicle_hi")
     # engine torque on the central housing, reacted on the body
     start, ramp = p.load.start, p.load.ramp
