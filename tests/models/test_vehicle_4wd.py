@@ -132,14 +132,14 @@ def test_central_split_follows_the_torsen_law(runs):
 
     s, _ = runs["torsen"]
     assert abs(s.central_slip) < V.CENTRAL_STICK
-    (name, value, _, ok), = V._central_checks(s, 0.02)
+    (name, value, _, ok), = V.central_checks(s, 0.02)
     assert ok and "sticks" in name and value == s.central_ratio
     slipping = dataclasses.replace(s, central_slip=-0.43, central_ratio=1.403)
-    (name, dev, _, ok), = V._central_checks(slipping, 0.02)
+    (name, dev, _, ok), = V.central_checks(slipping, 0.02)
     assert not ok and "slips" in name and dev > 0.5
     outside = dataclasses.replace(s, central_ratio=1.05 * s.central_modes[0] * 1.02)
-    assert not V._central_checks(outside, 0.02)[0][3]
-    assert V._central_checks(runs["open"][0], 0.02) == []  # no TORSEN in the centre
+    assert not V.central_checks(outside, 0.02)[0][3]
+    assert V.central_checks(runs["open"][0], 0.02) == []  # no TORSEN in the centre
 
 
 def test_balances_are_exact_identities(runs):

@@ -352,7 +352,7 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
             # the limit shown is the band's end the ratio is nearer to
             out.append((f"torsen: {axle} torque ratio at the TDR ({lo:.3f}-{hi:.3f})", r,
                         hi if r >= lo else lo, lo <= r <= hi))
-    out += _central_checks(s, tol)
+    out += central_checks(s, tol)
     for pos, e in s.torque_balance.items():
         out.append((f"{kind}: torque balance of the {pos} differential", e, balance,
                     e <= balance))
@@ -363,7 +363,7 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
     return out
 
 
-def _central_checks(s: Summary, tol: float) -> list[tuple[str, float, float, bool]]:
+def central_checks(s: Summary, tol: float) -> list[tuple[str, float, float, bool]]:
     """The central TORSEN Type C's split: rear / front torque inside its locking band
     ``[1 / TDR_3, TDR_1]`` in drive (``[1 / TDR_4, TDR_2]`` in coast, the analytic bench
     TDRs, +-``tol``) while it sticks (``|central_slip| <= CENTRAL_STICK``), at one end of
