@@ -119,7 +119,8 @@ def vehicle_4wd_split_mu(quick: bool = False, figure_dir: str | None = None
     front split lies inside its locking band while its outputs turn together (measured
     1.46 in 0.631-3.58 on this rolling start) or at a band end while they slip. Seen to
     fail: the central's friction lost in the simulation (washers, pockets, teeth at mu 0)
-    slips by -43 % at its nominal split 1.40, 61 % from the band's nearest end."""
+    slips by -43 % at its nominal split 1.40 on the launch from rest, 61 % from the band's
+    nearest end."""
     import drivedyn.analysis.vehicle_4wd as V  # noqa: N812
     from drivedyn.config import read_library_file
     from drivedyn.library.differentials.torsen_b import analytic as ab
