@@ -52,6 +52,7 @@ from drivedyn.elements.contact import (
 from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import CylindricalPair, top_land, undercut_limits
+from drivedyn.library.differentials.end_faces import add_end_faces
 from drivedyn.library.differentials.flexible_washers import add_flexible_washer
 from drivedyn.library.differentials.torsen_b.schema import TorsenBFile
 from drivedyn.model.spec import ModelError, Spec
@@ -315,15 +316,9 @@ def build_spec(p: TorsenBFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
                                   pin_radius=geo.r_tip_element, friction=tip))
             if pk.oil_film:
                 sp.add(pocket_film(p, geo, f"{name}_film", f"pocket_{name}", f"m_{name}"))
-            # end faces on the pocket floors (marker A on the floor, normal towards the gear)
-            for tag, zf, axis in (("l", -half, Z), ("r", half, MZ)):
-                floor = zf + math.copysign(pk.end_gap, zf)
-                sp.add_marker(f"floor_{name}{tag}", "housing",
-                              position=pos + np.array([0.0, 0.0, floor]), axis=axis)
-                sp.add_marker(f"face_{name}{tag}", name, position=(0, 0, zf), axis=Z)
-                sp.add(ThrustWasherContact(f"{name}_end_{tag}", f"floor_{name}{tag}",
-                                           f"face_{name}{tag}", law=_law(p), r_int=pk.end_r_int,
-                                           r_ext=pk.end_r_ext, friction=end))
+            # end faces on the pocket floors
+            add_end_faces(sp, name, pos, half, pk.end_gap, pk.end_r_int, pk.end_r_ext,
+                          _law(p), end, tags=("l", "r"))
             # side mesh, in the side gear's mid-face plane
             sp.add_marker(f"ms_{name}", name, position=(0, 0, z_mesh), axis=Z)
             phase = (g.teeth_side * th / (2 * math.pi)) % 1.0

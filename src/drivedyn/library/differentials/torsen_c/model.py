@@ -64,6 +64,7 @@ from drivedyn.elements.contact.common import washer_friction_radius
 from drivedyn.elements.contact.squeeze_film import SqueezeFilm
 from drivedyn.elements.framework.visuals import cylinder
 from drivedyn.elements.gears.geometry import undercut_limits
+from drivedyn.library.differentials.end_faces import add_end_faces
 from drivedyn.library.differentials.flexible_washers import add_flexible_washer
 from drivedyn.library.differentials.torsen_c.schema import TorsenCFile
 from drivedyn.model.spec import ModelError, Spec
@@ -374,25 +375,18 @@ def _output_shaft(sp: Spec, p: TorsenCFile, body: str, z: float, shaft, sign: fl
 def _end_faces(sp: Spec, p: TorsenCFile, planet: str, pos: np.ndarray, half: float,
                friction: FrictionLaw | None) -> None:
     """The planet's two end faces (at ``+-half`` [m] from its centre) on the pocket floors
-    of the housing, ``pockets.end_gap`` beyond them (marker A on the floor, normal towards
-    the planet). Both floors belong to the housing body: with a flexible case the rear floor
-    does not deform with it."""
+    of the housing, ``pockets.end_gap`` beyond them, dry or with the oil film
+    (``pockets.end_film``). Both floors belong to the housing body: with a flexible case the
+    rear floor does not deform with it."""
     pk = p.pockets
-    for tag, zf, axis in (("f", -half, Z), ("r", half, MZ)):
-        floor = zf + math.copysign(pk.end_gap, zf)
-        sp.add_marker(f"floor_{planet}{tag}", "housing",
-                      position=pos + np.array([0.0, 0.0, floor]), axis=axis)
-        sp.add_marker(f"face_{planet}{tag}", planet, position=(0, 0, zf), axis=Z)
-        a, b = f"floor_{planet}{tag}", f"face_{planet}{tag}"
-        if pk.end_film:
-            sp.add(SqueezeFilm(f"{planet}_end_{tag}", a, b, viscosity=pk.viscosity,
-                               r_int=pk.end_r_int, r_ext=pk.end_r_ext,
-                               roughness=p.contact.elastic_washers.roughness, contact=_law(p),
-                               friction=friction, cavitation=True))
-        else:
-            sp.add(ThrustWasherContact(f"{planet}_end_{tag}", a, b, law=_law(p),
-                                       r_int=pk.end_r_int, r_ext=pk.end_r_ext,
-                                       friction=friction))
+    film = None
+    if pk.end_film:
+        def film(name: str, a: str, b: str) -> SqueezeFilm:
+            return SqueezeFilm(name, a, b, viscosity=pk.viscosity, r_int=pk.end_r_int,
+                               r_ext=pk.end_r_ext, roughness=p.contact.elastic_washers.roughness,
+                               contact=_law(p), friction=friction, cavitation=True)
+    add_end_faces(sp, planet, pos, half, pk.end_gap, pk.end_r_int, pk.end_r_ext, _law(p),
+                  friction, tags=("f", "r"), film=film)
 
 
 def _visuals(sp: Spec, p: TorsenCFile, geo: Geometry, zc: float, flexible_case: bool) -> None:
