@@ -586,3 +586,28 @@ def test_stiffness_variation_keeps_the_tdr():
     for mode, tdr in run.tdr.items():
         assert abs(tdr / constant.tdr[mode] - 1) < 3e-3, (mode, tdr, constant.tdr[mode])
         assert abs(tdr / bench_tdr(p, mode) - 1) < TOL_SHIPPED_POCKET
+
+
+def test_planet_end_faces_dry_or_with_film():
+    """Each planet has two end faces on the housing's pocket floors (``end_gap`` beyond its
+    ends): thrust-washer contacts, or squeeze films with ``pockets.end_film``; the Type B's
+    element gears get theirs from the same builder."""
+    from drivedyn.config import read_library_file
+    from drivedyn.elements.contact import ThrustWasherContact
+    from drivedyn.elements.contact.squeeze_film import SqueezeFilm
+    from drivedyn.library.differentials.torsen_b.model import build_spec as build_b
+    from drivedyn.library.differentials.torsen_c.model import build_spec as build_c
+
+    for sets, kind in (([], ThrustWasherContact), (["pockets.end_film=true"], SqueezeFilm)):
+        p, _, _ = read_library_file("torsen-c", sets)
+        sp, _ = build_c(p)
+        ends = [e for e in sp.elements if "_end_" in e.name]
+        assert len(ends) == 2 * p.gears.planets and all(isinstance(e, kind) for e in ends)
+        f, r = sp.markers["floor_planet1f"], sp.markers["floor_planet1r"]
+        half = p.gears.face_width / 2
+        assert r.position[2] - f.position[2] == pytest.approx(2 * (half + p.pockets.end_gap))
+        assert f.body == r.body == "housing"
+    pb, _, _ = read_library_file("torsen-b")
+    sb, _ = build_b(pb)
+    ends = [e.name for e in sb.elements if "_end_" in e.name]
+    assert len(ends) == 4 * pb.gears.pairs and "a1_end_l" in ends and "b1_end_r" in ends
