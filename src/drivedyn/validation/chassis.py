@@ -43,7 +43,11 @@ def _meshed(p: LadderFrameFile, n: int) -> LadderFrameFile:
 
 @register_case("chassis_torsion")
 def chassis_torsion(quick: bool = False, figure_dir: str | None = None) -> list[CaseResult]:
-    """Torsional stiffness of a ladder frame vs the closed form and vs a 4x finer mesh."""
+    """Torsional stiffness of a rectangular frame vs the closed form of its grillage, and of
+    the ladder frame vs a 4x finer mesh (its discretisation error: 0.34 % at two elements
+    per segment, 1.5 % at one). Seen to fail: the rails' and cross members' torsional
+    stiffness 5 % high in the beam elements puts the rectangular frame 5.4 % off, and one
+    element per segment instead of two 3.3 % off (tolerance 2 %)."""
     t0 = time.perf_counter()
     frame = LadderFrameFile()
     rect = rectangle_frame(frame)

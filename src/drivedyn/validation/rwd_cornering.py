@@ -85,7 +85,9 @@ def scenario(quick: bool):
 def rwd_steady_cornering(quick: bool = False, figure_dir: str | None = None
                          ) -> list[CaseResult]:
     """Understeer gradient of the RWD vehicle's 3-D model in a steady circle against the
-    single-track reference with its measured terms (10 %)."""
+    single-track reference with its measured terms (10 %). Seen to fail (module docstring):
+    the reference with the rear tyres' cornering stiffness doubled gives nearly eight times
+    the measured gradient."""
     from drivedyn.analysis import understeer as U  # noqa: N812 - the reference
     from drivedyn.analysis import vehicle_rwd_cornering as C  # noqa: N812 - the scenario
     from drivedyn.library.vehicles.vehicle_rwd.cornering import cornering_parameters
