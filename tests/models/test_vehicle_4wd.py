@@ -206,6 +206,20 @@ def test_model_file_loads_and_refuses_impossible_values(tmp_path):
         assert "Traceback" not in r.output
 
 
+def test_vehicle_refuses_a_torsen_with_flexible_shafts(tmp_path):
+    """A Type C file with ``flexible.shafts = true`` in a vehicle position is refused by key:
+    the vehicle's own shafts connect to the output gears."""
+    from drivedyn.config.loader import shipped_models
+
+    text = shipped_models()["torsen-c"].read_text()
+    tc = tmp_path / "tc.toml"
+    tc.write_text(text + "\n[flexible]\nshafts = true\n")
+    r = CliRunner().invoke(main, ["vehicle", "--set", f"differentials.torsen_c={tc}",
+                                  "--t-end", "0.01"])
+    assert r.exit_code == 2, r.output
+    assert "flexible.shafts" in r.output and "Traceback" not in r.output, r.output
+
+
 def test_vehicle_command_open_json(tmp_path):
     runner = CliRunner()
     r = runner.invoke(main, ["vehicle", "--compare", "open", "--set", "body.speed=2",

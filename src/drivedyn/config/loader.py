@@ -333,6 +333,10 @@ def read_vehicle_differentials(params: Any, source: str, base: Path) -> dict[str
             differentials.get(kind).check(out[kind])
         except ModelError as exc:
             raise ModelFileError(f"{source}: differentials.{key} = {name!r}: {exc}") from None
+        if getattr(out[kind].flexible, "shafts", False):
+            raise ModelFileError(f"{source}: differentials.{key} = {name!r}: flexible.shafts "
+                                 "= true: expected false in a vehicle (the vehicle's own "
+                                 "propeller and half shafts connect to the output gears)")
     return out
 
 
