@@ -153,3 +153,27 @@ def test_torsen_c_shaft_refusals():
     assert r.exit_code == 2, r.output
     assert "shaft_rear" in r.output and "outer_diameter" in r.output, r.output
     assert "Traceback" not in r.output
+
+
+def test_flexible_figures_of_a_vehicle_run(tmp_path):
+    """The validation report's figures of a vehicle run with the case and the shafts
+    flexible: the case seats' pressure maps, the case's stress snapshots and each shaft's
+    gear-end stress history."""
+    from click.testing import CliRunner
+
+    from drivedyn.cli import main
+    from drivedyn.validation.flexible_torsen import _flexible_figures
+
+    out = tmp_path / "run.nc"
+    r = CliRunner().invoke(main, ["run", "torsen-c", "--t-end", "0.02", "--out", str(out),
+                                  "--set", "flexible.shafts=true", "--set",
+                                  "flexible.case=true", "--set", "solver.output_dt=1 ms"])
+    assert r.exit_code == 0, r.output
+    import xarray as xr
+
+    with xr.open_dataset(out) as ds:
+        paths = _flexible_figures("tc", ds.load(), str(tmp_path / "fig"), (0.0, 0.01, 0.02))
+    names = sorted(p.rsplit("/", 1)[-1] for p in paths)
+    assert names == ["tc_flexible_case_stress.png", "tc_flexible_coupling_shaft_stress.png",
+                     "tc_flexible_pressure_coupling_case.png",
+                     "tc_flexible_pressure_ring_case.png", "tc_flexible_sun_shaft_stress.png"]

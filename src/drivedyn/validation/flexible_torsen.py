@@ -223,11 +223,13 @@ def torsen_b_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
 
 def _flexible_figures(prefix: str, res, figure_dir: str, window) -> list[str]:
     """Pressure maps of the flexible washers at the middle of ``window`` [s] (or its last
-    time), and the stress history of the case if it is flexible."""
+    time), the stress history of the case if it is flexible, and of each output shaft's
+    gear-end element if the shafts are beams."""
     import os
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    from drivedyn.plots.beams import beam_elements, beam_stress_figure
     from drivedyn.plots.flexible import (
         flexible_parts,
         part_stress_figure,
@@ -243,6 +245,9 @@ def _flexible_figures(prefix: str, res, figure_dir: str, window) -> list[str]:
     if "case" in flexible_parts(res):
         figs.append((f"{prefix}_flexible_case_stress", part_stress_figure(res, "case", 3,
                                                                           scale=2000.0)))
+    beams = beam_elements(res)
+    figs += [(f"{prefix}_flexible_{e.split('.')[0]}_stress", beam_stress_figure(res, e))
+             for e in sorted(beams) if e.endswith("_shaft.e0")]
     for name, fig in figs:
         FigureCanvasAgg(fig)
         path = os.path.join(figure_dir, f"{name}.png")
