@@ -306,27 +306,6 @@ def test_scene_of_a_run_follows_the_recorded_poses(torsen_c_run) -> None:
     assert geom["triangles"].max() < len(geom["points"]) and len(geom["lines"]) == 0
 
 
-def test_scene_draws_the_flexible_shafts_and_case_coloured_by_stress(tmp_path) -> None:
-    """The Type C with ``flexible.shafts`` and ``flexible.case``: the scene has the two
-    output shafts as beam chains of their elements' nodes (6 + 1 and 8 + 1) carrying a
-    stress per frame, and the case as a meshed part with its nodal stresses (seed 002's
-    stress histories in the viewer)."""
-    import xarray as xr
-
-    out = tmp_path / "shafts.nc"
-    r = CliRunner().invoke(main, ["run", "torsen-c", "--t-end", "0.02", "--out", str(out),
-                                  "--set", "flexible.shafts=true", "--set",
-                                  "flexible.case=true", "--set", "solver.output_dt=1 ms"])
-    assert r.exit_code == 0, r.output
-    with xr.open_dataset(out) as ds:
-        scene = build_scene(ds.load(), frames=8)
-    assert sorted(len(b.nodes) for b in scene.beams) == [7, 9]
-    for b in scene.beams:
-        assert b.stress.shape[0] == 8 and np.all(np.isfinite(b.stress))
-        assert b.stress.max() > 0.0  # the engine torque ramps up: the shafts are loaded
-    assert [p.name for p in scene.parts] == ["case"]
-
-
 def test_gltf_export_animates_every_node(torsen_c_run, tmp_path) -> None:
     import xarray as xr
 

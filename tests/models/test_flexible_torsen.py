@@ -155,25 +155,50 @@ def test_torsen_c_shaft_refusals():
     assert "Traceback" not in r.output
 
 
-def test_flexible_figures_of_a_vehicle_run(tmp_path):
-    """The validation report's figures of a vehicle run with the case and the shafts
-    flexible: the case seats' pressure maps, the case's stress snapshots and each shaft's
-    gear-end stress history."""
+@pytest.fixture(scope="module")
+def shafts_run(tmp_path_factory) -> str:
+    """A 20 ms vehicle-configuration run of the Type C with the case and the output shafts
+    flexible (the engine torque ramping up), an output every millisecond."""
     from click.testing import CliRunner
 
     from drivedyn.cli import main
-    from drivedyn.validation.flexible_torsen import _flexible_figures
 
-    out = tmp_path / "run.nc"
+    out = tmp_path_factory.mktemp("shafts") / "run.nc"
     r = CliRunner().invoke(main, ["run", "torsen-c", "--t-end", "0.02", "--out", str(out),
                                   "--set", "flexible.shafts=true", "--set",
                                   "flexible.case=true", "--set", "solver.output_dt=1 ms"])
     assert r.exit_code == 0, r.output
+    return str(out)
+
+
+def test_flexible_figures_of_a_vehicle_run(shafts_run, tmp_path):
+    """The validation report's figures of a vehicle run with the case and the shafts
+    flexible: the case seats' pressure maps, the case's stress snapshots and each shaft's
+    gear-end stress history."""
     import xarray as xr
 
-    with xr.open_dataset(out) as ds:
+    from drivedyn.validation.flexible_torsen import _flexible_figures
+
+    with xr.open_dataset(shafts_run) as ds:
         paths = _flexible_figures("tc", ds.load(), str(tmp_path / "fig"), (0.0, 0.01, 0.02))
     names = sorted(p.rsplit("/", 1)[-1] for p in paths)
     assert names == ["tc_flexible_case_stress.png", "tc_flexible_coupling_shaft_stress.png",
                      "tc_flexible_pressure_coupling_case.png",
                      "tc_flexible_pressure_ring_case.png", "tc_flexible_sun_shaft_stress.png"]
+
+
+def test_scene_draws_the_flexible_shafts_and_case_coloured_by_stress(shafts_run):
+    """The 3-D viewer's scene of that run: the two output shafts as beam chains of their
+    elements' nodes (6 + 1 and 8 + 1) carrying a stress per frame, and the case as a meshed
+    part with its nodal stresses (seed 002's stress histories in the viewer)."""
+    import xarray as xr
+
+    from drivedyn.viewer.scene import build_scene
+
+    with xr.open_dataset(shafts_run) as ds:
+        scene = build_scene(ds.load(), frames=8)
+    assert sorted(len(b.nodes) for b in scene.beams) == [7, 9]
+    for b in scene.beams:
+        assert b.stress.shape[0] == 8 and np.all(np.isfinite(b.stress))
+        assert b.stress.max() > 0.0  # the engine torque ramps up: the shafts are loaded
+    assert [p.name for p in scene.parts] == ["case"]
