@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drivedyn.library import differentials
-from drivedyn.library.differentials.flexible_washers import SEED_COORDINATES
 from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.results.metrics import run_metrics
 from drivedyn.results.provenance import record_provenance
@@ -54,13 +53,12 @@ class BenchRun:
     size: dict = field(default_factory=dict)
 
 
-def model_size(model, library: str = "") -> dict:
+def model_size(model, seed_coordinates: int = 0) -> dict:
     """Sizes of a compiled model: ``unknowns`` (coordinates + multipliers), ``coordinates``
     (6 per node, elastic coordinates of flexible parts included), ``multipliers``, and per
     flexible part its finite-element dofs and elastic coordinates (``parts``: name ->
     (fe_dofs, nq)); ``beam_elements``: the number of beam elements; ``seed_coordinates``: the
-    size of the papers' flexible bench model of the differential ``library``
-    (``"torsen_c"``), if they give one."""
+    size of the papers' flexible bench model of the differential (given: 0 if none)."""
     parts = {}
     checks = []
     beams = sum(len(g.names) for g in model.groups if g.family == "beam")
@@ -71,7 +69,7 @@ def model_size(model, library: str = "") -> dict:
     return {"unknowns": model.neq, "coordinates": model.nd, "multipliers": model.nm,
             "parts": parts, "fe_dofs": sum(v[0] for v in parts.values()),
             "elastic_coordinates": sum(v[1] for v in parts.values()), "checks": checks,
-            "beam_elements": beams, "seed_coordinates": SEED_COORDINATES.get(library)}
+            "beam_elements": beams, "seed_coordinates": seed_coordinates}
 
 
 def size_text(size: dict) -> str:
@@ -159,7 +157,7 @@ def run_bench(p, side: str, torque: float | None = None,
                       library_model=p.model.library, configuration=config)
     run = BenchRun(side, results=res, wall_s=time.perf_counter() - t0,
                    success=bool(res.success), message="" if res.success else str(res.message),
-                   size=model_size(model, p.model.library))
+                   size=model_size(model, diff.seed_coordinates))
     windows = (p.bench.window_drive, p.bench.window_coast)
     for mode, win in zip(diff.side_modes[side], windows, strict=True):
         if not res.success and res.values("time")[-1] < win[1]:

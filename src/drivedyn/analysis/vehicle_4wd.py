@@ -363,17 +363,25 @@ def checks(s: Summary, tol: float = 0.02, balance: float = 5e-3) -> list[tuple[s
     return out
 
 
-def central_checks(s: Summary, tol: float) -> list[tuple[str, float, float, bool]]:
-    """The central TORSEN Type C's split: rear / front torque inside its locking band
-    ``[1 / TDR_3, TDR_1]`` in drive (``[1 / TDR_4, TDR_2]`` in coast, the analytic bench
-    TDRs, +-``tol``) while it sticks (``|central_slip| <= CENTRAL_STICK``), at one end of
-    it (within ``tol``) while it slips."""
+def central_band(s: Summary) -> tuple[float, float] | None:
+    """The central TORSEN Type C's locking band of its rear / front torque split from its
+    analytic bench TDRs: ``(1 / TDR_3, TDR_1)`` in drive (mode 1 biases the rear, mode 3 the
+    front), ``(1 / TDR_4, TDR_2)`` in coast; None for another central differential."""
     modes = s.central_modes
     if s.types.get("central") != "torsen-c" or not modes:
-        return []
+        return None
     drive = s.engine > 0
-    lo_r = 1.0 / (modes[2] if drive else modes[3])
-    hi_r = modes[0] if drive else modes[1]
+    return 1.0 / (modes[2] if drive else modes[3]), modes[0] if drive else modes[1]
+
+
+def central_checks(s: Summary, tol: float) -> list[tuple[str, float, float, bool]]:
+    """The central TORSEN Type C's split: rear / front torque inside its locking band
+    (:func:`central_band`, +-``tol``) while it sticks (``|central_slip| <=
+    CENTRAL_STICK``), at one end of it (within ``tol``) while it slips."""
+    band = central_band(s)
+    if band is None:
+        return []
+    lo_r, hi_r = band
     r, slip = abs(s.central_ratio), s.central_slip
     if abs(slip) <= CENTRAL_STICK:
         lo, hi = lo_r * (1 - tol), hi_r * (1 + tol)

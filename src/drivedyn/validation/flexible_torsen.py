@@ -25,13 +25,11 @@ FLEX_TOL = 0.02
 RADIUS_TOL = 1e-3
 
 
-def flexible_params(base_params, washers: bool = True, case: bool | None = None):
-    """A copy of the parameters with flexible washers and (Type C) the case."""
-    update = {"washers": washers}
-    if case is not None:
-        update["case"] = case
+def flexible_params(base_params, **switches: bool):
+    """A copy of the parameters with the ``[flexible]`` switches given (``washers``, and for
+    the Type C ``case`` and ``shafts``)."""
     return base_params.model_copy(update={"flexible": base_params.flexible.model_copy(
-        update=update)})
+        update=switches)})
 
 
 def washer_mu(p, name: str) -> float:
@@ -139,14 +137,13 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     out: list[CaseResult] = []
     figures: list[str] = []
     rigid: dict = {}
-    _bench_pairs(case, p, flexible_params(p, case=False), "flexible washers", out,
+    _bench_pairs(case, p, flexible_params(p, washers=True), "flexible washers", out,
                  rigid_runs=rigid)
-    pf = flexible_params(p, case=True)
+    pf = flexible_params(p, washers=True, case=True)
     _bench_pairs(case, p, pf, "flexible washers and case", out, radius_check=True,
                  rigid_runs=rigid)
     # vehicle configuration with the case and the output shafts flexible: one drive level
-    ps = flexible_params(pf, washers=False, case=True)
-    ps = ps.model_copy(update={"flexible": ps.flexible.model_copy(update={"shafts": True})})
+    ps = flexible_params(p, case=True, shafts=True)
     pv = ps.model_copy(update={"vehicle": ps.vehicle.model_copy(update={
         "torque_levels": [125.0], "speed_diff": [-2.0], "hold": 0.3 if quick else 0.5})})
     run = run_vehicle(pv)
@@ -212,7 +209,7 @@ def torsen_b_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     case = "torsen_b_flexible"
     p, _, _ = read_library_file("torsen-b")
     out: list[CaseResult] = []
-    runs = _bench_pairs(case, p, flexible_params(p), "flexible washers", out)
+    runs = _bench_pairs(case, p, flexible_params(p, washers=True), "flexible washers", out)
     figures: list[str] = []
     right = runs.get("right")
     if figure_dir and right is not None and right.success:

@@ -149,8 +149,7 @@ def vehicle_4wd_split_mu(quick: bool = False, figure_dir: str | None = None
                              abs(s.wheels[hi].torque / s.wheels[lo].torque), 1.0, "1",
                              "seed 003 Fig. 15: the wheel with more grip gets more torque"))
     # the central Type C: inside its locking band while it sticks, at a band end if it slips
-    modes = s.central_modes or [math.nan] * 4
-    lo, hi = 1.0 / modes[2], modes[0]
+    lo, hi = V.central_band(s) or (math.nan, math.nan)
     if abs(s.central_slip) <= V.CENTRAL_STICK:
         out.append(at_least(case, "TORSEN central: rear / front split (sticking) vs 1 / TDR_3",
                             s.central_ratio, lo * 0.98, "1",

@@ -79,6 +79,8 @@ class Differential:
         axial_bodies: (body, label) whose axial motion the vehicle figures show.
         mesh_elements: ``f(name) -> bool``: is this element a gear mesh (dissipation figure).
         pocket_elements: ``f(name) -> bool``: is this element a pocket contact.
+        seed_coordinates: coordinates of the seeds' flexible bench model of this type (seed
+            003: the Type C with four flexible washers, the Type B with three), 0 if none.
         element_groups: (label, glob patterns of element names) of the dissipative element
             groups other than the washers that the dashboard sums (``("pockets",
             ("*_pocket",))``, the gear meshes...).
@@ -102,6 +104,7 @@ class Differential:
     mesh_elements: Callable[[str], bool] = lambda name: False
     pocket_elements: Callable[[str], bool] = lambda name: "_pocket" in name
     element_groups: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    seed_coordinates: int = 0
 
     def output(self, side: str) -> Output:
         """The output called ``side``."""

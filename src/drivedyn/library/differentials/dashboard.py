@@ -128,7 +128,7 @@ def _stresses(diff: Differential, p: Any) -> tuple[Panel, ...]:
     if fx.washers:
         curves.append(Curve("washers (largest)", (Term("washer_*.max_von_mises",
                                                         reduce="max"),)))
-    shafts = [o for o in diff.outputs if getattr(fx, "shafts", False)]
+    shafts = diff.outputs if getattr(fx, "shafts", False) else ()
     curves += [Curve(f"{o.label} shaft", (Term(f"{o.body}_shaft.e*.von_mises", reduce="max"),))
                for o in shafts]
     if not curves:

@@ -18,10 +18,6 @@ from drivedyn.elements.contact import FrictionLaw
 from drivedyn.library.differentials.schema_sections import Contact, FlexibleWashers
 from drivedyn.model.spec import Spec
 
-#: coordinates of the papers' flexible models (seed 003): the Type C bench with four
-#: flexible washers, the Type B with three
-SEED_COORDINATES = {"torsen_c": 8161, "torsen_b": 21164}
-
 
 def washer_part(f: FlexibleWashers, name: str, r_int: float, r_ext: float) -> tuple[Any, Any]:
     """(solid, reduced part) of washer ``name``: steel annulus ``r_int..r_ext`` [m] of

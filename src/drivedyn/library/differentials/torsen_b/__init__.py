@@ -41,6 +41,7 @@ DIFFERENTIAL = Differential(
     # one boundary-friction coefficient for the washers and the pockets (steel on steel in
     # the same oil): one number for two distinct measurements (modes 1 = 3, 2 = 4)
     free=(("washers.mu", "pockets.mu"),),
+    seed_coordinates=21164,
     washers={"left": "left side gear - housing", "middle": "between the side gears",
              "right": "right side gear - housing"},
     axial_bodies=(("left", "left side gear"), ("right", "right side gear"),

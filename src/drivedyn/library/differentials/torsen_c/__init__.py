@@ -44,6 +44,7 @@ DIFFERENTIAL = Differential(
     # pockets) end on the upper bound 0.2 of their range (docs/torsen_c.md)
     free=(("washers.sun_housing.mu", "washers.coupling_case.mu", "washers.ring_housing.mu",
            "washers.ring_case.mu", "pockets.mu"),),
+    seed_coordinates=8161,
     washers={"sun_housing": "W1 sun - housing", "sun_coupling": "W2 sun - coupling",
              "coupling_case": "W3 coupling - case", "ring_housing": "W4 ring - housing",
              "ring_case": "W5 ring - case"},
