@@ -218,3 +218,42 @@ def test_load_kernels_compiles_what_the_run_calls(monkeypatch) -> None:
     assert sorted(map(repr, by_load)) == sorted(map(repr, by_run))
     with pytest.raises(TypeError, match="output_dtt"):  # a mistyped setting is not ignored
         load_kernels(compile_model(speed_jump_spec()), output_dtt=1e-3, **settings)
+
+
+def test_code_size_counts_each_numba_function_reached_once() -> None:
+    """code_size sums the bytecode of a kernel and of the numba functions it reaches by
+    name or as ``module.name``, each once: the gear kernel's is its own plus its loop's
+    (reached through the module-level ``_parallel_gears``) plus the helpers of the
+    scaffold module (``sc.state``...). Fails if the module-attribute walk is dropped (the
+    scaffold's helpers go missing) or a shared helper is counted twice."""
+    from drivedyn.elements.framework import scaffold as sc
+    from drivedyn.elements.gears import kernel as gk
+    from drivedyn.solver.precompile import code_size
+
+    own = len(gk.parallel_gear_kernel.py_func.__code__.co_code)
+    loop = code_size(gk._parallel_gears.py_func)
+    total = code_size(gk.parallel_gear_kernel.py_func)
+    assert total > own + len(gk._gears.py_func.__code__.co_code)
+    assert loop > len(gk._gears.py_func.__code__.co_code) + len(
+        sc.state.py_func.__code__.co_code)  # reached as sc.state in _gears
+    # each function once: the kernel calls _parallel_gears twice and _work once
+    seen: set = set()
+    assert code_size(gk.parallel_gear_kernel.py_func, seen) == total
+    assert code_size(gk.parallel_gear_kernel.py_func, seen) == 0
+
+
+def test_kernels_unknown_to_the_record_are_ordered_by_code_size() -> None:
+    """expected_seconds: a kernel in the record takes the record's seconds; one not in it
+    SECONDS_PER_BYTE times its code size, so on a fresh machine the workers take the gear
+    kernel (the largest code of the Type C bench) before the rigid bodies' kernel. Fails if
+    the estimate falls back to one constant for every kernel (the order of the model's
+    groups then decides)."""
+    from drivedyn.elements.bodies import rigid_body_kernel
+    from drivedyn.elements.gears.kernel import parallel_gear_kernel
+    from drivedyn.solver.precompile import SECONDS_PER_BYTE, code_size, expected_seconds
+
+    gear = expected_seconds("gear", parallel_gear_kernel, {})
+    rigid = expected_seconds("rigid", rigid_body_kernel, {})
+    assert gear == SECONDS_PER_BYTE * code_size(parallel_gear_kernel.py_func)
+    assert gear > 2.0 * rigid > 0.0
+    assert expected_seconds("rigid", rigid_body_kernel, {"rigid": {"seconds": 99.0}}) == 99.0

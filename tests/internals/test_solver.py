@@ -401,9 +401,10 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     for a, f in zip(lin._f, fresh._f, strict=True):
         assert np.array_equal(a, f)
     # shrink the first pivot: the kept pivot order is refused, a new one is searched
-    rows = indices[indptr[0]:indptr[1]]
+    col = lin._q[0]  # the column of the first elimination step
+    rows = indices[indptr[col]:indptr[col + 1]]
     d = data2.copy()
-    d[indptr[0] + int(np.flatnonzero(rows == lin._prow[0])[0])] *= 1e-6
+    d[indptr[col] + int(np.flatnonzero(rows == lin._prow[0])[0])] *= 1e-6
     lin.factor_csc(d, indices, indptr, n)
     A3 = sps.csc_matrix((d, indices, indptr), shape=(n, n)).toarray()
     x = lin.solve(b)

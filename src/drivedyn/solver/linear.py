@@ -268,24 +268,54 @@ def compact_factors(Lp, Li, Lx, Up, Ui, Ux, cLp, cLi, cLx, cUp, cUi, cUx):
     return lz, uz
 
 
+#: the column orders ``SparseLU("auto")`` compares (SuperLU's names): the approximate
+#: minimum degree of A's columns, and the minimum degree of A^T A and of A^T + A
+ORDERS = ("COLAMD", "MMD_ATA", "MMD_AT_PLUS_A")
+
+
+#: threshold of the partial pivoting (a diagonal pivot is kept while it is at least this
+#: share of its column's largest candidate): 0.01, the default of HSL's sparse LU and LDL^T
+#: codes (MA48, MA57), which bounds the growth of a column's entries by 100 per step; the
+#: Newton iteration computes its residual exactly, so a less accurate solve costs at most an
+#: iteration. The 4WD vehicle's factors: 22 000 entries and 0.66 ms at 0.01, 31 300 entries
+#: and 1.3 ms at 0.1 (benchmarks/README.md)
+PIVOT_THRESHOLD = 0.01
+
+
 class SparseLU(LinearSolver):
-    """Sparse LU on the model's fixed pattern: the column order is COLAMD's, computed once
-    by SuperLU on the first matrix; every factorisation is then a compiled left-looking LU
-    with threshold partial pivoting (:func:`gp_factor`), or, while the last pivots stay
-    large enough, a refactorisation with them (:func:`gp_refactor`); the triangular solves
-    are compiled too (:func:`sparse_lu_solve`).
+    """Sparse LU on the model's fixed pattern: a column order computed once on the first
+    matrix (SuperLU's), then every factorisation a compiled left-looking LU with threshold
+    partial pivoting (:func:`gp_factor`), or, while the last pivots stay large enough, a
+    refactorisation with them (:func:`gp_refactor`); the triangular solves are compiled too
+    (:func:`sparse_lu_solve`).
+
+    ``permc_spec``: SuperLU's name of the column order, or ``"auto"``: each order of
+    :data:`ORDERS` factorised once on the first matrix, the one with the fewest factor
+    entries kept (:attr:`order`). No one order suits every model: COLAMD keeps a chain of
+    gears or beam elements banded, while a body that every joint hangs on (the car body of
+    a vehicle) makes COLAMD's factors fill the matrix and the minimum-degree orders do not
+    (the 4WD vehicle, 383 unknowns: 135 700 entries with COLAMD, 22 000 with
+    ``MMD_ATA``; benchmarks/README.md).
 
     The iteration matrix is a saddle-point matrix (zero multiplier block), so partial pivoting
     is kept on (``diag_pivot_thresh``: the diagonal is taken when it is at least this share
-    of the column's largest candidate) rather than forcing diagonal pivots. Not SuperLU for
+    of the column's largest candidate, :data:`PIVOT_THRESHOLD`) rather than forcing diagonal
+    pivots. Not SuperLU for
     every factorisation: its ordering and setup cost 1.45 ms for the 2200 unknowns of the
     200-disk chain whose factors hold 5826 entries (benchmarks/README.md); and not its
     solves, which cost about 16 ns per factor entry through scipy.
     """
 
-    def __init__(self, permc_spec: str = "COLAMD", diag_pivot_thresh: float = 0.1) -> None:
+    def __init__(self, permc_spec: str = "auto",
+                 diag_pivot_thresh: float = PIVOT_THRESHOLD) -> None:
+        known = (*ORDERS, "NATURAL")
+        if permc_spec != "auto" and permc_spec not in known:
+            raise ValueError(f"permc_spec = {permc_spec!r}: expected 'auto' or one of "
+                             f"{', '.join(known)}")
         self.permc_spec = permc_spec
         self.diag_pivot_thresh = diag_pivot_thresh
+        #: the column order in use (SuperLU's name; None before the first factorisation)
+        self.order: str | None = None
         self._f: tuple | None = None
         self._n = -1
 
@@ -295,18 +325,44 @@ class SparseLU(LinearSolver):
 
     def _order(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
                n: int) -> None:
-        """Column order and work arrays from SuperLU's factorisation of the first matrix."""
+        """The column order: the one asked for, or, with ``"auto"``, the order of
+        :data:`ORDERS` whose factors of this first matrix hold the fewest entries (ties: the
+        first; an order SuperLU finds singular is skipped)."""
+        specs = ORDERS if self.permc_spec == "auto" else (self.permc_spec,)
+        best: tuple[int, str] | None = None
+        for spec in specs:
+            try:
+                self._set_order(data, indices, indptr, n, spec)
+                if len(specs) > 1:
+                    self._factor_fresh(data, indices, indptr, n)
+            except np.linalg.LinAlgError:
+                if len(specs) == 1:
+                    raise
+                continue
+            if len(specs) == 1:
+                return
+            fill = self._lnz + self._unz
+            if best is None or fill < best[0]:
+                best = (fill, spec)
+        if best is None:
+            raise np.linalg.LinAlgError("singular matrix")
+        self._set_order(data, indices, indptr, n, best[1])
+
+    def _set_order(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, n: int,
+                   spec: str) -> None:
+        """Column order ``spec`` and work arrays from SuperLU's factorisation of the matrix."""
         try:
             import scipy.sparse.linalg as spla
 
             A = _csc((data.copy(), indices.copy(), indptr.copy()), shape=(n, n))
             A.sum_duplicates()  # a copy: the caller's arrays stay as they are
-            lu = spla.splu(A, permc_spec=self.permc_spec,
-                           diag_pivot_thresh=self.diag_pivot_thresh)
+            lu = spla.splu(A, permc_spec=spec, diag_pivot_thresh=self.diag_pivot_thresh)
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise np.linalg.LinAlgError(str(exc)) from None
         q = np.empty(n, np.int64)
         q[lu.perm_c] = np.arange(n)  # SuperLU's column i goes to position perm_c[i]
+        self.order = spec
+        self._f = None
         self._q = q
         self._qinv = lu.perm_c.astype(np.int64)
         cap_l, cap_u = 2 * lu.L.nnz + n, 2 * lu.U.nnz + n
@@ -335,6 +391,12 @@ class SparseLU(LinearSolver):
                 self._Ri, self._x) == 0:
             self._compact()
             return
+        self._factor_fresh(data, indices, indptr, n)
+        self._compact()
+
+    def _factor_fresh(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
+                      n: int) -> None:
+        """:func:`gp_factor` with pivot search (arrays enlarged while too short)."""
         while True:
             status, lnz, unz = gp_factor(
                 n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
@@ -351,7 +413,6 @@ class SparseLU(LinearSolver):
             self._f = None
             raise np.linalg.LinAlgError("singular matrix")
         self._lnz, self._unz = lnz, unz
-        self._compact()
 
     @property
     def fill(self) -> int:
@@ -434,11 +495,11 @@ class DenseLU(LinearSolver):
 #: loses to the sparse LU of the long chains (hundreds to thousands of unknowns)
 DENSE_MAX = 150
 #: above DENSE_MAX, the dense LU still wins when the sparse LU's factors fill more than this
-#: share of the dense matrix (a body that every joint hangs on couples all unknowns: the 387
-#: of the 4WD vehicle fill 93 % with COLAMD's order, and the sparse LU's scalar loops lose to
-#: LAPACK by far), up to DENSE_FILL_MAX unknowns; a banded chain of 330-396 unknowns fills a
-#: few % and SuperLU takes 0.5 ms against 1.2-1.9 ms dense (measured); the
-#: 2200-unknown chain's factors fill 0.9 % and refactorise in 0.37 ms
+#: share of the dense matrix (the sparse LU's scalar loops then lose to LAPACK by far), up to
+#: DENSE_FILL_MAX unknowns; with the column order SparseLU chooses, the 383 unknowns of the
+#: 4WD vehicle fill 15 % and refactorise in 0.66 ms against 2.6 ms dense; a banded chain of
+#: 330-396 unknowns fills a few % and SuperLU takes 0.5 ms against 1.2-1.9 ms dense; the
+#: 2200-unknown chain's factors fill 0.9 % and refactorise in 0.37 ms (measured)
 DENSE_FILL = 0.3
 DENSE_FILL_MAX = 1500
 
