@@ -410,3 +410,51 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     x = lin.solve(b)
     assert np.max(np.abs(A3 @ x - b) / (np.abs(A3) @ np.abs(x) + np.abs(b))) < 1e-13
     assert lin._prow[0] != fresh._prow[0]
+
+
+def _hub_csc(nblocks: int = 4, nb: int = 30, nh: int = 6, seed: int = 1):
+    """A matrix of ``nblocks`` sparse symmetric blocks of ``nb`` unknowns, each coupled
+    through three of its unknowns to a hub of ``nh`` (the pattern of a vehicle: sub-systems
+    on one body): CSC arrays and the dense copy."""
+    import scipy.sparse as sps
+
+    rng = np.random.default_rng(seed)
+    n = nblocks * nb + nh
+    A = np.zeros((n, n))
+    for k in range(nblocks):
+        s = slice(k * nb, (k + 1) * nb)
+        B = rng.normal(size=(nb, nb)) * (rng.random((nb, nb)) < 0.15)
+        A[s, s] = B + B.T + 2 * nb * np.eye(nb)
+        for r in rng.choice(nb, 3, replace=False) + k * nb:
+            h = nblocks * nb + rng.integers(nh)
+            A[r, h] = A[h, r] = rng.normal()
+    A[-nh:, -nh:] += 10.0 * np.eye(nh)
+    c = sps.csc_matrix(A)
+    return c.data.copy(), c.indices.astype(np.int64), c.indptr.astype(np.int64), A
+
+
+def test_sparse_lu_keeps_the_order_with_the_fewest_factor_entries(monkeypatch) -> None:
+    """SparseLU("auto") factorises the first matrix in each order of ORDERS and keeps the
+    one with the fewest factor entries (on this hub matrix the minimum degree of A^T + A,
+    put between the other two here), then solves to round-off. Fails if "auto" keeps the
+    first order tried or the last one instead of the best."""
+    from drivedyn.solver import linear
+    from drivedyn.solver.linear import SparseLU
+
+    data, indices, indptr, A = _hub_csc()
+    n = A.shape[0]
+    fills = {}
+    for spec in linear.ORDERS:
+        lin = SparseLU(spec)
+        lin.factor_csc(data, indices, indptr, n)
+        fills[spec] = lin.fill
+    assert fills["MMD_AT_PLUS_A"] < min(fills["COLAMD"], fills["MMD_ATA"])
+    monkeypatch.setattr(linear, "ORDERS", ("COLAMD", "MMD_AT_PLUS_A", "MMD_ATA"))
+    auto = SparseLU()
+    auto.factor_csc(data, indices, indptr, n)
+    assert auto.order == "MMD_AT_PLUS_A" and auto.fill == fills["MMD_AT_PLUS_A"]
+    b = np.linspace(1.0, 2.0, n)
+    x = auto.solve(b)
+    assert np.max(np.abs(A @ x - b) / (np.abs(A) @ np.abs(x) + np.abs(b))) < 1e-13
+    with pytest.raises(ValueError, match="permc_spec = 'METIS'"):
+        SparseLU("METIS")
