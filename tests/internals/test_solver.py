@@ -433,26 +433,35 @@ def _hub_csc(nblocks: int = 4, nb: int = 30, nh: int = 6, seed: int = 1):
     return c.data.copy(), c.indices.astype(np.int64), c.indptr.astype(np.int64), A
 
 
-def test_sparse_lu_keeps_the_order_with_the_fewest_factor_entries(monkeypatch) -> None:
+def test_sparse_lu_keeps_the_order_with_the_fewest_refactorisation_operations(
+        monkeypatch) -> None:
     """SparseLU("auto") factorises the first matrix in each order of ORDERS and keeps the
-    one with the fewest factor entries (on this hub matrix the minimum degree of A^T + A,
-    put between the other two here), then solves to round-off. Fails if "auto" keeps the
-    first order tried or the last one instead of the best."""
+    one whose refactorisation takes the fewest multiply-adds (on this hub matrix the
+    minimum degree of A^T + A, put between the other two here), then solves to round-off.
+    refactor_ops is checked against the count per row of U: row J's off-diagonal entries
+    each apply column J of L below its diagonal. Fails if "auto" keeps the first order
+    tried or the last one instead of the best, or if refactor_ops counts the diagonals."""
+    import scipy.sparse as sps
+
     from drivedyn.solver import linear
     from drivedyn.solver.linear import SparseLU
 
     data, indices, indptr, A = _hub_csc()
     n = A.shape[0]
-    fills = {}
+    ops = {}
     for spec in linear.ORDERS:
         lin = SparseLU(spec)
         lin.factor_csc(data, indices, indptr, n)
-        fills[spec] = lin.fill
-    assert fills["MMD_AT_PLUS_A"] < min(fills["COLAMD"], fills["MMD_ATA"])
+        ops[spec] = lin.refactor_ops
+        U = sps.csc_matrix((np.ones(lin._unz), lin._Ui[:lin._unz], lin._Up), shape=(n, n))
+        per_row = np.asarray(U.tocsr().sum(axis=1)).ravel() - 1.0  # off-diagonal, row J
+        below = np.diff(lin._Lp) - 1.0
+        assert ops[spec] == int(below @ per_row) > 0
+    assert ops["MMD_AT_PLUS_A"] < min(ops["COLAMD"], ops["MMD_ATA"])
     monkeypatch.setattr(linear, "ORDERS", ("COLAMD", "MMD_AT_PLUS_A", "MMD_ATA"))
     auto = SparseLU()
     auto.factor_csc(data, indices, indptr, n)
-    assert auto.order == "MMD_AT_PLUS_A" and auto.fill == fills["MMD_AT_PLUS_A"]
+    assert auto.order == "MMD_AT_PLUS_A" and auto.refactor_ops == ops["MMD_AT_PLUS_A"]
     b = np.linspace(1.0, 2.0, n)
     x = auto.solve(b)
     assert np.max(np.abs(A @ x - b) / (np.abs(A) @ np.abs(x) + np.abs(b))) < 1e-13
