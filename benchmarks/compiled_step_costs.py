@@ -8,7 +8,10 @@ of them, and prints the product next to the measured wall time:
 
 * residual evaluation, all groups (``call_groups`` with ``want=False``), and per group;
 * residual with the iteration matrix (``want=True``), all groups and per group;
-* dense LU of the assembled matrix (``dense_factor_csc``) and one solve (``dense_solve``);
+* the factorisation of the assembled matrix and one solve, with the linear solver the run
+  uses (``default_linear_solver``): the dense LU (``dense_factor_csc``, ``dense_solve``),
+  or the sparse LU (``SparseLU.factor_csc``, called from Python as the run does, and the
+  compiled ``sparse_lu_solve``);
 * the rest of the step (predictor, Lie updates, norms, the Python around each call):
   measured wall time minus the phases above.
 
@@ -23,7 +26,7 @@ Usage::
     python benchmarks/compiled_step_costs.py torsen-b --side right
     python benchmarks/compiled_step_costs.py vehicle-4wd --t-end 3   # launch, state at 2 s
 
-Prints a table and one JSON line. Dense-LU models only.
+Prints a table and one JSON line.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.model.compile import compile_model
 from drivedyn.solver.kernel_calls import KernelTable, call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve, workspace
+from drivedyn.solver.linear import DenseLU, default_linear_solver, sparse_lu_solve
 from drivedyn.solver.simulate import simulate
 from drivedyn.solver.step_loop import StepLoop
 from drivedyn.solver.system import System
@@ -67,6 +71,17 @@ def _factorisations(data, indices, indptr, lu, piv, ib, n):
 def _solves(lu, piv, b, ib, tr, n):
     for _ in range(n):
         dense_solve(lu, piv, b, ib, tr)
+
+
+@njit
+def _sparse_solves(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x, n):
+    for _ in range(n):
+        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x)
+
+
+def _sparse_factorisations(lin, data, indices, indptr, n):
+    for _ in range(n):
+        lin.factor_csc(data, indices, indptr, indptr.size - 1)
 
 
 def _per_call(fn, *args, n: int) -> float:
@@ -138,17 +153,28 @@ def main() -> None:
     for g, G in zip(model.groups, groups, strict=True):
         per_group[g.family] = [_per_call(_evaluations, G, *mid, w, n=args.n)
                                for w in (False, True)]
-    lu, piv, ib, tr = workspace(model.neq)
     sys.evaluate(st, 1e6, 1e3, 1.0, MODE_DYN, True)
-    c_fac = _per_call(_factorisations, sys.data, model.indices, model.indptr, lu, piv, ib,
-                      n=max(1, args.n // 4))
+    lin = default_linear_solver(model.neq)
+    lin.factor_csc(sys.data, model.indices, model.indptr, model.neq)
+    lin = getattr(lin, "active", lin)  # AutoLU: the solver it settled on
     b = np.ones(model.neq)
-    c_sol = _per_call(_solves, lu, piv, b, ib, tr, n=args.n)
+    if isinstance(lin, DenseLU):
+        lu, piv, ib, tr = workspace(model.neq)
+        c_fac = _per_call(_factorisations, sys.data, model.indices, model.indptr, lu, piv,
+                          ib, n=max(1, args.n // 4))
+        c_sol = _per_call(_solves, lu, piv, b, ib, tr, n=args.n)
+        lu_name = "dense LU"
+    else:
+        c_fac = _per_call(_sparse_factorisations, lin, sys.data, model.indices,
+                          model.indptr, n=max(1, args.n // 4))
+        c_sol = _per_call(_sparse_solves, *lin._f, b, np.empty_like(b), np.empty_like(b),
+                          n=args.n)
+        lu_name = f"sparse LU ({lin.order}, {lin.fill} entries)"
     n_mat = st_.factorizations
     n_res = st_.residual_evaluations - n_mat
     rows = [("residual evaluations", n_res, cost[False]),
             ("residual + matrix evaluations", n_mat, cost[True]),
-            ("dense LU", st_.factorizations, c_fac),
+            (lu_name, st_.factorizations, c_fac),
             ("solves", st_.newton_iterations, c_sol)]
     wall = st_.wall_s
     print(f"{args.model} {what}: {model.neq} unknowns, wall {wall:.3f} s, "

@@ -467,3 +467,42 @@ def test_sparse_lu_keeps_the_order_with_the_fewest_refactorisation_operations(
     assert np.max(np.abs(A @ x - b) / (np.abs(A) @ np.abs(x) + np.abs(b))) < 1e-13
     with pytest.raises(ValueError, match="permc_spec = 'METIS'"):
         SparseLU("METIS")
+
+
+@pytest.mark.parametrize("spec, choices", [("auto", 2), ("COLAMD", 1)])
+def test_sparse_lu_chooses_its_order_again_once_when_the_first_pivots_fail(
+        monkeypatch, spec: str, choices: int) -> None:
+    """SparseLU("auto") chooses its column order on the first matrix and once more at the
+    first refactorisation whose kept pivots are refused (the first matrix, a model at rest,
+    need not stand for the run), never again after; a fixed order is never chosen again.
+    Fails if the order is chosen at every refused refactorisation, at none, or for a fixed
+    order."""
+    import scipy.sparse as sps
+
+    from drivedyn.solver.linear import SparseLU
+
+    data, indices, indptr, A = _saddle_csc(60, 17, 4)
+    n = A.shape[0]
+    calls = []
+    lin = SparseLU(spec)
+    order = lin._order
+    monkeypatch.setattr(lin, "_order", lambda *a: (calls.append(1), order(*a)))
+
+    def refused(d: np.ndarray) -> np.ndarray:
+        """``d`` with the first pivot's entry shrunk: the kept pivots are refused."""
+        col = lin._q[0]
+        rows = indices[indptr[col]:indptr[col + 1]]
+        d = d.copy()
+        d[indptr[col] + int(np.flatnonzero(rows == lin._prow[0])[0])] *= 1e-9
+        return d
+
+    lin.factor_csc(data, indices, indptr, n)
+    lin.factor_csc(data * 1.01, indices, indptr, n)  # same pivots: refactorised
+    assert len(calls) == 1
+    for _ in range(3):
+        d = refused(data)
+        lin.factor_csc(d, indices, indptr, n)
+        x = lin.solve(np.ones(n))
+        A3 = sps.csc_matrix((d, indices, indptr), shape=(n, n)).toarray()
+        assert np.max(np.abs(A3 @ x - 1.0) / (np.abs(A3) @ np.abs(x) + 1.0)) < 1e-13
+    assert len(calls) == choices
