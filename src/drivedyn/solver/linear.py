@@ -295,20 +295,19 @@ class SparseLU(LinearSolver):
     at the first refactorisation whose kept pivots are refused: the first matrix (a model at
     rest, its contacts open) need not stand for the run's (the 4WD vehicle's first matrix
     favours the minimum degree of A^T + A by 7 %, its loaded ones that of A^T A by a factor
-    of 2). No one order suits
-    every model: COLAMD keeps a chain of gears or beam elements banded, while a body that
-    every joint hangs on (the car body of a vehicle) makes COLAMD's factors fill the matrix
-    and the minimum-degree orders do not
-    (the 4WD vehicle, 383 unknowns: 135 700 entries and 15.4 million operations with
-    COLAMD, 22 000 and 0.31 million with ``MMD_ATA``; benchmarks/README.md).
+    of 2). No one order suits every model: COLAMD keeps a chain of gears or beam elements
+    banded, while a body that every joint hangs on (the car body of a vehicle) makes
+    COLAMD's factors fill the matrix and the minimum-degree orders do not (the 4WD vehicle,
+    383 unknowns: 135 700 entries and 15.4 million operations with COLAMD, 22 000 and 0.31
+    million with ``MMD_ATA``; benchmarks/README.md).
 
     The iteration matrix is a saddle-point matrix (zero multiplier block), so partial pivoting
     is kept on (``diag_pivot_thresh``: the diagonal is taken when it is at least this share
     of the column's largest candidate, :data:`PIVOT_THRESHOLD`) rather than forcing diagonal
-    pivots. Not SuperLU for
-    every factorisation: its ordering and setup cost 1.45 ms for the 2200 unknowns of the
-    200-disk chain whose factors hold 5826 entries (benchmarks/README.md); and not its
-    solves, which cost about 16 ns per factor entry through scipy.
+    pivots. Not SuperLU for every factorisation: its ordering and setup cost 1.45 ms for the
+    2200 unknowns of the 200-disk chain whose factors hold 5826 entries
+    (benchmarks/README.md); and not its solves, which cost about 16 ns per factor entry
+    through scipy.
     """
 
     def __init__(self, permc_spec: str = "auto",
@@ -321,6 +320,7 @@ class SparseLU(LinearSolver):
         self.diag_pivot_thresh = diag_pivot_thresh
         #: the column order in use (SuperLU's name; None before the first factorisation)
         self.order: str | None = None
+        self._chosen_again = False  # "auto": chosen a second time (at most once)
         self._f: tuple | None = None
         self._n = -1
 
