@@ -220,26 +220,52 @@ def test_load_kernels_compiles_what_the_run_calls(monkeypatch) -> None:
         load_kernels(compile_model(speed_jump_spec()), output_dtt=1e-3, **settings)
 
 
-def test_code_size_counts_each_numba_function_reached_once() -> None:
-    """code_size sums the bytecode of a kernel and of the numba functions it reaches by
-    name or as ``module.name``, each once: the gear kernel's is its own plus its loop's
-    (reached through the module-level ``_parallel_gears``) plus the helpers of the
-    scaffold module (``sc.state``...). Fails if the module-attribute walk is dropped (the
-    scaffold's helpers go missing) or a shared helper is counted twice."""
-    from drivedyn.elements.framework import scaffold as sc
-    from drivedyn.elements.gears import kernel as gk
+SIZED = """
+from numba import njit
+import helpers
+
+@njit
+def c(x):
+    return x + 1.0
+
+@njit
+def b(x):
+    return c(x) * 2.0
+
+@njit
+def a(x):
+    return b(x) + b(2.0 * x) + c(x) + helpers.h(x)
+"""
+
+HELPERS = """
+from numba import njit
+
+@njit
+def h(x):
+    return x * x
+"""
+
+
+def test_code_size_counts_each_numba_function_reached_once(tmp_path, monkeypatch) -> None:
+    """code_size sums the bytecode of a function and of every numba function it reaches by
+    name or as ``module.name``, each once: ``a`` calls ``b`` twice, ``c`` directly and
+    through ``b``, and ``helpers.h``; the total is the four functions' bytecode, each
+    counted once. Fails if the module-attribute walk is dropped (``h`` missing) or if the
+    functions already counted are not passed down (``c`` counted twice)."""
+    import importlib
+
     from drivedyn.solver.precompile import code_size
 
-    own = len(gk.parallel_gear_kernel.py_func.__code__.co_code)
-    loop = code_size(gk._parallel_gears.py_func)
-    total = code_size(gk.parallel_gear_kernel.py_func)
-    assert total > own + len(gk._gears.py_func.__code__.co_code)
-    assert loop > len(gk._gears.py_func.__code__.co_code) + len(
-        sc.state.py_func.__code__.co_code)  # reached as sc.state in _gears
-    # each function once: the kernel calls _parallel_gears twice and _work once
-    seen: set = set()
-    assert code_size(gk.parallel_gear_kernel.py_func, seen) == total
-    assert code_size(gk.parallel_gear_kernel.py_func, seen) == 0
+    (tmp_path / "sized.py").write_text(SIZED)
+    (tmp_path / "helpers.py").write_text(HELPERS)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    sized = importlib.import_module("sized")
+    helpers = importlib.import_module("helpers")
+    expected = sum(len(f.py_func.__code__.co_code)
+                   for f in (sized.a, sized.b, sized.c, helpers.h))
+    assert code_size(sized.a.py_func) == expected
+    assert code_size(sized.b.py_func) == sum(len(f.py_func.__code__.co_code)
+                                             for f in (sized.b, sized.c))
 
 
 def test_kernels_unknown_to_the_record_are_ordered_by_code_size() -> None:
