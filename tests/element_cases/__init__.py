@@ -37,7 +37,9 @@ from element_cases import (
 TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "rigid_body": [basic.spinning_body],
     "joint": [*(partial(basic.joint_case, j, ground_a=g) for j in JOINT_TYPES
-                for g in (False, True)), basic.mixed_joints_case],
+                for g in (False, True)), basic.mixed_joints_case,
+              *(partial(basic.screw_friction_case, k, ground_a=g) for k in (1.0, 1e5)
+                for g in (False, True))],
     "joint_driver": [basic.driver_case, basic.speed_driver_case],
     "travel_driver": [basic.travel_driver_case, basic.travel_speed_driver_case],
     "speed_difference_driver": [basic.speed_difference_case],

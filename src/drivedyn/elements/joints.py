@@ -56,6 +56,7 @@ from drivedyn.elements.framework.primitives import (
 )
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
+from drivedyn.elements.screw_friction import coulomb_return, helix_slide
 from drivedyn.errors import ModelError
 
 ROW_AXIAL = 0  # d . a_i
@@ -73,16 +74,26 @@ JOINT_OUTPUTS = (
     ("torque_z", "N m", "reaction torque on body B about marker B, global z"),
     ("angle", "rad", "relative rotation of B about the joint axis (accumulated)"),
     ("power", "W", "power supplied by the constraint (rheonomic rows)"),
+    ("friction_force", "N", "screw friction on body B along the helix (positive: resisting "
+     "B's advance along it; 0 without friction)"),
+    ("friction_power", "W", "power dissipated by the screw friction"),
 )
+# aux columns: the public outputs above (0-7, then 10, 11), the driving force of a driver
+# row (8) and the screw's slip committed at step acceptance (9)
+COL_ANGLE, COL_DRIVE, COL_SLIP = 6, 8, 9
+JOINT_AUX_COLS = (0, 1, 2, 3, 4, 5, 6, 7, 10, 11)
 
 
 @njit(cache=True)
 def _constraints(P, C, W, full):
-    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode = P
-    L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (ws, wv) = W
+    (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, fmu,
+     frad, fstick) = P
+    L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (gs, Hs), (ws, wv) = W
     rq, rl, _, _, K, G = L
     x, R, _, _, _, es, tfv, _ = sc.state(C)
     mode = sc.mode_of(C)
+    kmap = C[sc.KMAP]
+    data = C[sc.DATA]
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         xA = x[nA]
@@ -95,7 +106,8 @@ def _constraints(P, C, W, full):
         if full:
             K[:, :] = 0.0
             G[:, :] = 0.0
-        if mode != MODE_DYN:
+        friction = fmu[e] > 0.0
+        if mode != MODE_DYN or friction:
             sc.velocities(C, e, 12, vl)
         if mode == MODE_ACC:
             sc.accelerations(C, e, 12, al)
@@ -106,6 +118,12 @@ def _constraints(P, C, W, full):
             th = unwrap(raw, es[sc.state_offset(C, e)])
         power = 0.0
         sig = 0.0
+        slide = 0.0
+        z = es[sc.state_offset(C, e) + 1]  # the screw's committed slip
+        ff = 0.0
+        fpow = 0.0
+        lam_col = -1
+        dlam = 0.0
         for i in range(nrow[e]):
             typ = rtype[e, i]
             phit = 0.0
@@ -118,6 +136,8 @@ def _constraints(P, C, W, full):
                                  full, ws, wv)
                 if typ == ROW_SCREW:
                     c = pitch[e] / (2.0 * np.pi)
+                    if friction:
+                        slide = helix_slide(frad[e], c, th, val, gth, Hth, g, H, full, gs, Hs)
                     val -= c * th + c0[e]
                     add_scaled(-c, gth, Hth, g, H, full)
                 elif typ == ROW_TRAVEL:
@@ -177,7 +197,31 @@ def _constraints(P, C, W, full):
                     ga = p * g[a]
                     for b in range(12):
                         K[a, b] += sig * H[a, b] + ga * g[b]
+            if typ == ROW_SCREW and friction:
+                ff, dfs, dfsig, z = coulomb_return(fmu[e], frad[e], pitch[e] / (2.0 * np.pi),
+                                                   fstick[e], slide, z, sig)
+                rate = 0.0
+                for a in range(12):
+                    rq[a] += ff * gs[a]
+                    rate += gs[a] * vl[a]
+                if dfs == 0.0:  # slipping: the slider takes the whole rate
+                    fpow = abs(ff * rate)
+                if full:
+                    for a in range(12):
+                        ca = dfs * gs[a]
+                        da = dfsig * p * gs[a]
+                        for b in range(12):
+                            K[a, b] += ca * gs[b] + ff * Hs[a, b] + da * g[b]
+                lam_col = i
+                dlam = dfsig * k
         sc.scatter(C, L, e, 2, full)
+        if lam_col >= 0 and dlam != 0.0 and full and sc.wants_matrix(C) and mode == MODE_DYN:
+            # d(friction)/d(lambda) of the screw row (slip): its multiplier column
+            km = kmap[e]
+            for a in range(12):
+                q = km[a * (12 + rtype.shape[1]) + 12 + lam_col]
+                if q >= 0:
+                    data[q] += dlam * gs[a]
         # reactions on B at marker B (global frame): applied = -(residual contribution)
         for a in range(3):
             wv[0, a] = -rq[6 + a]
@@ -185,23 +229,24 @@ def _constraints(P, C, W, full):
         mv(RB, wv[1], wv[2])  # torque about the node, global
         mv(RB, pB[e], wv[3])  # arm from node to marker
         cross(wv[3], wv[0], wv[4])
-        sc.energy(C, e, 0.0, 0.0, power, 0.0)
+        vstick = 0.5 * ff * ff / fstick[e] if friction else 0.0
+        sc.energy(C, e, 0.0, vstick, power, fpow)
         # the last row's force -sig: the driving torque of a driver row
         sc.report(C, e, (wv[0, 0], wv[0, 1], wv[0, 2], wv[2, 0] - wv[4, 0], wv[2, 1] - wv[4, 1],
-                         wv[2, 2] - wv[4, 2], th, power, -sig))
+                         wv[2, 2] - wv[4, 2], th, power, -sig, z, ff, fpow))
 
 
 @njit(cache=True, inline="always")
 def work_size(nm: int) -> int:
     """Entries of the work buffer of a joint group with ``nm`` constraint rows per element."""
-    return (local_size(12, nm) + 2 * sc.grad_hess_size(12) + sc.ANGLE_WORK_SIZE + 24
+    return (local_size(12, nm) + 3 * sc.grad_hess_size(12) + sc.ANGLE_WORK_SIZE + 24
             + sc.WORKSPACE_SIZE)
 
 
 @njit(cache=True)
 def constraint_kernel(
-    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, fmu,
+    frad, fstick, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     # work arrays: views of the group's work buffer (work_size; scaffold.work_buffer)
@@ -212,9 +257,10 @@ def constraint_kernel(
     buf = sc.work_buffer(work, work_size(nm))
     W = (local_arrays_at(buf, 0, 12, nm), sc.grad_hess_at(buf, o, 12),
          sc.grad_hess_at(buf, o + g, 12), sc.angle_work_at(buf, o + 2 * g), carve(buf, a, 12),
-         carve(buf, a + 12, 12), sc.workspace_at(buf, a + 24))
+         carve(buf, a + 12, 12), sc.grad_hess_at(buf, a + 24, 12),
+         sc.workspace_at(buf, a + 24 + g))
     sc.run(_constraints, (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
-                         tfmode),
+                         tfmode, fmu, frad, fstick),
            (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
             r, rabs, data, eout, aux), W)
 
@@ -356,21 +402,36 @@ class ParallelAxes(Joint):
 
 @dataclass(frozen=True)
 class Screw(Joint):
-    """Screw: cylindrical joint whose slide is ``pitch * theta / (2 pi)`` [m].
+    """Screw: cylindrical joint whose slide is ``pitch * theta / (2 pi)`` [m]; a helical
+    spline or a thread, optionally with Coulomb friction and stick on its flanks
+    (:mod:`drivedyn.elements.screw_friction`).
 
     Attributes:
         pitch: advance per revolution [m/rev] (negative for a left-hand thread).
+        friction: Coulomb coefficient mu of the flanks [-] (0: none).
+        radius: pitch radius of the flanks [m] (> 0 with friction): resolves the screw's
+            axial force into the flanks' normal force and the motion into the slide along
+            the helix.
+        stick_stiffness: stiffness of the flanks along the helix while they stick [N/m]
+            (> 0 with friction).
     """
 
     pitch: float = 0.0
+    friction: float = 0.0
+    radius: float = 0.0
+    stick_stiffness: float = 0.0
     kind: ClassVar[str] = "screw"
-    units: ClassVar[dict[str, str]] = {**Joint.units, "pitch": "m"}
+    units: ClassVar[dict[str, str]] = {**Joint.units, "pitch": "m", "friction": "1",
+                                       "radius": "m", "stick_stiffness": "N/m"}
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_S, 2, 0))
     has_angle: ClassVar[bool] = True
 
     def validate(self) -> None:
         super().validate()
         check_param(self, "pitch")
+        if check_param(self, "friction", 0.0) > 0.0:
+            check_param(self, "radius", 0.0, strict=True)
+            check_param(self, "stick_stiffness", 0.0, strict=True)
 
 
 def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
@@ -394,6 +455,7 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
     angle = np.zeros(nel, np.int64)
     pitch = np.zeros(nel)
     c0 = np.zeros(nel)
+    fmu, frad, fstick = np.zeros(nel), np.ones(nel), np.ones(nel)
     dofs = np.full((nel, 12 + nr), -1, np.int64)
     eoff = np.zeros(nel, np.int64)
     tfid = np.zeros(nel, np.int64)
@@ -419,10 +481,12 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
                         f"{what}: markers {ma!r} and {mb!r} are not assembled ({kind} "
                         f"constraint {i} = {val:.3g} exceeds {tol:g}); check positions and axes")
         th0 = relative_angle(RA, RB, RmA[e], RmB[e]) if angle[e] else 0.0
-        # every element keeps an angle slot (the group's state layout is uniform)
-        eoff[e] = ctx.alloc_state([th0])
+        # every element keeps an angle and a slip slot (the group's state layout is uniform)
+        eoff[e] = ctx.alloc_state([th0, 0.0])
         if any(r[0] == ROW_SCREW for r in er):
             pitch[e] = s.pitch
+            if s.friction > 0.0:
+                fmu[e], frad[e], fstick[e] = s.friction, s.radius, s.stick_stiffness
             d = xB + RB @ pB[e] - xA - RA @ pA[e]
             c0[e] = float(d @ (RA @ RmA[e][:, 2])) - s.pitch / (2 * np.pi) * th0
         if drive is not None:
@@ -437,10 +501,12 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
         dofs[e, :12 + len(er)] = ctx.local_dofs([nA, nB], m0, len(er))
     return make_group(
         family, specs, constraint_kernel,
-        (rt, ai, bj, nrow, angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode,
-         np.zeros(work_size(rt.shape[1]))),  # the kernel's work buffer
-        lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=1,
-        commit_cols=(6,) if angle.any() else (), naux=9,  # the accumulated angle
+        (rt, ai, bj, nrow, angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, fmu, frad,
+         fstick, np.zeros(work_size(rt.shape[1]))),  # the kernel's work buffer
+        lnodes, dofs, JOINT_OUTPUTS, nmult=nr, eoff=eoff, nstate=2,
+        # the accumulated angle and the screw's slip
+        commit_cols=(COL_ANGLE, COL_SLIP) if angle.any() else (), naux=12,
+        aux_cols=JOINT_AUX_COLS, dissipative=bool(fmu.any()),
         extra={"kinds": [getattr(s, "kind", family) for s in specs]},
     )
 
