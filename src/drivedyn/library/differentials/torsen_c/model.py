@@ -278,7 +278,9 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     if math.isinf(geo.lead):
         sp.add(Prismatic("spline", "cp_spline", "r_spline"))
     else:
-        sp.add(Screw("spline", "cp_spline", "r_spline", pitch=geo.lead))
+        sp.add(Screw("spline", "cp_spline", "r_spline", pitch=geo.lead,
+                     friction=p.spline.mu * friction_scale, radius=p.spline.radius,
+                     stick_stiffness=p.spline.stick_stiffness))
     # gear markers
     sp.add_marker("m_sun", "sun", axis=Z)
     sp.add_marker("m_ring", "ring", axis=Z)

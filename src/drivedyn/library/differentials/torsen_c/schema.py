@@ -61,10 +61,16 @@ class Gears(Strict):
 
 
 class Spline(Strict):
-    """Helical spline between internal gear and coupling (the seeds' screw joint)."""
+    """Helical spline between internal gear and coupling (the seeds' screw joint).
+
+    ``mu``: Coulomb friction of the spline's flanks, with stick
+    (:class:`~drivedyn.elements.joints.Screw`); ``stick_stiffness`` [N/m]: the flanks'
+    stiffness along the helix while they stick."""
 
     radius: PositiveLength
     helix_angle: Angle  # > 0: lead of the same sign as the sun's helix
+    mu: Coefficient = 0.0
+    stick_stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] = 1e8
 
 
 class Washer(Strict):
