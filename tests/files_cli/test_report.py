@@ -41,7 +41,7 @@ def test_report_has_every_section_with_the_run_figures(pendulum_run, tmp_path) -
         balance = float(ds["energy.balance_error"].values[-1])
     model = _section(text, "model")
     assert summary == {"bodies": 1, "nodes": 0, "coordinates": 6, "multipliers": 5,
-                       "equations": 11, "internal_states": 1,  # the hinge's turn count
+                       "equations": 11, "internal_states": 2,  # hinge: turn, slip
                        "elements": {"rigid_body": {"count": 1, "names": ["rod"]},
                                     "hinge": {"count": 1, "names": ["hinge"]}}}
     assert "<td>hinge</td><td>1</td>" in model and "<td>rigid bodies</td><td>1</td>" in model
