@@ -35,6 +35,9 @@ from drivedyn.elements.framework.primitives import prim_angle, quad_form, unwrap
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.joints import (
+    COL_ANGLE,
+    COL_DRIVE,
+    COL_POWER,
     ROW_DRIVE,
     ROW_TRAVEL,
     build_constraint_group,
@@ -118,8 +121,8 @@ class JointDriverFamily(Family):
         g = build_constraint_group(self.name, views, ctx, [((ROW_DRIVE, 0, 0),)] * len(views),
                                    [True] * len(views), drive)
         g.extra["joint"] = [s.joint for s in specs]
-        # outputs: driving torque (column 8 = -sigma of the drive row), angle, power
-        g.aux_cols = (8, 6, 7)
+        # outputs: driving torque (-sigma of the drive row), angle, power
+        g.aux_cols = (COL_DRIVE, COL_ANGLE, COL_POWER)
         g.aux_names = ("torque", "angle", "power")
         g.aux_units = ("N m", "rad", "W")
         g.aux_desc = ("torque applied by the driver on body B about the joint axis",
@@ -175,8 +178,8 @@ class TravelDriverFamily(Family):
         g = build_constraint_group(self.name, views, ctx, [((ROW_TRAVEL, 2, 0),)] * len(views),
                                    [False] * len(views), drive)
         g.extra["joint"] = [s.joint for s in specs]
-        # outputs: driving force (column 8 = -sigma of the travel row) and power
-        g.aux_cols = (8, 7)
+        # outputs: driving force (-sigma of the travel row) and power
+        g.aux_cols = (COL_DRIVE, COL_POWER)
         g.aux_names = ("force", "power")
         g.aux_units = ("N", "W")
         g.aux_desc = ("force applied by the driver on body B along the joint axis",

@@ -80,7 +80,7 @@ JOINT_OUTPUTS = (
 )
 # aux columns: the public outputs above (0-7, then 10, 11), the driving force of a driver
 # row (8) and the screw's slip committed at step acceptance (9)
-COL_ANGLE, COL_DRIVE, COL_SLIP = 6, 8, 9
+COL_ANGLE, COL_POWER, COL_DRIVE, COL_SLIP = 6, 7, 8, 9
 JOINT_AUX_COLS = (0, 1, 2, 3, 4, 5, 6, 7, 10, 11)
 
 
