@@ -613,25 +613,31 @@ def test_planet_end_faces_dry_or_with_film():
     assert len(ends) == 4 * pb.gears.pairs and "a1_end_l" in ends and "b1_end_r" in ends
 
 
-def test_spline_friction_sticks_and_relieves_the_washers():
-    """``spline.mu`` reaches the spline's screw joint, whose flanks stick through the TDR
-    windows (no friction power) below their Coulomb limit ``mu |F_axial| / sin(beta)``, and
-    the stuck spline takes axial load off the washers: the mode 1 TDR drops (by 3.5 % at
-    mu 0.10, stick stiffness 1e8 N/m, on the full protocol). Fails if the friction is not
-    passed to the joint (TDR unchanged) or is regularised (the flanks slide: friction
-    power)."""
-    p = params({"spline.mu": 0.1})
+def test_spline_friction_sticks_at_its_limit_and_relieves_the_washers():
+    """The shipped spline friction (``spline.mu``, stick stiffness 1e9 N/m) reaches the
+    spline's screw joint, whose flanks stick through the TDR windows (no friction power) at
+    their Coulomb limit ``mu N`` (the limit state of a spline stiffer
+    than the washers, docs/torsen_c.md), and the stuck spline takes axial load off the
+    washers: the mode 1 TDR drops against the file without it (by 7 % on the full
+    protocol). Fails if the friction is not passed to the joint (TDR unchanged), is
+    regularised (the flanks slide: friction power) or if the stick stiffness is too soft
+    to reach the limit (1e8 N/m: 44 % of it, seen)."""
+    p = SHIPPED
     spec, _ = bench_spec(p, "rear")
     spline = next(e for e in spec.elements if e.name == "spline")
-    assert (spline.friction, spline.radius) == (0.1, p.spline.radius)
+    assert (spline.friction, spline.radius) == (p.spline.mu, p.spline.radius) != (0.0, 0.0)
     run = run_bench(p, "rear")
-    base = run_bench(SHIPPED, "rear")
+    base = run_bench(params({"spline.mu": 0.0}), "rear")
     res = run.results
     t = res.values("time")
     k = (t >= p.bench.window_drive[0]) & (t <= p.bench.window_drive[1])
     f = res.values("spline.friction_force")[k]
     axial = res.values("spline.force_z")[k]
-    limit = 0.1 * np.abs(axial) / math.sin(p.spline.helix_angle)
-    assert np.all(np.abs(f) < limit) and np.abs(f).min() > 0.1 * limit.max()
+    # at the limit the flanks' resultant leans back by the friction angle against the
+    # thrust: axial force N (sin(beta) - mu cos(beta)), friction mu N
+    b, mu = p.spline.helix_angle, p.spline.mu
+    limit = mu * np.abs(axial) / (math.sin(b) - mu * math.cos(b))
+    ratio = np.abs(f) / limit
+    assert ratio.min() > 0.97 and ratio.max() < 1.0 + 1e-9
     assert np.abs(res.values("spline.friction_power")[k]).max() == 0.0
-    assert run.tdr[1] < 0.99 * base.tdr[1]
+    assert run.tdr[1] < 0.97 * base.tdr[1]

@@ -124,7 +124,7 @@ def test_central_split_follows_the_torsen_law(runs):
     each other) and its rear / front split lies inside its locking band; the same split
     with the outputs slipping fails (a TORSEN that slips sits at a band end): seen with the
     central's friction lost in the simulation only (washers, pockets and teeth at mu 0),
-    which slips by -43 % and splits at its nominal 1.40, 61 % from the nearest end (3.58);
+    which slips by -43 % and splits at its nominal 1.40, 61 % from the nearest end (3.57);
     a stuck split outside the band fails too."""
     import dataclasses
 

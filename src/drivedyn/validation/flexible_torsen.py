@@ -120,7 +120,7 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     stress at its gear end against pure torsion under its output torque (0.1 %), the washer
     pressure maps and the case stress history.
 
-    The flexible case raises mode 4 by 3.9 % and mode 2 by 1.4 % (docs/flexible.md): the
+    The flexible case raises mode 4 by 3.9 % and mode 2 by 1.2 % (docs/flexible.md): the
     end plate dishes under the coupling's coast load and the pressure on the case washer
     moves to its outer edge (friction radius +20 %); mesh-converged (case cells 1 or 2
     across, 24 or 36 around: mode 4 within 0.5 %). The second check states that this, and

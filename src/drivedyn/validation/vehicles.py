@@ -118,7 +118,7 @@ def vehicle_4wd_split_mu(quick: bool = False, figure_dir: str | None = None
     balance of every differential and the driveline power balance hold (5e-5 and 5e-4; the
     issue's tolerance is 0.5 %, measured 1.2e-5 and 1.2e-4); the central Type C's rear /
     front split lies inside its locking band while its outputs turn together (measured
-    1.46 in 0.631-3.58 on this rolling start) or at a band end while they slip. Seen to
+    1.46 in 0.614-3.57 on this rolling start) or at a band end while they slip. Seen to
     fail: the central's friction lost in the simulation (washers, pockets, teeth at mu 0)
     slips by -43 % at its nominal split 1.40 on the launch from rest, 61 % from the band's
     nearest end."""

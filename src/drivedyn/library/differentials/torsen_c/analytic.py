@@ -184,6 +184,12 @@ def solve(p: TorsenCFile, speeds: tuple[float, float, float], known: str, torque
     t_beta, r_end = abs(math.tan(g.helix_angle)), geo.r_end
     cen = p.bodies.planet.mass * wh**2 * a
     k_spl = 0.0 if math.isinf(geo.lead) else 2 * math.pi / geo.lead
+    if k_spl != 0.0 and p.spline.mu > 0.0:
+        # friction at its limit against the separation the thrust drives: the flanks'
+        # resultant leans back by the friction angle phi, axial force T tan(beta - phi) / r
+        r_sp = p.spline.radius
+        beta_s = math.atan(abs(k_spl) * r_sp)
+        k_spl = math.copysign(math.tan(beta_s - math.atan(p.spline.mu * f)) / r_sp, k_spl)
     T0 = abs(torque) if torque != 0 else 1.0
 
     def washers(Fs: float, Fr: float, TB: float) -> dict[str, float]:

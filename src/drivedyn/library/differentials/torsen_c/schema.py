@@ -70,7 +70,7 @@ class Spline(Strict):
     radius: PositiveLength
     helix_angle: Angle  # > 0: lead of the same sign as the sun's helix
     mu: Coefficient = 0.0
-    stick_stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] = 1e8
+    stick_stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] = 1e9
 
 
 class Washer(Strict):
