@@ -46,15 +46,20 @@ sun ``-C_s s_sp``, on the ring ``+C_r s_pr``. With the centrifugal force ``m w_h
     t:  F_s + F_r - N sin psi - sigma mu_p N cos psi = 0
     z:  r_p (F_r - F_s) - sigma mu_p (N r_a + |A_p| r_e) + C_s s_sp - C_r s_pr = 0
 
-**Spline** (screw joint of lead ``L``): the torque ``T_B`` it applies on the ring comes with
-the axial force ``2 pi T_B / L`` on the coupling and the opposite on the ring.
+**Spline** (screw joint of lead ``L``, flank radius ``r``, helix ``tan(beta) = 2 pi r / L``):
+the torque ``T_B`` it applies on the ring comes with the axial force ``T_B tan(beta) / r =
+2 pi T_B / L`` on the coupling and the opposite on the ring. With flank friction
+``spline.mu`` the flanks stick at their Coulomb limit against the separation the thrust
+drives (the limit state of a spline stiffer than the washers, docs/torsen_c.md): their
+resultant leans back by the friction angle ``phi = atan(mu)``, axial force
+``T_B tan(beta - phi) / r``.
 
 **Axial equilibrium and washers** (unilateral, rigid; washer normals: W1, W2, W4 along +z,
 W3, W5 along -z)::
 
     sun:       A_s + N1 - N2 = 0
-    coupling:  2 pi T_B / L + N2 - N3 = 0
-    ring:      A_r - 2 pi T_B / L + N4 - N5 = 0
+    coupling:  k T_B + N2 - N3 = 0          (k = tan(beta - phi) / r, signed with L)
+    ring:      A_r - k T_B + N4 - N5 = 0
 
 The ring has one of N4, N5 non-zero (the sign of its net thrust). The sun and coupling
 (pushed the same way by the design) either rest on W1 with the coupling on the sun
