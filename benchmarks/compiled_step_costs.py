@@ -25,6 +25,7 @@ Usage::
     python benchmarks/compiled_step_costs.py torsen-c --side front
     python benchmarks/compiled_step_costs.py torsen-b --side right
     python benchmarks/compiled_step_costs.py vehicle-4wd --t-end 3   # launch, state at 2 s
+    python benchmarks/compiled_step_costs.py torsen-c --set flexible.washers=true
 
 Prints a table and one JSON line.
 """
@@ -101,8 +102,10 @@ def main() -> None:
     ap.add_argument("--side", default="rear")
     ap.add_argument("--n", type=int, default=20000, help="repetitions per unit cost")
     ap.add_argument("--t-end", type=float, default=3.0, help="vehicle-4wd: simulated [s]")
+    ap.add_argument("--set", dest="overrides", action="append", default=[],
+                    metavar="KEY=VALUE", help="model-file override (repeatable)")
     args = ap.parse_args()
-    p = read_library_file(args.model)[0]
+    p = read_library_file(args.model, args.overrides)[0]
     if args.model == "vehicle-4wd":
         from drivedyn.library.vehicles.vehicle_4wd import build_spec
 

@@ -22,11 +22,22 @@ from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import Family, register
 from drivedyn.elements.framework.work_arrays import carve
 
+_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
+#: entries of the rigid bodies' work buffer (their last parameter, ``work``)
+WORK_SIZE = _L6 + 6
+
 
 @njit(cache=True)
-def _rigid_bodies(P, C, W, full):
-    mass, inertia, gravity = P
-    L, JOm, JOd = W
+def rigid_body_kernel(
+    mass, inertia, gravity, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    L, JOm, JOd = (local_arrays_at(buf, 0, 6, 0), carve(buf, _L6, 3), carve(buf, _L6 + 3, 3))
+    full = sc.full_pass(want, mode)
     rq, _, M, Cd, _, _ = L
     x, R, v, vd, _, _, _, _ = sc.state(C)
     rabs = C[sc.RABS]
@@ -82,24 +93,6 @@ def _rigid_bodies(P, C, W, full):
         sc.report(C, e, (Rn[0, 0] * JOm[0] + Rn[0, 1] * JOm[1] + Rn[0, 2] * JOm[2],
                          Rn[1, 0] * JOm[0] + Rn[1, 1] * JOm[1] + Rn[1, 2] * JOm[2],
                          Rn[2, 0] * JOm[0] + Rn[2, 1] * JOm[1] + Rn[2, 2] * JOm[2]))
-
-
-_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
-#: entries of the rigid bodies' work buffer (their last parameter, ``work``)
-WORK_SIZE = _L6 + 6
-
-
-@njit(cache=True)
-def rigid_body_kernel(
-    mass, inertia, gravity, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
-    sc.run(_rigid_bodies, (mass, inertia, gravity),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux),
-           (local_arrays_at(buf, 0, 6, 0), carve(buf, _L6, 3), carve(buf, _L6 + 3, 3)))
 
 
 class RigidBodyFamily(Family):

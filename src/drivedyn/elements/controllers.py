@@ -51,10 +51,23 @@ from drivedyn.errors import ModelError
 COL_INTEGRAL = 4
 
 
+_L18 = local_size.py_func(18, 0)  # the plain function: nothing compiled at import
+#: entries of a controller group's work buffer (its last parameter, ``work``)
+WORK_SIZE = _L18 + 18 + 15
+
+
 @njit(cache=True)
-def _controllers(P, C, W, full):
-    gains, limits, pS, RmS, RmA, RmB, tfid, gid = P
-    L, vl, wv = W
+def controller_kernel(
+    gains, limits, pS, RmS, RmA, RmB, tfid, gid, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    L, vl, wv = (local_arrays_at(buf, 0, 18, 0), carve(buf, _L18, 18),
+                 carve(buf, _L18 + 18, (5, 3)))
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     _, R, _, _, _, es, tfv, t = sc.state(C)
     for e in range(sc.count(C)):
@@ -126,24 +139,6 @@ def _controllers(P, C, W, full):
         sc.scatter(C, L, e, 3, full)
         sc.energy(C, e, 0.0, 0.0, power, 0.0)
         sc.report(C, e, (T, u, ref, err, s, power))
-
-
-_L18 = local_size.py_func(18, 0)  # the plain function: nothing compiled at import
-#: entries of a controller group's work buffer (its last parameter, ``work``)
-WORK_SIZE = _L18 + 18 + 15
-
-
-@njit(cache=True)
-def controller_kernel(
-    gains, limits, pS, RmS, RmA, RmB, tfid, gid, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
-    sc.run(_controllers, (gains, limits, pS, RmS, RmA, RmB, tfid, gid),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux),
-           (local_arrays_at(buf, 0, 18, 0), carve(buf, _L18, 18), carve(buf, _L18 + 18, (5, 3))))
 
 
 @dataclass(frozen=True)

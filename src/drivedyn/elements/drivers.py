@@ -187,10 +187,31 @@ class TravelDriverFamily(Family):
         return g
 
 
+_L24 = local_size.py_func(24, 1)  # the plain functions: nothing compiled at import
+_GH12, _GH24 = sc.grad_hess_size.py_func(12), sc.grad_hess_size.py_func(24)
+#: entries of a speed-difference driver group's work buffer (its last parameter, ``work``)
+WORK_SIZE = _L24 + 2 * _GH12 + sc.ANGLE_WORK_SIZE + _GH24 + 48 + sc.WORKSPACE_SIZE
+
+
 @njit(cache=True)
-def _speed_differences(P, C, W, full):
-    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid = P
+def speed_difference_kernel(
+    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    # work arrays: views of the group's work buffer (WORK_SIZE; scaffold.work_buffer)
+    buf = sc.work_buffer(work, WORK_SIZE)
+    g = _L24 + 2 * _GH12
+    a = g + sc.ANGLE_WORK_SIZE
+    o = a + _GH24
+    W = (local_arrays_at(buf, 0, 24, 1), sc.grad_hess_at(buf, _L24, 12),
+         sc.grad_hess_at(buf, _L24 + _GH12, 12), sc.angle_work_at(buf, g),
+         sc.grad_hess_at(buf, a, 24), carve(buf, o, 24), carve(buf, o + 24, 24),
+         sc.workspace_at(buf, o + 48))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (g1, H1), (g2, H2), (w1, w2, w3, w4), (g, H), vl, al, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, rl, _, _, K, G = L
     _, R, _, _, _, es, tfv, _ = sc.state(C)
     mode = sc.mode_of(C)
@@ -243,32 +264,6 @@ def _speed_differences(P, C, W, full):
         sc.scatter(C, L, e, 4, full)
         sc.energy(C, e, 0.0, 0.0, sig * phit, 0.0)
         sc.report(C, e, (-sig, th1, th2, sig * phit))
-
-
-_L24 = local_size.py_func(24, 1)  # the plain functions: nothing compiled at import
-_GH12, _GH24 = sc.grad_hess_size.py_func(12), sc.grad_hess_size.py_func(24)
-#: entries of a speed-difference driver group's work buffer (its last parameter, ``work``)
-WORK_SIZE = _L24 + 2 * _GH12 + sc.ANGLE_WORK_SIZE + _GH24 + 48 + sc.WORKSPACE_SIZE
-
-
-@njit(cache=True)
-def speed_difference_kernel(
-    RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    # work arrays: views of the group's work buffer (WORK_SIZE; scaffold.work_buffer)
-    buf = sc.work_buffer(work, WORK_SIZE)
-    g = _L24 + 2 * _GH12
-    a = g + sc.ANGLE_WORK_SIZE
-    o = a + _GH24
-    W = (local_arrays_at(buf, 0, 24, 1), sc.grad_hess_at(buf, _L24, 12),
-         sc.grad_hess_at(buf, _L24 + _GH12, 12), sc.angle_work_at(buf, g),
-         sc.grad_hess_at(buf, a, 24), carve(buf, o, 24), carve(buf, o + 24, 24),
-         sc.workspace_at(buf, o + 48))
-    sc.run(_speed_differences, (RmA1, RmB1, RmA2, RmB2, kk, pp, c0, tfid),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

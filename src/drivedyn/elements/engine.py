@@ -64,10 +64,30 @@ def clamped_curve(X, Y, D, start, k, q):
     return curve_value(X, Y, D, start, k, q)
 
 
+_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
+_GH = sc.grad_hess_size.py_func(12)
+#: entries of an engine group's work buffer (its ``work`` parameter)
+WORK_SIZE = _L12 + _GH + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
+
+
 @njit(cache=True)
-def _engines(P, C, W, full):
-    ratio, RmA, RmB, cid, tfid, X, Y, D, start = P
+def engine_kernel(
+    ratio, RmA, RmB, cid, tfid, X, Y, D, start, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, WORK_SIZE)
+    o = _L12
+    g, H = sc.grad_hess_at(buf, o, 12)
+    o += _GH
+    aw = sc.angle_work_at(buf, o)
+    o += sc.ANGLE_WORK_SIZE
+    W = (local_arrays_at(buf, 0, 12, 0), g, H, aw, carve(buf, o, 12), carve(buf, o + 12, 12),
+         sc.workspace_at(buf, o + 24))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, g, H, (w1, w2, w3, w4), vl, Hv, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     _, R, _, _, _, _, tfv, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -91,31 +111,6 @@ def _engines(P, C, W, full):
         sc.scatter(C, L, e, 2, full)
         sc.energy(C, e, 0.0, 0.0, T * om, 0.0)
         sc.report(C, e, (T, we, te, u, T * om))
-
-
-_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
-_GH = sc.grad_hess_size.py_func(12)
-#: entries of an engine group's work buffer (its ``work`` parameter)
-WORK_SIZE = _L12 + _GH + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
-
-
-@njit(cache=True)
-def engine_kernel(
-    ratio, RmA, RmB, cid, tfid, X, Y, D, start, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, WORK_SIZE)
-    o = _L12
-    g, H = sc.grad_hess_at(buf, o, 12)
-    o += _GH
-    aw = sc.angle_work_at(buf, o)
-    o += sc.ANGLE_WORK_SIZE
-    W = (local_arrays_at(buf, 0, 12, 0), g, H, aw, carve(buf, o, 12), carve(buf, o + 12, 12),
-         sc.workspace_at(buf, o + 24))
-    sc.run(_engines, (ratio, RmA, RmB, cid, tfid, X, Y, D, start),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

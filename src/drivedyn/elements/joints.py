@@ -84,11 +84,33 @@ COL_ANGLE, COL_POWER, COL_DRIVE, COL_SLIP = 6, 7, 8, 9
 JOINT_AUX_COLS = (0, 1, 2, 3, 4, 5, 6, 7, 10, 11)
 
 
+@njit(cache=True, inline="always")
+def work_size(nm: int) -> int:
+    """Entries of the work buffer of a joint group with ``nm`` constraint rows per element."""
+    return (local_size(12, nm) + 3 * sc.grad_hess_size(12) + sc.ANGLE_WORK_SIZE + 24
+            + sc.WORKSPACE_SIZE)
+
+
 @njit(cache=True)
-def _constraints(P, C, W, full):
-    (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, fmu,
-     frad, fstick) = P
+def constraint_kernel(
+    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, fmu,
+    frad, fstick, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    # work arrays: views of the group's work buffer (work_size; scaffold.work_buffer)
+    nm = rtype.shape[1]
+    o = local_size(12, nm)
+    g = sc.grad_hess_size(12)
+    a = o + 2 * g + sc.ANGLE_WORK_SIZE
+    buf = sc.work_buffer(work, work_size(nm))
+    W = (local_arrays_at(buf, 0, 12, nm), sc.grad_hess_at(buf, o, 12),
+         sc.grad_hess_at(buf, o + g, 12), sc.angle_work_at(buf, o + 2 * g), carve(buf, a, 12),
+         carve(buf, a + 12, 12), sc.grad_hess_at(buf, a + 24, 12),
+         sc.workspace_at(buf, a + 24 + g))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (gs, Hs), (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, rl, _, _, K, G = L
     x, R, _, _, _, es, tfv, _ = sc.state(C)
     mode = sc.mode_of(C)
@@ -234,35 +256,6 @@ def _constraints(P, C, W, full):
         # the last row's force -sig: the driving torque of a driver row
         sc.report(C, e, (wv[0, 0], wv[0, 1], wv[0, 2], wv[2, 0] - wv[4, 0], wv[2, 1] - wv[4, 1],
                          wv[2, 2] - wv[4, 2], th, power, -sig, z, ff, fpow))
-
-
-@njit(cache=True, inline="always")
-def work_size(nm: int) -> int:
-    """Entries of the work buffer of a joint group with ``nm`` constraint rows per element."""
-    return (local_size(12, nm) + 3 * sc.grad_hess_size(12) + sc.ANGLE_WORK_SIZE + 24
-            + sc.WORKSPACE_SIZE)
-
-
-@njit(cache=True)
-def constraint_kernel(
-    rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid, tfmode, fmu,
-    frad, fstick, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    # work arrays: views of the group's work buffer (work_size; scaffold.work_buffer)
-    nm = rtype.shape[1]
-    o = local_size(12, nm)
-    g = sc.grad_hess_size(12)
-    a = o + 2 * g + sc.ANGLE_WORK_SIZE
-    buf = sc.work_buffer(work, work_size(nm))
-    W = (local_arrays_at(buf, 0, 12, nm), sc.grad_hess_at(buf, o, 12),
-         sc.grad_hess_at(buf, o + g, 12), sc.angle_work_at(buf, o + 2 * g), carve(buf, a, 12),
-         carve(buf, a + 12, 12), sc.grad_hess_at(buf, a + 24, 12),
-         sc.workspace_at(buf, a + 24 + g))
-    sc.run(_constraints, (rtype, ai, bj, nrow, has_angle, pA, pB, RmA, RmB, kk, pp, pitch, c0, tfid,
-                         tfmode, fmu, frad, fstick),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 def _row_value(typ: int, a: int, b: int, xA, RA, xB, RB, pA, pB, RmA, RmB) -> float:

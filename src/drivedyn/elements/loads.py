@@ -23,11 +23,22 @@ from drivedyn.elements.framework.primitives import cross, mat_skew, mtv, mv, set
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError
 
+_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
+#: entries of a load group's work buffer (its last parameter, ``work``)
+WORK_SIZE = _L6 + sc.WORKSPACE_SIZE
+
 
 @njit(cache=True)
-def _loads(P, C, W, full):
-    is_torque, follower, p, Rm, vec, tfid = P
-    L, (ws, wv) = W
+def load_kernel(
+    is_torque, follower, p, Rm, vec, tfid, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    L, (ws, wv) = (local_arrays_at(buf, 0, 6, 0), sc.workspace_at(buf, _L6))
+    full = sc.full_pass(want, mode)
     rq, _, _, _, K, _ = L
     _, R, v, _, _, _, tfv, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -86,23 +97,6 @@ def _loads(P, C, W, full):
         sc.scatter(C, L, e, 1, full)
         sc.energy(C, e, 0.0, 0.0, power, 0.0)
         sc.report(C, e, (wv[3, 0], wv[3, 1], wv[3, 2], power))
-
-
-_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
-#: entries of a load group's work buffer (its last parameter, ``work``)
-WORK_SIZE = _L6 + sc.WORKSPACE_SIZE
-
-
-@njit(cache=True)
-def load_kernel(
-    is_torque, follower, p, Rm, vec, tfid, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
-    sc.run(_loads, (is_torque, follower, p, Rm, vec, tfid),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), (local_arrays_at(buf, 0, 6, 0), sc.workspace_at(buf, _L6)))
 
 
 @dataclass(frozen=True)

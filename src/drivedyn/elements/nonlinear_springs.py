@@ -77,9 +77,16 @@ def _length_and_rate(x, R, nA, nB, pA, pB, C, e, g, H, vl, full, ws, wv):
 
 
 @njit(cache=True)
-def _nonlinear_springs(P, C, W, full):
-    pA, pB, free, pre, lin, cid, X, Y, D, start = P
+def nonlinear_spring_kernel(
+    pA, pB, free, pre, lin, cid, X, Y, D, start,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    W = (local_arrays(12, 0), sc.grad_hess(12), np.zeros(12), np.zeros(12), sc.workspace())
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (g, H), vl, Hv, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -108,18 +115,6 @@ def _nonlinear_springs(P, C, W, full):
         sc.scatter(C, L, e, 2, full)
         sc.energy(C, e, 0.0, V + pre[e] * length, 0.0, fd * rate)
         sc.report(C, e, (s, length, rate, dx, fs + pre[e], fd, fd * rate))
-
-
-@njit(cache=True)
-def nonlinear_spring_kernel(
-    pA, pB, free, pre, lin, cid, X, Y, D, start,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    W = (local_arrays(12, 0), sc.grad_hess(12), np.zeros(12), np.zeros(12), sc.workspace())
-    sc.run(_nonlinear_springs, (pA, pB, free, pre, lin, cid, X, Y, D, start),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @njit(cache=True, inline="always")
@@ -171,9 +166,16 @@ def stop_potential(X, Y, D, start, k, d, eps):
 
 
 @njit(cache=True)
-def _bump_stops(P, C, W, full):
-    pA, pB, contact, side, cid, damp, eps, X, Y, D, start = P
+def bump_stop_kernel(
+    pA, pB, contact, side, cid, damp, eps, X, Y, D, start,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    W = (local_arrays(12, 0), sc.grad_hess(12), np.zeros(12), np.zeros(12), sc.workspace())
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (g, H), vl, Hv, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -206,18 +208,6 @@ def _bump_stops(P, C, W, full):
         P_dis = (F - Fk) * dd
         sc.energy(C, e, 0.0, V, 0.0, P_dis)
         sc.report(C, e, (F, length, rate, d, Fk, F - Fk, P_dis))
-
-
-@njit(cache=True)
-def bump_stop_kernel(
-    pA, pB, contact, side, cid, damp, eps, X, Y, D, start,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    W = (local_arrays(12, 0), sc.grad_hess(12), np.zeros(12), np.zeros(12), sc.workspace())
-    sc.run(_bump_stops, (pA, pB, contact, side, cid, damp, eps, X, Y, D, start),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 # --- tables in specs -----------------------------------------------------------------------------

@@ -35,9 +35,17 @@ from drivedyn.elements.joints import relative_angle
 
 
 @njit(cache=True)
-def _scalar_springs(P, C, W, full):
-    angular, pA, pB, RmA, RmB, stiff, damp, ref, pre = P
+def scalar_spring_kernel(
+    angular, pA, pB, RmA, RmB, stiff, damp, ref, pre,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    W = (local_arrays(12, 0), sc.grad_hess(12), sc.angle_work(), np.zeros(12), np.zeros(12),
+         sc.workspace())
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (g, H), (w1, w2, w3, w4), vl, Hv, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, es, _, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -60,19 +68,6 @@ def _scalar_springs(P, C, W, full):
         sc.scatter(C, L, e, 2, full)
         sc.energy(C, e, 0.0, 0.5 * k * dq * dq + pre[e] * q, 0.0, c * qd * qd)
         sc.report(C, e, (s, q, qd, c * qd * qd))
-
-
-@njit(cache=True)
-def scalar_spring_kernel(
-    angular, pA, pB, RmA, RmB, stiff, damp, ref, pre,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    W = (local_arrays(12, 0), sc.grad_hess(12), sc.angle_work(), np.zeros(12), np.zeros(12),
-         sc.workspace())
-    sc.run(_scalar_springs, (angular, pA, pB, RmA, RmB, stiff, damp, ref, pre),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

@@ -372,9 +372,17 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
 
 
 @njit(cache=True)
-def _tyres(P, C, W, full):
-    params, opts, patches, npatch, pm, Rm = P
-    L, (out, ax, axd, rp, rm, Rp, vp, Op, xp, ph, Eph) = W
+def tyre_kernel(params, opts, patches, npatch, pm, Rm,
+                lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+                cM, cC, cK, mode, want, r, rabs, data, eout, aux):
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    L = local_arrays(6, 0)
+    out, ax, axd, rp, rm = np.zeros(NOUT), np.zeros(NAUX), np.zeros(NAUX), np.zeros(6), \
+        np.zeros(6)
+    Rp, vp, Op, xp, ph, Eph = np.zeros((3, 3)), np.zeros(3), np.zeros(3), np.zeros(3), \
+        np.zeros(3), np.zeros((3, 3))
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, v, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -425,18 +433,6 @@ def _tyres(P, C, W, full):
         sc.energy(C, e, 0.0, pot, 0.0, dis)
         for k in range(NAUX):
             aux[e, k] = ax[k]
-
-
-@njit(cache=True)
-def tyre_kernel(params, opts, patches, npatch, pm, Rm,
-                lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-                cM, cC, cK, mode, want, r, rabs, data, eout, aux):
-    sc.run(_tyres, (params, opts, patches, npatch, pm, Rm),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux),
-           (local_arrays(6, 0), (np.zeros(NOUT), np.zeros(NAUX), np.zeros(NAUX), np.zeros(6),
-                                 np.zeros(6), np.zeros((3, 3)), np.zeros(3), np.zeros(3),
-                                 np.zeros(3), np.zeros(3), np.zeros((3, 3)))))
 
 
 OUTPUTS = (

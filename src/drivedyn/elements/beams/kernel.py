@@ -152,10 +152,29 @@ def _term_scale(rabs, dofs, d, L, eps0, Ks, TiP, TiM, RsA, CA, RsB, CB, a, w):
 
 
 @njit(cache=True)
-def _beams(P, C, W, full):
-    (length, eps0, Ks, beta, CAs, CBs, mass, cmix, Jn, skind, spar, gravity) = P
-    (L, d, etaA, etaB, TiP, TiM, S, U, eps, epsd, sig, fA, fB, vl, al,
-     dc, TiPc, TiMc, Sc, Uc, epsc, epsdc, sigc, fAc, fBc, Dd, Q, Fe, Wv, X, RsA, RsB, Sk, w, tw) = W
+def _work():
+    z = np.zeros
+    c = np.complex128
+    return (z(6), z(6), z(6), z((6, 6)), z((6, 6)), z((3, 3)), z((3, 3)), z(6), z(6), z(6),
+            z(6), z(6), z(12), z(12),
+            z(6, c), z((6, 6), c), z((6, 6), c), z((3, 3), c), z((3, 3), c), z(6, c), z(6, c),
+            z(6, c), z(6, c), z(6, c),
+            z((12, 6)), z((6, 12)), z((12, 6)), z((6, 12)), z((24, 12)), z((3, 3)), z((3, 3)),
+            z((3, 3)), z(3), z(6))
+
+
+@njit(cache=True)
+def beam_kernel(
+    length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar, gravity,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    CAs, CBs = CA, CB
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    (L, d, etaA, etaB, TiP, TiM, S, U, eps, epsd, sig, fA, fB, vl, al, dc, TiPc, TiMc, Sc, Uc, epsc,
+     epsdc, sigc, fAc, fBc, Dd, Q, Fe, Wv, X, RsA, RsB, Sk, w, tw) = (local_arrays(12, 0), *_work())
+    full = sc.full_pass(want, mode)
     rq, _, M, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -301,26 +320,3 @@ def _beams(P, C, W, full):
         aux[e, 13] = tmax
         aux[e, 14] = vm
         aux[e, 15] = 0.5 * Le * el
-
-
-@njit(cache=True)
-def _work():
-    z = np.zeros
-    c = np.complex128
-    return (z(6), z(6), z(6), z((6, 6)), z((6, 6)), z((3, 3)), z((3, 3)), z(6), z(6), z(6),
-            z(6), z(6), z(12), z(12),
-            z(6, c), z((6, 6), c), z((6, 6), c), z((3, 3), c), z((3, 3), c), z(6, c), z(6, c),
-            z(6, c), z(6, c), z(6, c),
-            z((12, 6)), z((6, 12)), z((12, 6)), z((6, 12)), z((24, 12)), z((3, 3)), z((3, 3)),
-            z((3, 3)), z(3), z(6))
-
-
-@njit(cache=True)
-def beam_kernel(
-    length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar, gravity,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    sc.run(_beams, (length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar, gravity),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), (local_arrays(12, 0), *_work()))

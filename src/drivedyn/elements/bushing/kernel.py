@@ -183,97 +183,6 @@ def _branches(e, xv, es, s0, t, baxis, bk, bc, nbr, f, kt, aux):
 
 
 @njit(cache=True)
-def _bushings(P, C, W, full):
-    (pA, pB, RmA, RmB, d0, kx, cx, pre, cid, CX, CY, CD, cstart, baxis, bk, bc, nbr) = P
-    L, B, Jv, S, V, rows, vl = W
-    rq, _, _, Cd, K, _ = L
-    f, kt, cv, xv, xd = rows[0], rows[1], rows[2], rows[3], rows[4]
-    RAg, Mab, U, Rrel, Ti, T1, T2, Q, Z, N, Sk, D3, T3, T4 = (
-        S[0], S[1], S[2], S[3], S[4], S[5], S[6], S[7], S[8], S[9], S[10], S[11], S[12], S[13])
-    th, PA, PB, ra, sv, ua, fa, Fb, mu, om, v1, v2 = (
-        V[0], V[1], V[2], V[3], V[4], V[5], V[6], V[7], V[8], V[9], V[10], V[11])
-    x, R, _, _, _, es, _, t = sc.state(C)
-    aux = C[sc.AUX]
-    for e in range(sc.count(C)):
-        nA, nB = sc.pair(C, e)
-        Ra = R[nA]
-        Rb = R[nB]
-        A = RmA[e]
-        Bm = RmB[e]
-        pb = pB[e]
-        # frames: marker A (global), node B in node A's frame, U = A Rrel, Rrel = R_A^T R_B'
-        mm(Ra, A, RAg)
-        mtm(Ra, Rb, Mab)
-        mm(Mab, Bm, U)
-        mtm(A, U, Rrel)
-        _log_into(Rrel, th)
-        t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
-        cc, ee = tangent_inv_coeffs(t2)
-        set_skew(th, Sk)
-        for i in range(3):
-            for j in range(3):
-                s2 = Sk[i, 0] * Sk[0, j] + Sk[i, 1] * Sk[1, j] + Sk[i, 2] * Sk[2, j]
-                Ti[i, j] = (1.0 if i == j else 0.0) + 0.5 * Sk[i, j] + cc * s2
-        # marker origins, the arm of marker B from node A (node A frame), deflections
-        mv(Ra, pA[e], v1)
-        mv(Rb, pb, v2)
-        for i in range(3):
-            PA[i] = x[nA, i] + v1[i]
-            PB[i] = x[nB, i] + v2[i]
-            v1[i] = PB[i] - x[nA, i]
-            v2[i] = PB[i] - PA[i]
-        mtv(Ra, v1, ra)
-        mtv(RAg, v2, fa)  # (fa as scratch: R_A^T (p_B - p_A))
-        for i in range(3):
-            xv[i] = fa[i] - d0[e, i]
-            xv[3 + i] = th[i]
-        # B = d x / d q (6, 12): rows d (translation), theta (rotation)
-        B[:, :] = 0.0
-        set_skew(ra, Sk)
-        mtm(A, Sk, T1)  # A^T ra~
-        set_skew(pb, Sk)
-        mm(Mab, Sk, T2)  # Mab pb~
-        mtm(A, T2, T3)  # A^T Mab pb~
-        for i in range(3):
-            for j in range(3):
-                B[i, j] = -RAg[j, i]
-                B[i, 3 + j] = T1[i, j]
-                B[i, 6 + j] = RAg[j, i]
-                B[i, 9 + j] = -T3[i, j]
-        _mmt(Ti, U, T1)  # Ti U^T
-        _mmt(Ti, Bm, T2)  # Ti Bm^T
-        for i in range(3):
-            for j in range(3):
-                B[3 + i, 3 + j] = -T1[i, j]
-                B[3 + i, 9 + j] = T2[i, j]
-        sc.velocities(C, e, 12, vl)
-        for i in range(6):
-            sv_ = 0.0
-            for a in range(12):
-                sv_ += B[i, a] * vl[a]
-            xd[i] = sv_
-        # laws
-        pot, dis = _axis_laws(e, xv, xd, kx, cx, pre, cid, CX, CY, CD, cstart, f, kt, cv)
-        p2, d2 = _branches(e, xv, es, sc.state_offset(C, e), t, baxis, bk, bc, nbr, f, kt, aux)
-        pot += p2
-        dis += d2
-        for a in range(12):
-            r_ = 0.0
-            for i in range(6):
-                r_ += B[i, a] * f[i]
-            rq[a] = r_
-        if full:
-            _matrices(B, Jv, K, Cd, f, kt, cv, vl, Ra, A, Bm, Mab, U, Rrel, Ti, th, t2, cc, ee,
-                      ra, pb, T1, T2, T3, T4, Q, Z, N, Sk, D3, sv, ua, fa, Fb, mu, om, v1, v2)
-        sc.scatter(C, L, e, 2, full)
-        sc.energy(C, e, 0.0, pot, 0.0, dis)
-        for j in range(6):
-            aux[e, j] = f[j]
-            aux[e, COL_DEFL + j] = xv[j]
-        aux[e, 12] = dis
-
-
-@njit(cache=True)
 def _matrices(B, Jv, K, Cd, f, kt, cv, vl, Ra, A, Bm, Mab, U, Rrel, Ti, th, t2, cc, ee, ra, pb,
               T1, T2, T3, T4, Q, Z, N, Sk, D3, sv, ua, fa, Fb, mu, om, v1, v2):
     """Stiffness ``K`` and damping ``Cd`` (12, 12) of one bushing:
@@ -401,7 +310,7 @@ def _matrices(B, Jv, K, Cd, f, kt, cv, vl, Ra, A, Bm, Mab, U, Rrel, Ti, th, t2, 
 
 @njit(cache=True, inline="always")
 def _work(buf):
-    """The work arrays of :func:`_bushings` as views of ``buf`` (:data:`WORK_SIZE`)."""
+    """The work arrays of :func:`bushing_kernel` as views of ``buf`` (:data:`WORK_SIZE`)."""
     o = _L
     B = carve(buf, o, (6, 12))
     Jv = carve(buf, o + 72, (6, 12))
@@ -421,7 +330,92 @@ def bushing_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     buf = sc.work_buffer(work, WORK_SIZE)
-    sc.run(_bushings,
-           (pA, pB, RmA, RmB, d0, kx, cx, pre, cid, CX, CY, CD, cstart, baxis, bk, bc, nbr),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), _work(buf))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    L, B, Jv, S, V, rows, vl = _work(buf)
+    full = sc.full_pass(want, mode)
+    rq, _, _, Cd, K, _ = L
+    f, kt, cv, xv, xd = rows[0], rows[1], rows[2], rows[3], rows[4]
+    RAg, Mab, U, Rrel, Ti, T1, T2, Q, Z, N, Sk, D3, T3, T4 = (
+        S[0], S[1], S[2], S[3], S[4], S[5], S[6], S[7], S[8], S[9], S[10], S[11], S[12], S[13])
+    th, PA, PB, ra, sv, ua, fa, Fb, mu, om, v1, v2 = (
+        V[0], V[1], V[2], V[3], V[4], V[5], V[6], V[7], V[8], V[9], V[10], V[11])
+    x, R, _, _, _, es, _, t = sc.state(C)
+    aux = C[sc.AUX]
+    for e in range(sc.count(C)):
+        nA, nB = sc.pair(C, e)
+        Ra = R[nA]
+        Rb = R[nB]
+        A = RmA[e]
+        Bm = RmB[e]
+        pb = pB[e]
+        # frames: marker A (global), node B in node A's frame, U = A Rrel, Rrel = R_A^T R_B'
+        mm(Ra, A, RAg)
+        mtm(Ra, Rb, Mab)
+        mm(Mab, Bm, U)
+        mtm(A, U, Rrel)
+        _log_into(Rrel, th)
+        t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
+        cc, ee = tangent_inv_coeffs(t2)
+        set_skew(th, Sk)
+        for i in range(3):
+            for j in range(3):
+                s2 = Sk[i, 0] * Sk[0, j] + Sk[i, 1] * Sk[1, j] + Sk[i, 2] * Sk[2, j]
+                Ti[i, j] = (1.0 if i == j else 0.0) + 0.5 * Sk[i, j] + cc * s2
+        # marker origins, the arm of marker B from node A (node A frame), deflections
+        mv(Ra, pA[e], v1)
+        mv(Rb, pb, v2)
+        for i in range(3):
+            PA[i] = x[nA, i] + v1[i]
+            PB[i] = x[nB, i] + v2[i]
+            v1[i] = PB[i] - x[nA, i]
+            v2[i] = PB[i] - PA[i]
+        mtv(Ra, v1, ra)
+        mtv(RAg, v2, fa)  # (fa as scratch: R_A^T (p_B - p_A))
+        for i in range(3):
+            xv[i] = fa[i] - d0[e, i]
+            xv[3 + i] = th[i]
+        # B = d x / d q (6, 12): rows d (translation), theta (rotation)
+        B[:, :] = 0.0
+        set_skew(ra, Sk)
+        mtm(A, Sk, T1)  # A^T ra~
+        set_skew(pb, Sk)
+        mm(Mab, Sk, T2)  # Mab pb~
+        mtm(A, T2, T3)  # A^T Mab pb~
+        for i in range(3):
+            for j in range(3):
+                B[i, j] = -RAg[j, i]
+                B[i, 3 + j] = T1[i, j]
+                B[i, 6 + j] = RAg[j, i]
+                B[i, 9 + j] = -T3[i, j]
+        _mmt(Ti, U, T1)  # Ti U^T
+        _mmt(Ti, Bm, T2)  # Ti Bm^T
+        for i in range(3):
+            for j in range(3):
+                B[3 + i, 3 + j] = -T1[i, j]
+                B[3 + i, 9 + j] = T2[i, j]
+        sc.velocities(C, e, 12, vl)
+        for i in range(6):
+            sv_ = 0.0
+            for a in range(12):
+                sv_ += B[i, a] * vl[a]
+            xd[i] = sv_
+        # laws
+        pot, dis = _axis_laws(e, xv, xd, kx, cx, pre, cid, CX, CY, CD, cstart, f, kt, cv)
+        p2, d2 = _branches(e, xv, es, sc.state_offset(C, e), t, baxis, bk, bc, nbr, f, kt, aux)
+        pot += p2
+        dis += d2
+        for a in range(12):
+            r_ = 0.0
+            for i in range(6):
+                r_ += B[i, a] * f[i]
+            rq[a] = r_
+        if full:
+            _matrices(B, Jv, K, Cd, f, kt, cv, vl, Ra, A, Bm, Mab, U, Rrel, Ti, th, t2, cc, ee,
+                      ra, pb, T1, T2, T3, T4, Q, Z, N, Sk, D3, sv, ua, fa, Fb, mu, om, v1, v2)
+        sc.scatter(C, L, e, 2, full)
+        sc.energy(C, e, 0.0, pot, 0.0, dis)
+        for j in range(6):
+            aux[e, j] = f[j]
+            aux[e, COL_DEFL + j] = xv[j]
+        aux[e, 12] = dis

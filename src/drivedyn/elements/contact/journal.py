@@ -54,10 +54,23 @@ from drivedyn.errors import ModelError
 
 
 @njit(cache=True)
-def _journal_contacts(P, C, W, full):
-    (pA, pB, RmA, clear, rpin), law, fric, na = P
-    (L, (g1, H1), (g2, H2), (gd, Hd), (Js, dJs), (Gz, Dz), vl, Hv, Jv, (dFq, dFv), (ws, wv),
-     M3) = W
+def journal_contact_kernel(
+    pA, pB, RmA, clear, rpin, law, fric, na, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, work_size(5, 5))
+    G, V, w = work_offsets(5, 5)
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
+         sc.grad_hess_at(buf, G + 468, 12), sc.grad_hess_at(buf, G + 624, 12),
+         carve(buf, V, 12), carve(buf, V + 12, 12), carve(buf, V + 24, 12),
+         (carve(buf, V + 36, 12), carve(buf, V + 48, 12)), sc.workspace_at(buf, w),
+         carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    (L, (g1, H1), (g2, H2), (gd, Hd), (Js, dJs), (Gz, Dz), vl, Hv, Jv, (dFq, dFv), (ws, wv), M3) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -116,25 +129,6 @@ def _journal_contacts(P, C, W, full):
         sc.energy(C, e, 0.0, V, 0.0, Pn + Pf)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
         sc.scatter(C, L, e, 2, full)
-
-
-@njit(cache=True)
-def journal_contact_kernel(
-    pA, pB, RmA, clear, rpin, law, fric, na, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, work_size(5, 5))
-    G, V, w = work_offsets(5, 5)
-    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
-         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
-         sc.grad_hess_at(buf, G + 468, 12), sc.grad_hess_at(buf, G + 624, 12),
-         carve(buf, V, 12), carve(buf, V + 12, 12), carve(buf, V + 24, 12),
-         (carve(buf, V + 36, 12), carve(buf, V + 48, 12)), sc.workspace_at(buf, w),
-         carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
-    sc.run(_journal_contacts, ((pA, pB, RmA, clear, rpin), law, fric, na),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 

@@ -76,9 +76,21 @@ def _blend_curvature(h, hmin):
 
 
 @njit(cache=True)
-def _journal_films(P, C, W, full):
-    pA, pB, RmA, clear, c0, hmin = P
+def journal_film_kernel(
+    pA, pB, RmA, clear, c0, hmin, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, _WORK)
+    G, V, w = work_offsets(3, 4)
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
+         carve(buf, V, 12), carve(buf, V + 12, 12), carve(buf, V + 24, 12),
+         carve(buf, V + 36, 12), sc.workspace_at(buf, w))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (g1, H1), (g2, H2), (gp, Hp), vl, Hv1, Hv2, Hvp, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
@@ -162,23 +174,6 @@ def _journal_films(P, C, W, full):
         sc.report(C, e, (fr, ft, roff / c, h, Crr, Ct, pdis))
         sc.energy(C, e, 0.0, 0.0, 0.0, pdis)
         sc.scatter(C, L, e, 2, full)
-
-
-@njit(cache=True)
-def journal_film_kernel(
-    pA, pB, RmA, clear, c0, hmin, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, _WORK)
-    G, V, w = work_offsets(3, 4)
-    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
-         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
-         carve(buf, V, 12), carve(buf, V + 12, 12), carve(buf, V + 24, 12),
-         carve(buf, V + 36, 12), sc.workspace_at(buf, w))
-    sc.run(_journal_films, (pA, pB, RmA, clear, c0, hmin),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

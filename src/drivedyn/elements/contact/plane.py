@@ -47,10 +47,25 @@ from drivedyn.elements.framework.work_arrays import carve
 
 
 @njit(cache=True)
-def _plane_contacts(P, C, W, full):
-    (pA, pB, RmA, radius), law, fric, na = P
+def plane_contact_kernel(
+    pA, pB, RmA, radius, law, fric, na, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    buf = sc.work_buffer(work, work_size(4, 8))
+    G, V, w = work_offsets(4, 8)
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
+         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
+         sc.grad_hess_at(buf, G + 468, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
+         carve(buf, V + 24, 12), carve(buf, V + 36, 12),
+         (carve(buf, V + 48, 12), carve(buf, V + 60, 12)),
+         (carve(buf, V + 72, 12), carve(buf, V + 84, 12)), sc.workspace_at(buf, w),
+         carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     (L, (gn, Hn), (J1, dJ1), (J2, dJ2), (Go, Do), vl, Hv, S1, S2, (dFq, dFv), (df1q, df2q),
      (ws, wv), M3) = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -120,26 +135,6 @@ def _plane_contacts(P, C, W, full):
         sc.energy(C, e, 0.0, V, 0.0, Pn + Pf)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
         sc.scatter(C, L, e, 2, full)
-
-
-@njit(cache=True)
-def plane_contact_kernel(
-    pA, pB, RmA, radius, law, fric, na, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    buf = sc.work_buffer(work, work_size(4, 8))
-    G, V, w = work_offsets(4, 8)
-    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, G, 12),
-         sc.grad_hess_at(buf, G + 156, 12), sc.grad_hess_at(buf, G + 312, 12),
-         sc.grad_hess_at(buf, G + 468, 12), carve(buf, V, 12), carve(buf, V + 12, 12),
-         carve(buf, V + 24, 12), carve(buf, V + 36, 12),
-         (carve(buf, V + 48, 12), carve(buf, V + 60, 12)),
-         (carve(buf, V + 72, 12), carve(buf, V + 84, 12)), sc.workspace_at(buf, w),
-         carve(buf, w + sc.WORKSPACE_SIZE, (3, 3)))
-    sc.run(_plane_contacts, ((pA, pB, RmA, radius), law, fric, na),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 

@@ -99,9 +99,16 @@ def effective_thickness(h, hmin):
 
 
 @njit(cache=True)
-def _squeeze_films(P, C, W, full):
-    (pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area), law, fric, na = P
+def squeeze_film_kernel(
+    pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area, law, fric, na, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    W = washer_work(work)
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -167,19 +174,6 @@ def _squeeze_films(P, C, W, full):
         sc.energy(C, e, 0.0, V, 0.0, pdis)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
         sc.scatter(C, L, e, 2, full)
-
-
-@njit(cache=True)
-def squeeze_film_kernel(
-    pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area, law, fric, na, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    W = washer_work(work)
-    sc.run(_squeeze_films, ((pA, pB, RmA, cfilm, cdrag, hmin, rough, cav, rm, area),
-                            law, fric, na),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

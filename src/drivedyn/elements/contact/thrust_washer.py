@@ -54,9 +54,16 @@ from drivedyn.errors import ModelError
 
 
 @njit(cache=True)
-def _washer_contacts(P, C, W, full):
-    (pA, pB, RmA, rm, area), law, fric, na = P
+def washer_contact_kernel(
+    pA, pB, RmA, rm, area, law, fric, na, work,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    W = washer_work(work)
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
+    full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     x, R, _, _, _, es, _, t = sc.state(C)
     aux = C[sc.AUX]
@@ -92,18 +99,6 @@ def _washer_contacts(P, C, W, full):
         sc.energy(C, e, 0.0, V, 0.0, Pn + Pf)
         impact_state(delta, rate, vs, t, es, o, aux, e, na)
         sc.scatter(C, L, e, 2, full)
-
-
-@njit(cache=True)
-def washer_contact_kernel(
-    pA, pB, RmA, rm, area, law, fric, na, work,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    W = washer_work(work)
-    sc.run(_washer_contacts, ((pA, pB, RmA, rm, area), law, fric, na),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 

@@ -106,9 +106,18 @@ def _scatter_multipliers(B, Gq, D, nm, C, e):
 
 
 @njit(cache=True)
-def _unilaterals(P, C, W, full):
-    pA, pB, RmA, mu, kk, pp, cacc = P
+def unilateral_kernel(
+    pA, pB, RmA, mu, kk, pp, cacc,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    W = (local_arrays(12, 3), np.zeros((12, 3)), np.zeros((3, 12)), np.zeros((3, 3)),
+         sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
+         sc.workspace())
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, B, Gq, D, (gn, Hn), (g1, H1), (g2, H2), vl, al, (ws, wv) = W
+    full = sc.full_pass(want, mode)
     rq, rl, M, _, K, _ = L
     x, R, _, _, _, es, _, _ = sc.state(C)
     mode = sc.mode_of(C)
@@ -312,20 +321,6 @@ def _unilaterals(P, C, W, full):
                          1.0 if active else 0.0, pdis, 1.0 if active else 0.0,
                          1.0 if slide else 0.0, es[o + 2] if stick else t1,
                          es[o + 3] if stick else t2))
-
-
-@njit(cache=True)
-def unilateral_kernel(
-    pA, pB, RmA, mu, kk, pp, cacc,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    W = (local_arrays(12, 3), np.zeros((12, 3)), np.zeros((3, 12)), np.zeros((3, 3)),
-         sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
-         sc.workspace())
-    sc.run(_unilaterals, (pA, pB, RmA, mu, kk, pp, cacc),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

@@ -111,9 +111,21 @@ def tie_rows(xN, RN, xh, Rh, q, Ph, Rm, A, nq, val, g, zero):
 
 
 @njit(cache=True)
-def _ties(P, C, W, full):
-    Ph, Rm, Amap, nqs, kk, pp = P
+def tie_kernel(
+    Ph, Rm, Amap, nqs, kk, pp,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nd = 6 * lnodes.shape[1]
+    nqm = 3 * (lnodes.shape[1] - 2)
+    cz = np.complex128
+    z = np.zeros
+    W = (local_arrays(nd, 6), z(nd), z(nd), z(nqm), z(6), z((6, nd)), z((3, 3), cz),
+         z((3, 3), cz), z(nqm, cz), z(6, cz), z((6, nd), cz), z((6, nd), cz), z(6))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
     L, vl, al, qv, val, g, cR1, cR2, cq, cval, cg, dg, sig = W
+    full = sc.full_pass(want, mode)
     rq, rl, M, Cd, K, G = L
     x, R, _, _, _, _, _, _ = sc.state(C)
     mode = sc.mode_of(C)
@@ -209,23 +221,6 @@ def _ties(P, C, W, full):
         sc.scatter(C, L, e, nnode, full)
         # force and moment the part applies to the node (global frame)
         sc.report(C, e, (-rq[0], -rq[1], -rq[2], -rq[3], -rq[4], -rq[5]))
-
-
-@njit(cache=True)
-def tie_kernel(
-    Ph, Rm, Amap, nqs, kk, pp,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    nd = 6 * lnodes.shape[1]
-    nqm = 3 * (lnodes.shape[1] - 2)
-    cz = np.complex128
-    z = np.zeros
-    W = (local_arrays(nd, 6), z(nd), z(nd), z(nqm), z(6), z((6, nd)), z((3, 3), cz),
-         z((3, 3), cz), z(nqm, cz), z(6, cz), z((6, nd), cz), z((6, nd), cz), z(6))
-    sc.run(_ties, (Ph, Rm, Amap, nqs, kk, pp),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

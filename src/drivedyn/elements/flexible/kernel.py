@@ -217,10 +217,28 @@ def _force_scales(rabs, dofs, Mx, al, Kr, qv, mass, gvec, nq):
 
 
 @njit(cache=True)
-def _flexible_bodies(P, C, W, full):
-    (mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec) = P
-    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw,
-     cR, cx, cO, cOd, cq, cqd, cqdd, cQq, cG, cHd, cHdd, cB, crx, crth, crq) = W
+def flexible_body_kernel(
+    mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nnode = lnodes.shape[1]
+    nd = 6 * nnode
+    nqm = Kr.shape[1]
+    nm = 6 + nqm
+    z = np.zeros
+    W = (local_arrays(nd, 0), z(nd), z(nd), z((nm, nm)), z(3), z(3), z(nqm), z(nqm), z(nqm),
+         z(nqm), z((3, 3, nqm)), z((3, 3)), z((3, 3)), z((3, 3)), z((3, 3)),
+         z((3, 3), np.complex128), z(3, np.complex128), z(3, np.complex128),
+         z(3, np.complex128), z(nqm, np.complex128), z(nqm, np.complex128),
+         z(nqm, np.complex128), z((3, 3, nqm), np.complex128), z((3, 3), np.complex128),
+         z((3, 3), np.complex128), z((3, 3), np.complex128), z((3, 3), np.complex128),
+         z(3, np.complex128), z(3, np.complex128), z(nqm, np.complex128))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, cR, cx, cO, cOd, cq, cqd, cqdd,
+     cQq, cG, cHd, cHdd, cB, crx, crth, crq) = W
+    full = sc.full_pass(want, mode)
     rqL, _, M, Cd, K, _ = L
     x, R, v, vd, _, _, _, _ = sc.state(C)
     aux = C[sc.AUX]
@@ -369,26 +387,3 @@ def _flexible_bodies(P, C, W, full):
         aux[e, 0] = el
         for k in range(nq):
             aux[e, 1 + k] = qv[k]
-
-
-@njit(cache=True)
-def flexible_body_kernel(
-    mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    nnode = lnodes.shape[1]
-    nd = 6 * nnode
-    nqm = Kr.shape[1]
-    nm = 6 + nqm
-    z = np.zeros
-    W = (local_arrays(nd, 0), z(nd), z(nd), z((nm, nm)), z(3), z(3), z(nqm), z(nqm), z(nqm),
-         z(nqm), z((3, 3, nqm)), z((3, 3)), z((3, 3)), z((3, 3)), z((3, 3)),
-         z((3, 3), np.complex128), z(3, np.complex128), z(3, np.complex128),
-         z(3, np.complex128), z(nqm, np.complex128), z(nqm, np.complex128),
-         z(nqm, np.complex128), z((3, 3, nqm), np.complex128), z((3, 3), np.complex128),
-         z((3, 3), np.complex128), z((3, 3), np.complex128), z((3, 3), np.complex128),
-         z(3, np.complex128), z(3, np.complex128), z(nqm, np.complex128))
-    sc.run(_flexible_bodies, (mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)

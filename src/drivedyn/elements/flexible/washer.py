@@ -202,8 +202,21 @@ def _skew_into(a, S):
 
 
 @njit(cache=True)
-def _washers(P, C, W, full):
-    X, Phi, af, nfs, nqs, area, law, fric, pB, nB = P
+def flexible_washer_kernel(
+    X, Phi, af, nfs, nqs, area, law, fric, pB, nB,
+    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+):
+    nd = 6 * lnodes.shape[1]
+    nqm = Phi.shape[3]
+    ncol = 12 + nqm
+    z = np.zeros
+    W = (local_arrays(nd, 0), z(nd), z(nqm), z(nqm), z(3), z(3), z(3), z(3), z(3), z(3), z(3),
+         z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z((3, 3)), z((3, 3)), z((3, 3)),
+         z((3, ncol)), z((3, ncol)), z((3, 3)), z((3, 3)), z((3, 3)), z(3), z(3))
+    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+         r, rabs, data, eout, aux)
+    full = sc.full_pass(want, mode)
     (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, S1, S2, S3, Dp, Dv, Dq, Tr,
      Tb, ng, xo) = W
     rq, _, _, Cd, K, _ = L
@@ -442,24 +455,6 @@ def _washers(P, C, W, full):
         sc.energy(C, e, 0.0, Vt, 0.0, Pd)
         sc.report(C, e, (Ftot, pmax, Ftot / area[e], pen, Mf, Fr / Ftot if Ftot > 0.0 else 0.0,
                          Pd))
-
-
-@njit(cache=True)
-def flexible_washer_kernel(
-    X, Phi, af, nfs, nqs, area, law, fric, pB, nB,
-    lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    nd = 6 * lnodes.shape[1]
-    nqm = Phi.shape[3]
-    ncol = 12 + nqm
-    z = np.zeros
-    W = (local_arrays(nd, 0), z(nd), z(nqm), z(nqm), z(3), z(3), z(3), z(3), z(3), z(3), z(3),
-         z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z((3, 3)), z((3, 3)), z((3, 3)),
-         z((3, ncol)), z((3, ncol)), z((3, 3)), z((3, 3)), z((3, 3)), z(3), z(3))
-    sc.run(_washers, (X, Phi, af, nfs, nqs, area, law, fric, pB, nB),
-           (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
-            r, rabs, data, eout, aux), W)
 
 
 @dataclass(frozen=True)

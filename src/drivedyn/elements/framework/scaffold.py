@@ -1,13 +1,16 @@
 """The kernel scaffold: what every element family's kernel does besides its physics.
 
-A family writes the loop over its elements (the physics) and a thin kernel with the calling
-convention of :mod:`drivedyn.elements.framework.contract` (its parameters, then the common
-arguments)::
+A family writes one kernel with the calling convention of
+:mod:`drivedyn.elements.framework.contract` (its parameters, then the common arguments); its
+body is the loop over the elements (the physics)::
 
     @njit(cache=True)
-    def _springs(P, C, W, full):
-        stiff, damp = P                         # the family's parameter arrays
-        L, vl, (ws, wv) = W                     # work arrays, allocated once per call
+    def spring_kernel(stiff, damp, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+                      cM, cC, cK, mode, want, r, rabs, data, eout, aux):
+        C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode,
+             want, r, rabs, data, eout, aux)
+        L, vl, (ws, wv) = local_arrays(12, 0), np.zeros(12), sc.workspace()  # work arrays
+        full = sc.full_pass(want, mode)         # the element matrices are wanted
         rq, rl, M, Cd, K, G = L                 # local residual and matrices
         x, R, v, vd, lam, es, tfv, t = sc.state(C)
         for e in range(sc.count(C)):
@@ -17,38 +20,31 @@ arguments)::
             sc.energy(C, e, 0.0, V, 0.0, P_dis)
             sc.report(C, e, (s, q, qd))
 
-    @njit(cache=True)
-    def spring_kernel(stiff, damp, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-                      cM, cC, cK, mode, want, r, rabs, data, eout, aux):
-        sc.run(_springs, (stiff, damp),
-               (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode,
-                want, r, rabs, data, eout, aux),
-               (local_arrays(12, 0), np.zeros(12), sc.workspace()))
+``C`` is the common arguments in the order of the kernel contract (fields named by the
+constants below, read through the helpers); the work arrays are never allocated inside the
+element loop (small allocations cost more than the maths), and best not at all: a kernel can
+carve every work array (:func:`drivedyn.elements.framework.work_arrays.carve`) from a buffer
+allocated with its group, its last parameter ``work`` (:func:`work_buffer`; the ``*_at``
+helpers below and ``local_arrays_at`` carve the usual sets). The rigid bodies, loads, joints,
+drivers, gear pairs and contacts do so: allocating per call (``malloc``, ``free``, numba's
+wrapper) took 13 % of the Type C vehicle configuration's run (measured with ``perf``).
+Families that allocate per call (``local_arrays``, :func:`grad_hess`...) get one allocation
+per helper: each carves its arrays from one zeroed buffer, and vectors of one length are the
+rows of one array (``V = np.zeros((k, 12))``; ``V[0]``...). The loop skips its matrix
+branches when ``full`` (:func:`full_pass`) is false.
 
-``P`` is the family's parameter tuple, ``C`` the common arguments in the order of the kernel
-contract (fields named by the constants below, read through the helpers), ``W`` the family's
-work arrays: never allocated inside the element loop (small allocations cost more than the
-maths), and best not at all: a kernel can carve every work array
-(:func:`drivedyn.elements.framework.work_arrays.carve`) from a buffer allocated with its group, its
-last parameter ``work`` (:func:`work_buffer`; the ``*_at`` helpers below and
-``local_arrays_at`` carve the usual sets). The rigid bodies, loads, joints, drivers, gear
-pairs and contacts do so: allocating per call (``malloc``, ``free``, numba's wrapper) took
-13 % of the Type C vehicle configuration's run (measured with ``perf``). Families that
-allocate per call (``local_arrays``, :func:`grad_hess`...) get one allocation per helper:
-each carves its arrays from one zeroed buffer, and vectors of one length are the rows of one
-array (``V = np.zeros((k, 12))``; ``V[0]``...).
-
-:func:`run` calls the loop with ``full`` true when a matrix is wanted (or consistent
-accelerations) and false for a residual only; the loop skips its matrix branches when
-``full`` is false. The loop is a dispatcher argument of an inlined function, so it is
-resolved at compile time inside the family's own kernel: the kernel's signature holds only
-arrays and scalars and numba's cache (``cache=True``) keeps working (a non-inlined generic
-function taking the loop, or a kernel made by a closure, recompiles in every process:
-measured). The loop and the kernel stay module-level functions of the family's module, so
-editing the physics invalidates the cache.
+The loop is the kernel's own body, not a function the kernel calls: numba compiles a called
+function on its own, then links its code into the caller and optimises and generates all of
+it again, and a function inlined by numba (``inline="always"``) has its IR deep-copied block
+by block with its whole scope at every call site (numba issue #8989). Either cost seconds of
+a first compilation per family (measured on the Type C bench's kernels: the joints 20.0 ->
+15.0 s, the gear pairs 30.3 -> 20.1 s). Small helpers (those below, the primitives) stay
+inlined. The kernel stays a module-level function of the family's module, so editing the
+physics invalidates its cache (a kernel made by a closure recompiles in every process:
+measured).
 
 Two rules keep the loop fast (measured: breaking them doubled the time of a spring group):
-unpack ``P``, ``W`` and the arrays of ``C`` (:func:`state`) *before* the element loop, not
+unpack the work arrays and the arrays of ``C`` (:func:`state`) *before* the element loop, not
 per element (a tuple unpacked inside the loop is reference-counted on every element); the
 per-element helpers below read only scalars and rows of ``C``. A helper that takes a tuple
 (``C``, a law table row...) reads it in a straight-line prefix only (a tuple still needed
@@ -86,13 +82,6 @@ RES, RABS, DATA, EOUT, AUX = 18, 19, 20, 21, 22
 def full_pass(want, mode):
     """True if an evaluation needs the element matrices (matrix wanted, or MODE_ACC)."""
     return want or mode == MODE_ACC
-
-
-@njit(cache=True, inline="always")
-def run(elements, P, C, W):
-    """``elements(P, C, W, full)``, ``full`` true when the element matrices are needed
-    (:func:`full_pass`)."""
-    elements(P, C, W, full_pass(C[WANT], C[MODE]))
 
 
 @njit(cache=True, inline="always")

@@ -26,6 +26,8 @@ crossed pairs need and the assembly of the matrices are compiled out of line.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numba import njit
 
@@ -86,258 +88,258 @@ def _onset(u, d):
     return 0.5 * u * u - 0.5 * d * u + d * d / 6.0, u - 0.5 * d, 1.0
 
 
-@njit(cache=True, inline="always")
-def _gears(P, C, W, full, skew, idx):
-    """Loop over the elements ``idx``. ``skew`` is a literal (:func:`_parallel_gears`,
-    :func:`_any_gears`); the copy with ``skew=False`` handles parallel pairs only, with the
-    kind a compile-time constant (fixed loop lengths, ~1.5x faster) and without the
-    bevel/crossed code (pruned by numba before typing: it is never compiled)."""
-    (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
-     onset) = P
-    (L, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap, Bp, Tm, AG, gx, gr, gu,
-     dF, dFN, dFNd, WTv, wk, (ws, wv)) = W
-    rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, es, _, _ = sc.state(C)
-    aux = C[sc.AUX]
-    for ie in range(idx.shape[0]):
-        e = idx[ie]
-        if skew:
-            par = kind[e] == KIND_PARALLEL
-        else:
-            par = True  # constant in this copy: fixed loop trip counts (nprim = 5)
-        nA, nB = sc.pair(C, e)
-        nprim = 5 if par else 7
-        Sj[:, :] = 0.0
-        if full:
-            Spp[:, :, :] = 0.0
-        # -- kinematic primitives p (gradients gp, Hessians Hp) ------------------------------
-        projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e], par, p, gp, Hp,
-                    Ht, full, wk, ws)
-        # -- mesh coordinates s(p) with Jacobian Sj and second derivatives Spp ---------------
-        off = sc.state_offset(C, e)
-        ac = 1.0
-        fr_c0 = 1.0
-        fr_c1 = 0.0
-        if par:
-            ac, fr_c0, fr_c1 = parallel_coords(p, Sj, Spp, s, es[off], es[off + 1], full)
-        elif skew:
-            fr_c0, fr_c1 = skew_coords(R[nA], R[nB], RmA[e], RmB[e], p, gp, Hp, Sj, Spp, s,
-                                       es[off], es[off + 1], full, ws, wv)
-        # -- rates --------------------------------------------------------------------------
-        sc.velocities(C, e, 12, vl)
-        for i in range(nprim):
-            acc = 0.0
-            for a in range(12):
-                acc += gp[i, a] * vl[a]
-            pd[i] = acc
-        for j in range(NS):
-            acc = 0.0
-            for i in range(nprim):
-                acc += Sj[j, i] * pd[i]
-            sd[j] = acc
-        # -- mesh law in s ----------------------------------------------------------------
-        dphi = s[0] - s0[e, 0]
-        k, k1, k2 = mesh_stiffness(dphi, kst[e])
-        c = cdamp[e]
-        X = terr[e]
-        xx = x0[e]
-        for j in range(NS):
-            xx += cof[e, j] * (s[j] - s0[e, j])
-            gx[j] = cof[e, j]
-            gr[j] = 0.0
-        hx00 = 0.0
-        if X != 0.0:
-            zz = kst[e, 4]
-            ce = np.cos(zz * dphi)
-            xx += X * (1.0 - ce)
-            gx[0] += X * zz * np.sin(zz * dphi)
-            hx00 = X * zz * zz * ce
-        hr33 = 0.0
-        if par:
-            # rho = ic [w(a_c) - w(a_c0)], w = R inv(alpha_wt) = tq - R atan(tq / R),
-            # tq = sqrt(a_c^2 - R^2); the difference is formed without cancellation:
-            # atan(tq/R) - atan(tq0/R) = atan(R dtq / (R^2 + tq tq0))
-            ic = inv[e, 0]
-            Rb = inv[e, 1]
-            tq0 = inv[e, 2]
-            ac0 = s0[e, 3]
-            tq = np.sqrt(ac * ac - Rb * Rb)
-            dtq = (ac - ac0) * (ac + ac0) / (tq + tq0)
-            zt = Rb * dtq / (Rb * Rb + tq * tq0)
-            if abs(zt) < 1e-2:
-                z2 = zt * zt
-                at = zt * (1.0 - z2 * (1.0 / 3.0 - z2 * (0.2 - z2 * (1.0 / 7.0 - z2 / 9.0))))
+def _gears_loop(skew: bool) -> Any:
+    """The loop over the gear pairs ``idx`` of a group, ``loop(P, C, W, full, idx)``, for
+    pairs of any kind (``skew``) or parallel pairs only. ``skew`` is a constant of the
+    closure: the copy without it has the kind a compile-time constant (fixed loop lengths,
+    ~1.5x faster) and no bevel/crossed code (numba prunes it before typing, so it is never
+    compiled). numba caches the two copies apart (the closure's constants are part of its
+    cache key). A closure rather than one function inlined into two callers: numba's
+    inliner deep-copies the callee's IR block by block with its whole scope (numba issue
+    #8989), which took 4-7 s of this kernel's 30 s first compilation (measured)."""
+
+    @njit(cache=True)
+    def loop(P, C, W, full, idx):
+        (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
+         onset) = P
+        (L, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap, Bp, Tm, AG, gx, gr, gu,
+         dF, dFN, dFNd, WTv, wk, (ws, wv)) = W
+        rq, _, _, Cd, K, _ = L
+        x, R, _, _, _, es, _, _ = sc.state(C)
+        aux = C[sc.AUX]
+        for ie in range(idx.shape[0]):
+            e = idx[ie]
+            if skew:
+                par = kind[e] == KIND_PARALLEL
             else:
-                at = np.arctan(zt)
-            rho = ic * (dtq - Rb * at)
-            gr[3] = ic * tq / ac
-            hr33 = ic * Rb * Rb / (ac * ac * tq)
-        else:
-            rho = 0.0
-            for i in range(3):
-                rho += crf[e, i] * (s[2 + i] - s0[e, 2 + i])
-                gr[2 + i] = crf[e, i]
-        xd = 0.0
-        rd = 0.0
-        for j in range(NS):
-            xd += gx[j] * sd[j]
-            rd += gr[j] * sd[j]
-        for j in range(NS):
-            Qs[j] = 0.0
-        if full:
-            dQs[:, :] = 0.0
-            dQd[:, :] = 0.0
-            dFN[:] = 0.0
-            dFNd[:] = 0.0
-        u_p = xx + rho
-        u_m = -xx + rho - bn[e]
-        Fp = 0.0
-        Fm = 0.0
-        V = 0.0
-        Pd = 0.0
-        # contact anticipated in the matrix only: with neither flank loaded, the flank within
-        # TANGENT_BAND of contact lends its stiffness to K and C (an unloaded zero-backlash
-        # mesh would otherwise enter a factorisation with no stiffness at all)
-        ant = 0
-        if full and u_p <= 0.0 and u_m <= 0.0:
-            if u_p >= u_m and u_p > -TANGENT_BAND:
-                ant = 1
-            elif u_m > u_p and u_m > -TANGENT_BAND:
-                ant = 2
-        if ant > 0:
-            sg = 1.0 if ant == 1 else -1.0
-            for i in range(NS):
-                gu[i] = sg * gx[i] + gr[i]
-            for i in range(NS):
-                for j in range(NS):
-                    dQs[i, j] += k * gu[i] * gu[j]
-                    dQd[i, j] += c * gu[i] * gu[j]
-        for fl in range(2):
-            sg = 1.0 if fl == 0 else -1.0
-            u = u_p if fl == 0 else u_m
-            if u <= 0.0:
-                continue
-            ud = sg * xd + rd
-            Wu, fu, su = _onset(u, onset[e])
-            F = k * fu + c * ud
-            if fl == 0:
-                Fp = F
-            else:
-                Fm = F
-            for j in range(NS):
-                gu[j] = sg * gx[j] + gr[j]
-                Qs[j] += F * gu[j]
-            Qs[0] += k1 * Wu
-            V += k * Wu
-            Pd += c * ud * ud
+                par = True  # constant in this copy: fixed loop trip counts (nprim = 5)
+            nA, nB = sc.pair(C, e)
+            nprim = 5 if par else 7
+            Sj[:, :] = 0.0
             if full:
-                sgnF = 1.0 if F >= 0.0 else -1.0
-                for j in range(NS):
-                    dF[j] = k * su * gu[j]
-                dF[0] += k1 * fu + c * sg * hx00 * sd[0]
-                dF[3] += c * hr33 * sd[3]
+                Spp[:, :, :] = 0.0
+            # -- kinematic primitives p (gradients gp, Hessians Hp) ------------------------------
+            projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e], par, p, gp, Hp,
+                        Ht, full, wk, ws)
+            # -- mesh coordinates s(p) with Jacobian Sj and second derivatives Spp ---------------
+            off = sc.state_offset(C, e)
+            ac = 1.0
+            fr_c0 = 1.0
+            fr_c1 = 0.0
+            if par:
+                ac, fr_c0, fr_c1 = parallel_coords(p, Sj, Spp, s, es[off], es[off + 1], full)
+            elif skew:
+                fr_c0, fr_c1 = skew_coords(R[nA], R[nB], RmA[e], RmB[e], p, gp, Hp, Sj, Spp, s,
+                                           es[off], es[off + 1], full, ws, wv)
+            # -- rates --------------------------------------------------------------------------
+            sc.velocities(C, e, 12, vl)
+            for i in range(nprim):
+                acc = 0.0
+                for a in range(12):
+                    acc += gp[i, a] * vl[a]
+                pd[i] = acc
+            for j in range(NS):
+                acc = 0.0
+                for i in range(nprim):
+                    acc += Sj[j, i] * pd[i]
+                sd[j] = acc
+            # -- mesh law in s ----------------------------------------------------------------
+            dphi = s[0] - s0[e, 0]
+            k, k1, k2 = mesh_stiffness(dphi, kst[e])
+            c = cdamp[e]
+            X = terr[e]
+            xx = x0[e]
+            for j in range(NS):
+                xx += cof[e, j] * (s[j] - s0[e, j])
+                gx[j] = cof[e, j]
+                gr[j] = 0.0
+            hx00 = 0.0
+            if X != 0.0:
+                zz = kst[e, 4]
+                ce = np.cos(zz * dphi)
+                xx += X * (1.0 - ce)
+                gx[0] += X * zz * np.sin(zz * dphi)
+                hx00 = X * zz * zz * ce
+            hr33 = 0.0
+            if par:
+                # rho = ic [w(a_c) - w(a_c0)], w = R inv(alpha_wt) = tq - R atan(tq / R),
+                # tq = sqrt(a_c^2 - R^2); the difference is formed without cancellation:
+                # atan(tq/R) - atan(tq0/R) = atan(R dtq / (R^2 + tq tq0))
+                ic = inv[e, 0]
+                Rb = inv[e, 1]
+                tq0 = inv[e, 2]
+                ac0 = s0[e, 3]
+                tq = np.sqrt(ac * ac - Rb * Rb)
+                dtq = (ac - ac0) * (ac + ac0) / (tq + tq0)
+                zt = Rb * dtq / (Rb * Rb + tq * tq0)
+                if abs(zt) < 1e-2:
+                    z2 = zt * zt
+                    at = zt * (1.0 - z2 * (1.0 / 3.0 - z2 * (0.2 - z2 * (1.0 / 7.0 - z2 / 9.0))))
+                else:
+                    at = np.arctan(zt)
+                rho = ic * (dtq - Rb * at)
+                gr[3] = ic * tq / ac
+                hr33 = ic * Rb * Rb / (ac * ac * tq)
+            else:
+                rho = 0.0
+                for i in range(3):
+                    rho += crf[e, i] * (s[2 + i] - s0[e, 2 + i])
+                    gr[2 + i] = crf[e, i]
+            xd = 0.0
+            rd = 0.0
+            for j in range(NS):
+                xd += gx[j] * sd[j]
+                rd += gr[j] * sd[j]
+            for j in range(NS):
+                Qs[j] = 0.0
+            if full:
+                dQs[:, :] = 0.0
+                dQd[:, :] = 0.0
+                dFN[:] = 0.0
+                dFNd[:] = 0.0
+            u_p = xx + rho
+            u_m = -xx + rho - bn[e]
+            Fp = 0.0
+            Fm = 0.0
+            V = 0.0
+            Pd = 0.0
+            # contact anticipated in the matrix only: with neither flank loaded, the flank within
+            # TANGENT_BAND of contact lends its stiffness to K and C (an unloaded zero-backlash
+            # mesh would otherwise enter a factorisation with no stiffness at all)
+            ant = 0
+            if full and u_p <= 0.0 and u_m <= 0.0:
+                if u_p >= u_m and u_p > -TANGENT_BAND:
+                    ant = 1
+                elif u_m > u_p and u_m > -TANGENT_BAND:
+                    ant = 2
+            if ant > 0:
+                sg = 1.0 if ant == 1 else -1.0
+                for i in range(NS):
+                    gu[i] = sg * gx[i] + gr[i]
                 for i in range(NS):
                     for j in range(NS):
-                        dQs[i, j] += gu[i] * dF[j]
+                        dQs[i, j] += k * gu[i] * gu[j]
                         dQd[i, j] += c * gu[i] * gu[j]
-                    dQs[0, i] += k1 * fu * gu[i]
-                    dFN[i] += sgnF * dF[i]
-                    dFNd[i] += sgnF * c * gu[i]
-                dQs[0, 0] += F * sg * hx00 + k2 * Wu
-                dQs[3, 3] += F * hr33
-        # -- tooth friction (regularised Coulomb on the sliding vector W s_dot) --------------
-        v1 = 0.0
-        v2 = 0.0
-        for j in range(NS):
-            v1 += Wf[e, 0, j] * sd[j]
-            v2 += Wf[e, 1, j] * sd[j]
-        vn = np.sqrt(v1 * v1 + v2 * v2)
-        FN = abs(Fp) + abs(Fm)
-        mu = fric[e, 0]
-        Pf = 0.0
-        if mu > 0.0 and FN > 0.0:
-            eps = fric[e, 1]
-            if vn < eps:
-                ph = mu * (2.0 - vn / eps) / eps
-                dph = -mu / (eps * eps)
-            else:
-                ph = mu / vn
-                dph = -mu / (vn * vn)
-            for j in range(NS):
-                WTv[j] = Wf[e, 0, j] * v1 + Wf[e, 1, j] * v2
-                Qs[j] += ph * FN * WTv[j]
-            Pf = ph * FN * vn * vn
-            if full:
-                dv = dph * FN / vn if vn > 1e-300 else 0.0
-                for i in range(NS):
+            for fl in range(2):
+                sg = 1.0 if fl == 0 else -1.0
+                u = u_p if fl == 0 else u_m
+                if u <= 0.0:
+                    continue
+                ud = sg * xd + rd
+                Wu, fu, su = _onset(u, onset[e])
+                F = k * fu + c * ud
+                if fl == 0:
+                    Fp = F
+                else:
+                    Fm = F
+                for j in range(NS):
+                    gu[j] = sg * gx[j] + gr[j]
+                    Qs[j] += F * gu[j]
+                Qs[0] += k1 * Wu
+                V += k * Wu
+                Pd += c * ud * ud
+                if full:
+                    sgnF = 1.0 if F >= 0.0 else -1.0
                     for j in range(NS):
-                        dQd[i, j] += (ph * FN * (Wf[e, 0, i] * Wf[e, 0, j]
-                                                 + Wf[e, 1, i] * Wf[e, 1, j])
-                                      + dv * WTv[i] * WTv[j] + ph * WTv[i] * dFNd[j])
-                        dQs[i, j] += ph * WTv[i] * dFN[j]
-        # -- chain to the primitives and to the node coordinates ---------------------------
-        for i in range(nprim):
-            acc = 0.0
+                        dF[j] = k * su * gu[j]
+                    dF[0] += k1 * fu + c * sg * hx00 * sd[0]
+                    dF[3] += c * hr33 * sd[3]
+                    for i in range(NS):
+                        for j in range(NS):
+                            dQs[i, j] += gu[i] * dF[j]
+                            dQd[i, j] += c * gu[i] * gu[j]
+                        dQs[0, i] += k1 * fu * gu[i]
+                        dFN[i] += sgnF * dF[i]
+                        dFNd[i] += sgnF * c * gu[i]
+                    dQs[0, 0] += F * sg * hx00 + k2 * Wu
+                    dQs[3, 3] += F * hr33
+            # -- tooth friction (regularised Coulomb on the sliding vector W s_dot) --------------
+            v1 = 0.0
+            v2 = 0.0
             for j in range(NS):
-                acc += Sj[j, i] * Qs[j]
-            Qp[i] = acc
-        for a in range(12):
-            acc = 0.0
+                v1 += Wf[e, 0, j] * sd[j]
+                v2 += Wf[e, 1, j] * sd[j]
+            vn = np.sqrt(v1 * v1 + v2 * v2)
+            FN = abs(Fp) + abs(Fm)
+            mu = fric[e, 0]
+            Pf = 0.0
+            if mu > 0.0 and FN > 0.0:
+                eps = fric[e, 1]
+                if vn < eps:
+                    ph = mu * (2.0 - vn / eps) / eps
+                    dph = -mu / (eps * eps)
+                else:
+                    ph = mu / vn
+                    dph = -mu / (vn * vn)
+                for j in range(NS):
+                    WTv[j] = Wf[e, 0, j] * v1 + Wf[e, 1, j] * v2
+                    Qs[j] += ph * FN * WTv[j]
+                Pf = ph * FN * vn * vn
+                if full:
+                    dv = dph * FN / vn if vn > 1e-300 else 0.0
+                    for i in range(NS):
+                        for j in range(NS):
+                            dQd[i, j] += (ph * FN * (Wf[e, 0, i] * Wf[e, 0, j]
+                                                     + Wf[e, 1, i] * Wf[e, 1, j])
+                                          + dv * WTv[i] * WTv[j] + ph * WTv[i] * dFNd[j])
+                            dQs[i, j] += ph * WTv[i] * dFN[j]
+            # -- chain to the primitives and to the node coordinates ---------------------------
             for i in range(nprim):
-                acc += gp[i, a] * Qp[i]
-            rq[a] = acc
-        if full:
-            chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K,
-                           Cd)
-        sc.scatter(C, L, e, 2, full)
-        # -- outputs ------------------------------------------------------------------------
-        fa = wk[4]  # global axis of A
-        fr = wk[11]
-        ft = wk[12]
-        for i in range(3):
-            fr[i] = fr_c0 * wk[2, i] + fr_c1 * wk[3, i]
-        cross(fa, fr, ft)
-        for row in range(3):  # the mesh force on B in A's gear frame (t, e, a)
-            acc = 0.0
+                acc = 0.0
+                for j in range(NS):
+                    acc += Sj[j, i] * Qs[j]
+                Qp[i] = acc
+            for a in range(12):
+                acc = 0.0
+                for i in range(nprim):
+                    acc += gp[i, a] * Qp[i]
+                rq[a] = acc
+            if full:
+                chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K,
+                               Cd)
+            sc.scatter(C, L, e, 2, full)
+            # -- outputs ------------------------------------------------------------------------
+            fa = wk[4]  # global axis of A
+            fr = wk[11]
+            ft = wk[12]
             for i in range(3):
-                gvec = Mf[e, row, 0] * fa[i] + Mf[e, row, 1] * fr[i] + Mf[e, row, 2] * ft[i]
-                acc += gvec * (-rq[6 + i])
-            aux[e, 1 + row] = acc
-        sc.energy(C, e, 0.0, V, 0.0, Pd + Pf)
-        aux[e, 0] = Fp - Fm
-        aux[e, 4] = -rq[6]
-        aux[e, 5] = -rq[7]
-        aux[e, 6] = -rq[8]
-        aux[e, 7] = -(rq[3] * RmA[e, 0, 2] + rq[4] * RmA[e, 1, 2] + rq[5] * RmA[e, 2, 2])
-        aux[e, 8] = -(rq[9] * RmB[e, 0, 2] + rq[10] * RmB[e, 1, 2] + rq[11] * RmB[e, 2, 2])
-        if u_p > 0.0 and (u_m <= 0.0 or Fp >= Fm):
-            aux[e, 9] = u_p
-        elif u_m > 0.0:
-            aux[e, 9] = -u_m
-        else:
-            aux[e, 9] = 0.0
-        aux[e, 10] = u_p
-        aux[e, 11] = vn
-        aux[e, 12] = Pf
-        aux[e, 13] = Pd + Pf
-        aux[e, 14] = dphi
-        aux[e, 15] = s[1] - s0[e, 1]
-        aux[e, 16] = k
-        aux[e, 17] = s[0]
-        aux[e, 18] = s[1]
+                fr[i] = fr_c0 * wk[2, i] + fr_c1 * wk[3, i]
+            cross(fa, fr, ft)
+            for row in range(3):  # the mesh force on B in A's gear frame (t, e, a)
+                acc = 0.0
+                for i in range(3):
+                    gvec = Mf[e, row, 0] * fa[i] + Mf[e, row, 1] * fr[i] + Mf[e, row, 2] * ft[i]
+                    acc += gvec * (-rq[6 + i])
+                aux[e, 1 + row] = acc
+            sc.energy(C, e, 0.0, V, 0.0, Pd + Pf)
+            aux[e, 0] = Fp - Fm
+            aux[e, 4] = -rq[6]
+            aux[e, 5] = -rq[7]
+            aux[e, 6] = -rq[8]
+            aux[e, 7] = -(rq[3] * RmA[e, 0, 2] + rq[4] * RmA[e, 1, 2] + rq[5] * RmA[e, 2, 2])
+            aux[e, 8] = -(rq[9] * RmB[e, 0, 2] + rq[10] * RmB[e, 1, 2] + rq[11] * RmB[e, 2, 2])
+            if u_p > 0.0 and (u_m <= 0.0 or Fp >= Fm):
+                aux[e, 9] = u_p
+            elif u_m > 0.0:
+                aux[e, 9] = -u_m
+            else:
+                aux[e, 9] = 0.0
+            aux[e, 10] = u_p
+            aux[e, 11] = vn
+            aux[e, 12] = Pf
+            aux[e, 13] = Pd + Pf
+            aux[e, 14] = dphi
+            aux[e, 15] = s[1] - s0[e, 1]
+            aux[e, 16] = k
+            aux[e, 17] = s[0]
+            aux[e, 18] = s[1]
+
+    return loop
 
 
-@njit(cache=True)
-def _parallel_gears(P, C, W, full, idx):
-    """:func:`_gears` over parallel-axis pairs only (``full``: matrices wanted)."""
-    _gears(P, C, W, full, False, idx)
-
-
-@njit(cache=True)
-def _any_gears(P, C, W, full, idx):
-    """:func:`_gears` over pairs of any kind."""
-    _gears(P, C, W, full, True, idx)
-
+#: the loop over parallel-axis pairs only, and over pairs of any kind
+_parallel_gears = _gears_loop(False)
+_any_gears = _gears_loop(True)
 
 # the gear loop's work arrays after local_arrays(12, 0): shapes, offsets in one buffer
 _WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS, NP, 12, NS,
