@@ -438,19 +438,15 @@ def parallel_gear_kernel(
 ):
     """:func:`gear_kernel` for a group of parallel-axis pairs only (``idx_skew`` empty).
 
-    Same arguments and results; the loop runs in its parallel-only copies, with and without
-    the matrices. A model without bevel or crossed pairs (both TORSEN models) so compiles two
-    copies of the loop instead of three, each without the bevel/crossed code (first
-    compilation: see :mod:`drivedyn.solver.precompile`), and its matrix pass runs the faster
-    parallel-only copy too.
+    Same arguments and results; the loop runs in its parallel-only copy, with and without
+    the matrices. A model without bevel or crossed pairs (both TORSEN models) so compiles one
+    copy of the loop instead of two, without the bevel/crossed code (first compilation: see
+    :mod:`drivedyn.solver.precompile`), and its matrix pass runs the faster parallel-only
+    copy too.
     """
     P = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
          onset)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
          rabs, data, eout, aux)
     W = _work(work)
-    full = sc.full_pass(want, mode)
-    if full:
-        _parallel_gears(P, C, W, full, idx_par)
-    else:
-        _parallel_gears(P, C, W, full, idx_par)
+    _parallel_gears(P, C, W, sc.full_pass(want, mode), idx_par)
