@@ -324,13 +324,17 @@ def test_tdr_parallel_sides_use_one_blas_thread_each() -> None:
     assert n1 == 1 and n2 == 1
 
 
-def test_tdr_parallel_sides_import_xarray_before_the_fork() -> None:
-    """The second side's results come back pickled (an xarray dataset), unpickled by the
-    pool's result thread while this thread may be importing xarray for the first side's
-    results: two threads importing xarray at once made Python's import lock refuse one
-    ("deadlock detected"), a failure that depended on which side ended first. xarray is
-    therefore imported before the fork. Checked in a new process whose kernels are already
-    compiled (by a first process), so that no first compilation imports it meanwhile."""
+def test_tdr_parallel_sides_import_no_xarray() -> None:
+    """The second side's results come back pickled, unpickled by the pool's result thread
+    while this thread may be building the first side's: when results were xarray datasets,
+    two threads importing xarray at once made Python's import lock refuse one ("deadlock
+    detected"), a failure that depended on which side ended first. Results now come back as
+    arrays (``Results.from_contents``) and the TDRs and metrics read those, so neither thread
+    imports xarray: checked in a new process whose kernels are already compiled (by a first
+    process, so that no first compilation imports it meanwhile), and the datasets build on
+    first use afterwards. Fails if ``Simulation.results`` builds the dataset again, or if
+    ``run_metrics`` or ``record_provenance`` go through it (seen to fail with
+    ``run_metrics`` reading ``results.dataset``)."""
     import os
     import subprocess
     import sys
@@ -338,26 +342,22 @@ def test_tdr_parallel_sides_import_xarray_before_the_fork() -> None:
     if (os.cpu_count() or 1) < 2 or not sys.platform.startswith("linux"):
         pytest.skip("one CPU, or no fork: the sides run one after the other")
     code = textwrap.dedent("""
-        import json, sys, multiprocessing
+        import json, sys
         from drivedyn.analysis import tdr
         from drivedyn.config import read_library_file
         p = read_library_file("torsen-c", sys.argv[2:])[0]
+        runs = []
+        ev = tdr.evaluate(p, [1, 3], on_run=lambda *a: runs.append(a[0]) if len(a) == 1
+                          else None)
         if sys.argv[1] == "compile":
-            tdr.evaluate(p, [1, 3])
             raise SystemExit
-        seen = []
-        cls = type(multiprocessing.get_context("fork"))
-        pool = cls.Pool
-        def Pool(self, *a, **k):
-            seen.append("xarray" in sys.modules)
-            return pool(self, *a, **k)
-        cls.Pool = Pool
-        assert "xarray" not in sys.modules
-        tdr.evaluate(p, [1, 3])
-        print(json.dumps(seen))
+        before = "xarray" in sys.modules
+        ds = [r.results.dataset for r in runs]
+        print(json.dumps([len(runs), before, all(len(d.data_vars) > 100 for d in ds),
+                          bool(ev.failed == "")]))
     """)
     for what in ("compile", "check"):
         res = subprocess.run([sys.executable, "-c", code, what, *SHORT[1::2]],
                              capture_output=True, text=True, timeout=600)
         assert res.returncode == 0, res.stderr[-3000:]
-    assert json.loads(res.stdout.strip().splitlines()[-1]) == [True]
+    assert json.loads(res.stdout.strip().splitlines()[-1]) == [2, False, True, True]

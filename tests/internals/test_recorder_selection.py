@@ -83,3 +83,28 @@ def test_selection_of_everything_is_every_exported_output() -> None:
         expected |= {off + e * shape[1] + c for e in range(g.nel) for c in cols}
     assert set(sel.aux.tolist()) == expected and sel.aux.size < model.aux_all.size
     assert sel.diss.size == sum(g.nel for g in model.groups if g.dissipative)
+
+
+def test_results_read_the_arrays_before_the_dataset_exists() -> None:
+    """A run's results keep the recorded arrays and build the ``xarray.Dataset`` on first
+    use: before it, ``values``, ``time``, ``in``, ``variables()`` and ``attrs`` give what the
+    dataset then holds (every variable bit for bit, units included), and attributes written
+    before (provenance) are the dataset's (fails if ``attrs`` handed out a copy, or if the
+    arrays and the dataset named or ordered variables differently)."""
+    from drivedyn.results.provenance import record_provenance
+
+    res = _run(contact.journal_case(), None)
+    assert res._dataset is None
+    early = {name: (dict(attrs), np.array(values)) for name, attrs, values in res.variables()}
+    t = res.time.copy()
+    assert "j.normal_force" in res and "time" in res and "nothing" not in res
+    record_provenance(res, model_file="{}", source="journal case")
+    ds = res.dataset
+    assert set(early) == set(ds.data_vars)
+    for name, (attrs, values) in early.items():
+        np.testing.assert_array_equal(values, ds[name].values, err_msg=name)
+        assert attrs["units"] == ds[name].attrs["units"], name
+        np.testing.assert_array_equal(res.values(name), values, err_msg=name)
+    np.testing.assert_array_equal(t, ds["time"].values)
+    assert ds.attrs["model_source"] == "journal case" and res.attrs is ds.attrs
+    assert ds.attrs["success"] == 1 and "stats" in ds.attrs

@@ -150,7 +150,7 @@ def run_bench(p, side: str, torque: float | None = None,
     config = differentials.configuration(p, side)
     if friction_scale != 1.0:
         config += f", friction x{friction_scale:g}"
-    record_provenance(res.dataset,
+    record_provenance(res,
                       model_file=json.dumps(bench_parameters(p, side, torque, speed_diff),
                                             indent=1, default=str),
                       source=source or p.model.name, overrides=overrides,
@@ -205,17 +205,15 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
         from threadpoolctl import threadpool_limits
 
         from drivedyn.model.compile import compile_model
-        from drivedyn.results.recorder import import_dataset_stack
         from drivedyn.solver.simulate import load_kernels
 
         sp, _ = bench_spec(differentials.of(p), p, sides[0][0], torque, speed_diff,
                            friction_scale)
         load_kernels(compile_model(sp), **p.solver.settings())
-        # xarray imported before the fork (a no-op after a first compilation, which imports
-        # it while its workers compile): otherwise the pool's result thread unpickles the
-        # second side's dataset, importing xarray, while this thread imports it for the
-        # first side's, and Python's import lock refuses one of them (deadlock detected)
-        import_dataset_stack()
+        # the runs' results come back as arrays (Results.from_contents): unpickling the
+        # second side's in the pool's result thread imports nothing, so it never races this
+        # thread importing xarray for the first side's dataset (Python's import lock refused
+        # one of them, "deadlock detected", when results were datasets)
         # one BLAS thread in each process (the forked one inherits it): OpenBLAS's threads
         # wait spinning, and two processes of two threads on two cores took 59-481 s per
         # side of the flexible-washer bench against 12-20 s one after the other

@@ -143,7 +143,7 @@ def run(p: Vehicle4WDFile, torsen: dict, base_dir: str | Path = ".", t_end: floa
     t_end = p.run.t_end if t_end is None else t_end
     res = simulate(model, t_end, output_dt=output_dt, progress=progress,
                    **p.solver.settings(h_max=p.run.h_max))
-    record_provenance(res.dataset,
+    record_provenance(res,
                       model_file=json.dumps(p.model_dump(mode="json", warnings=False),
                                             indent=1, default=str),
                       source=source or p.model.name, overrides=overrides,

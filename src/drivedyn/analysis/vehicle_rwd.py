@@ -178,7 +178,7 @@ def run(p: VehicleRWDFile, torsen: dict, base_dir: str | Path = ".",
     state = static_start(p, torsen, base_dir, model, lay)
     res = simulate(model, t_end, state=state, output_dt=output_dt, progress=progress,
                    **p.solver.settings(h_max=p.run.h_max))
-    record_provenance(res.dataset,
+    record_provenance(res,
                       model_file=json.dumps(p.model_dump(mode="json", warnings=False),
                                             indent=1, default=str),
                       source=source or p.model.name, overrides=overrides,

@@ -140,7 +140,7 @@ def run(model_file: str, out: Path | None, t_end: float | None, sets: tuple[str,
     except KeyboardInterrupt:  # before the time loop (kernel loading, initial state)
         err("interrupted before the first step: nothing to write")
         sys.exit(EXIT_FAILED)
-    record_provenance(res.dataset, model_file=model.meta["model_file"],
+    record_provenance(res, model_file=model.meta["model_file"],
                       source=model.meta["source"], overrides=list(sets),
                       library_model=model.meta.get("library_model"),
                       configuration=model.meta.get("configuration"))

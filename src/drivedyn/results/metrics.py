@@ -15,21 +15,19 @@ def run_metrics(results) -> dict:
     ``peak_pressure_at`` (that output's element name), ``steps``, ``rejected_steps``,
     ``newton_iterations``, ``factorizations``, ``wall_s``.
     """
-    ds = results.dataset
     n = len(results.time)
 
     def last(name: str) -> float:
-        return float(ds[name].values[-1]) if n and name in ds else float("nan")
+        return float(results.values(name)[-1]) if n and name in results else float("nan")
 
     peak, where = float("nan"), ""
-    # the dataset's variables as stored: ``data_vars.items()`` builds a DataArray for each of
-    # them (0.13 s for the Type C bench's 401, on every ``drivedyn tdr`` run)
-    for name, var in ds.variables.items():
-        if (str(name).endswith(".pressure") and name not in ds.coords
-                and var.attrs.get("units") == "Pa" and var.size):
-            value = float(np.nanmax(np.abs(var.values)))
+    # the variables as stored (``dataset.data_vars.items()`` would build a DataArray for each
+    # of them: 0.13 s for the Type C bench's 401, on every ``drivedyn tdr`` run)
+    for name, attrs, values in results.variables():
+        if name.endswith(".pressure") and attrs.get("units") == "Pa" and values.size:
+            value = float(np.nanmax(np.abs(values)))
             if not peak >= value:
-                peak, where = value, str(name).rsplit(".", 1)[0]
+                peak, where = value, name.rsplit(".", 1)[0]
     st = results.stats
     return {"t_final": float(results.time[-1]) if n else float("nan"),
             "dissipated_energy": last("energy.dissipated"),

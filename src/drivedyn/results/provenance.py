@@ -24,14 +24,15 @@ from typing import Any
 ATTRIBUTES = ("model_file", "model_source", "overrides", "library_model", "configuration")
 
 
-def record_provenance(dataset: Any, *, model_file: str, source: str,
+def record_provenance(results: Any, *, model_file: str, source: str,
                       overrides: Iterable[str] | dict[str, Any] = (),
                       library_model: str | None = None,
                       configuration: str | None = None) -> None:
-    """Write the :data:`ATTRIBUTES` of a run into ``dataset.attrs`` (module doc).
+    """Write the :data:`ATTRIBUTES` of a run into ``results.attrs`` (module doc).
 
     Args:
-        dataset: the run's ``xarray.Dataset``.
+        results: the run's :class:`~drivedyn.results.results.Results` or
+            ``xarray.Dataset``.
         model_file: the run's parameters as JSON text.
         source: model file path or shipped name.
         overrides: ``--set`` texts (``["pockets.mu=0.1"]``) or a key -> value dict.
@@ -40,7 +41,7 @@ def record_provenance(dataset: Any, *, model_file: str, source: str,
     """
     if isinstance(overrides, dict):
         overrides = [f"{k}={v}" for k, v in overrides.items()]
-    a = dataset.attrs
+    a = results.attrs
     a["model_file"] = model_file
     a["model_source"] = f"{source} [{configuration}]" if configuration else source
     a["overrides"] = json.dumps(list(overrides))

@@ -337,23 +337,33 @@ class Recorder:
         return len(self.t)
 
     def dataset(self, attrs: dict | None = None, variables: list[str] | None = None):
-        """The recorded data as an ``xarray.Dataset`` (one variable per sensor).
+        """The recorded data as an ``xarray.Dataset`` (one variable per sensor): the
+        contents of :meth:`contents`."""
+        import xarray as xr
+
+        data_vars, coords, attrs = self.contents(attrs, variables)
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+    def contents(self, attrs: dict | None = None, variables: list[str] | None = None,
+                 ) -> tuple[dict, dict, dict]:
+        """The recorded data as plain arrays, xarray not imported: ``(data_vars, coords,
+        attrs)`` with ``data_vars[name] = (dims, values, {"units", "description"...})`` (one
+        per sensor), the coordinates as ``(dims, values[, attrs])`` and the dataset's
+        attributes, ready for ``xarray.Dataset(data_vars, coords=coords, attrs=attrs)``.
 
         ``variables``: glob patterns (``"crank.*"``, ``"*.torque"``) of the variables to keep
         (default: the recorder's own); the energy terms are always kept. None keeps
         everything recorded."""
         if variables is None:
             variables = self.variables
-        import xarray as xr
-
         self.drop_partial()
         m = self.model
         t = np.asarray(self.t, dtype=float)
         nt = len(t)
-        data_vars: dict[str, xr.Variable] = {}
+        data_vars: dict[str, tuple] = {}
 
         def put(name, dims, values, units, desc):
-            data_vars[name] = xr.Variable(dims, values, {"units": units, "description": desc})
+            data_vars[name] = (dims, values, {"units": units, "description": desc})
 
         sel = self.selection
         if sel.nodes.size and nt:
@@ -406,7 +416,7 @@ class Recorder:
                     for name, spec in _fields(m, g, ei, en, Ar).items():
                         put(name, spec[0], spec[1], spec[2], spec[3])
                         if len(spec) > 4:
-                            data_vars[name].attrs.update(spec[4])
+                            data_vars[name][2].update(spec[4])
             if g.family == "rigid_body":
                 for ei, en in enumerate(g.names):
                     cs = [column.output(ei, c) for c in range(3)]
@@ -444,7 +454,7 @@ class Recorder:
             attrs["beam_elements"] = json.dumps(beams)
         attrs["scene"] = _scene_json(m)
         attrs["model_summary"] = json.dumps(model_summary(m))
-        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+        return data_vars, coords, attrs
 
 
 class _ColumnReader:

@@ -41,15 +41,58 @@ class Results:
     """
 
     def __init__(self, dataset: Any, success: bool, message: str, stats: RunStats) -> None:
-        self.dataset = dataset
+        self._dataset = dataset
+        self._contents: tuple[dict, dict, dict] | None = None
         self.success = success
         self.message = message
         self.stats = stats
-        self.dataset.attrs.update({
+        self.attrs.update({
             "success": int(success),
             "message": message,
             "stats": json.dumps(_jsonable(asdict(stats))),
         })
+
+    @classmethod
+    def from_contents(cls, contents: tuple[dict, dict, dict], success: bool, message: str,
+                      stats: RunStats) -> Results:
+        """Results of a run's recorded arrays (``Recorder.contents``). The ``xarray.Dataset``
+        is built on the first use of :attr:`dataset`; :meth:`values`, :attr:`time`,
+        :attr:`attrs`, :meth:`variables` and ``in`` read the arrays without it, so a run
+        whose figures are taken from a few variables (``drivedyn tdr``) never imports
+        xarray and pandas (0.9 s)."""
+        self = cls.__new__(cls)
+        self._dataset = None
+        self._contents = contents
+        self.success, self.message, self.stats = success, message, stats
+        self.attrs.update({
+            "success": int(success),
+            "message": message,
+            "stats": json.dumps(_jsonable(asdict(stats))),
+        })
+        return self
+
+    @property
+    def dataset(self) -> Any:
+        """The ``xarray.Dataset`` of the run (built from the arrays on first use)."""
+        if self._dataset is None:
+            import xarray as xr
+
+            data_vars, coords, attrs = self._contents
+            self._dataset = xr.Dataset(data_vars, coords=coords, attrs=attrs)
+            self._contents = None
+        return self._dataset
+
+    @property
+    def attrs(self) -> dict:
+        """The dataset's attributes (run status, statistics, provenance)."""
+        return self._contents[2] if self._dataset is None else self._dataset.attrs
+
+    def variables(self) -> list[tuple[str, dict, np.ndarray]]:
+        """``(name, attributes, values)`` of every variable that is not a coordinate."""
+        if self._dataset is None:
+            return [(k, v[2], np.asarray(v[1])) for k, v in self._contents[0].items()]
+        return [(str(k), v.attrs, v.values) for k, v in self._dataset.variables.items()
+                if k not in self._dataset.coords]
 
     def __getitem__(self, name: str) -> Any:
         return self.dataset[name]
@@ -59,14 +102,23 @@ class Results:
         ``xarray.DataArray``: ``results[name]`` looks through every variable of the dataset
         for coordinates (0.5 ms with the 450 variables of a TORSEN vehicle run; the analysis
         of its levels read 450 of them, 0.23 s)."""
-        return self.dataset.variables[name].values
+        if self._dataset is None:
+            data_vars, coords, _ = self._contents
+            if name in data_vars:
+                return np.asarray(data_vars[name][1])
+            if name in coords:
+                return np.asarray(coords[name][1])
+            raise KeyError(name)
+        return self._dataset.variables[name].values
 
     def __contains__(self, name: str) -> bool:
-        return name in self.dataset
+        if self._dataset is None:
+            return name in self._contents[0] or name in self._contents[1]
+        return name in self._dataset
 
     @property
     def time(self) -> np.ndarray:
-        return self.dataset["time"].values
+        return self.values("time")
 
     def final(self, name: str) -> np.ndarray:
         """Last recorded value of a variable."""

@@ -254,7 +254,8 @@ class Simulation:
             "drivedyn_version": _version(),
             **self.stepper.sys.redundancy.attrs(),
         }
-        return Results(rec.dataset(attrs, self.variables), self.success, self.message, stats)
+        return Results.from_contents(rec.contents(attrs, self.variables), self.success,
+                                     self.message, stats)
 
 
 def _log_attempt(model: Model, t: float, h: float, out: StepOutcome) -> None:

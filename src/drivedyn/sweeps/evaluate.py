@@ -210,7 +210,7 @@ def _run(task: Task, rec: dict) -> None:
         from drivedyn.results.provenance import record_provenance
         from drivedyn.results.results import write_netcdf_atomic
 
-        record_provenance(res.dataset, model_file=model.meta["model_file"],
+        record_provenance(res, model_file=model.meta["model_file"],
                           source=model.meta["source"], overrides=task.overrides,
                           library_model=model.meta.get("library_model"),
                           configuration=model.meta.get("configuration"))
