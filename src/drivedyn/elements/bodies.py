@@ -39,7 +39,6 @@ def rigid_body_kernel(
     L, JOm, JOd = (local_arrays_at(buf, 0, 6, 0), carve(buf, _L6, 3), carve(buf, _L6 + 3, 3))
     full = sc.full_pass(want, mode)
     rq, _, M, Cd, _, _ = L
-    x, R, v, vd, _, _, _, _ = sc.state(C)
     rabs = C[sc.RABS]
     for e in range(sc.count(C)):
         d0 = sc.first_dof(C, e)

@@ -69,7 +69,6 @@ def controller_kernel(
                  carve(buf, _L18 + 18, (5, 3)))
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    _, R, _, _, _, es, tfv, t = sc.state(C)
     for e in range(sc.count(C)):
         sc.clear(L, full)
         nS = sc.node(C, e, 0)

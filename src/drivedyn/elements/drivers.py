@@ -213,8 +213,6 @@ def speed_difference_kernel(
     L, (g1, H1), (g2, H2), (w1, w2, w3, w4), (g, H), vl, al, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, rl, _, _, K, G = L
-    _, R, _, _, _, es, tfv, _ = sc.state(C)
-    mode = sc.mode_of(C)
     nd = 24
     for e in range(sc.count(C)):
         raw1 = prim_angle(R[sc.node(C, e, 0)], R[sc.node(C, e, 1)], RmA1[e, :, 0],

@@ -89,7 +89,6 @@ def engine_kernel(
     L, g, H, (w1, w2, w3, w4), vl, Hv, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    _, R, _, _, _, _, tfv, _ = sc.state(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         prim_angle(R[nA], R[nB], RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], g, H, full,

@@ -112,10 +112,6 @@ def constraint_kernel(
     L, (g, H), (gth, Hth), (w1, w2, w3, w4), vl, al, (gs, Hs), (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, rl, _, _, K, G = L
-    x, R, _, _, _, es, tfv, _ = sc.state(C)
-    mode = sc.mode_of(C)
-    kmap = C[sc.KMAP]
-    data = C[sc.DATA]
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         xA = x[nA]

@@ -40,7 +40,6 @@ def load_kernel(
     L, (ws, wv) = (local_arrays_at(buf, 0, 6, 0), sc.workspace_at(buf, _L6))
     full = sc.full_pass(want, mode)
     rq, _, _, _, K, _ = L
-    _, R, v, _, _, _, tfv, _ = sc.state(C)
     for e in range(sc.count(C)):
         n = sc.node(C, e, 0)
         Rn = R[n]

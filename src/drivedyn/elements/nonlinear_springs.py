@@ -88,7 +88,6 @@ def nonlinear_spring_kernel(
     L, (g, H), vl, Hv, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         length, rate = _length_and_rate(x, R, nA, nB, pA[e], pB[e], C, e, g, H, vl, full, ws,
@@ -177,7 +176,6 @@ def bump_stop_kernel(
     L, (g, H), vl, Hv, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         length, rate = _length_and_rate(x, R, nA, nB, pA[e], pB[e], C, e, g, H, vl, full, ws,

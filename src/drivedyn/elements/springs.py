@@ -47,7 +47,6 @@ def scalar_spring_kernel(
     L, (g, H), (w1, w2, w3, w4), vl, Hv, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, es, _, _ = sc.state(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         if angular:

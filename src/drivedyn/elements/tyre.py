@@ -384,8 +384,6 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
         np.zeros(3), np.zeros((3, 3))
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, v, _, _, es, _, t = sc.state(C)
-    aux = C[sc.AUX]
     for e in range(sc.count(C)):
         n = sc.node(C, e, 0)
         d0 = sc.first_dof(C, e)

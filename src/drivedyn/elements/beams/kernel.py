@@ -176,7 +176,6 @@ def beam_kernel(
      epsdc, sigc, fAc, fBc, Dd, Q, Fe, Wv, X, RsA, RsB, Sk, w, tw) = (local_arrays(12, 0), *_work())
     full = sc.full_pass(want, mode)
     rq, _, M, Cd, K, _ = L
-    x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         CA = CAs[e]

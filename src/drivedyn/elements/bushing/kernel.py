@@ -340,8 +340,6 @@ def bushing_kernel(
         S[0], S[1], S[2], S[3], S[4], S[5], S[6], S[7], S[8], S[9], S[10], S[11], S[12], S[13])
     th, PA, PB, ra, sv, ua, fa, Fb, mu, om, v1, v2 = (
         V[0], V[1], V[2], V[3], V[4], V[5], V[6], V[7], V[8], V[9], V[10], V[11])
-    x, R, _, _, _, es, _, t = sc.state(C)
-    aux = C[sc.AUX]
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         Ra = R[nA]

@@ -72,8 +72,6 @@ def journal_contact_kernel(
     (L, (g1, H1), (g2, H2), (gd, Hd), (Js, dJs), (Gz, Dz), vl, Hv, Jv, (dFq, dFv), (ws, wv), M3) = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, es, _, t = sc.state(C)
-    aux = C[sc.AUX]
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         o = sc.state_offset(C, e)

@@ -92,7 +92,6 @@ def journal_film_kernel(
     L, (g1, H1), (g2, H2), (gp, Hp), vl, Hv1, Hv2, Hvp, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, _, _, _ = sc.state(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         sc.velocities(C, e, 12, vl)

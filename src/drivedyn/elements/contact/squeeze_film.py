@@ -110,8 +110,6 @@ def squeeze_film_kernel(
     L, (gn, Hn), (Gs, Ds), vl, Hv, Dv, (dFq, dFv), (ws, wv), M3 = W
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, es, _, t = sc.state(C)
-    aux = C[sc.AUX]
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         o = sc.state_offset(C, e)

@@ -119,8 +119,6 @@ def unilateral_kernel(
     L, B, Gq, D, (gn, Hn), (g1, H1), (g2, H2), vl, al, (ws, wv) = W
     full = sc.full_pass(want, mode)
     rq, rl, M, _, K, _ = L
-    x, R, _, _, _, es, _, _ = sc.state(C)
-    mode = sc.mode_of(C)
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
         o = sc.state_offset(C, e)

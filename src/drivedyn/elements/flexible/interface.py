@@ -127,8 +127,6 @@ def tie_kernel(
     L, vl, al, qv, val, g, cR1, cR2, cq, cval, cg, dg, sig = W
     full = sc.full_pass(want, mode)
     rq, rl, M, Cd, K, G = L
-    x, R, _, _, _, _, _, _ = sc.state(C)
-    mode = sc.mode_of(C)
     nnode = C[sc.LNODES].shape[1]
     nd = 6 * nnode
     h = 1e-30

@@ -240,8 +240,6 @@ def flexible_body_kernel(
      cQq, cG, cHd, cHdd, cB, crx, crth, crq) = W
     full = sc.full_pass(want, mode)
     rqL, _, M, Cd, K, _ = L
-    x, R, v, vd, _, _, _, _ = sc.state(C)
-    aux = C[sc.AUX]
     nnode = C[sc.LNODES].shape[1]
     gnd = x.shape[0] - 1
     nd = 6 * nnode

@@ -220,8 +220,6 @@ def flexible_washer_kernel(
     (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, S1, S2, S3, Dp, Dv, Dq, Tr,
      Tb, ng, xo) = W
     rq, _, _, Cd, K, _ = L
-    x, R, _, _, _, _, _, _ = sc.state(C)
-    aux = C[sc.AUX]
     nnode = C[sc.LNODES].shape[1]
     nd = 6 * nnode
     for e in range(sc.count(C)):
