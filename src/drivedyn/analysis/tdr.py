@@ -211,9 +211,9 @@ def _bench_runs(p, sides: list[tuple[str, tuple[int, int]]], torque: float,
                            friction_scale)
         load_kernels(compile_model(sp), **p.solver.settings())
         # the runs' results come back as arrays (Results.from_contents): unpickling the
-        # second side's in the pool's result thread imports nothing, so it never races this
-        # thread importing xarray for the first side's dataset (Python's import lock refused
-        # one of them, "deadlock detected", when results were datasets)
+        # second side's in the pool's result thread imports nothing, so it cannot race this
+        # thread importing xarray for the first side's dataset (two threads importing
+        # xarray at once make Python's import lock refuse one: "deadlock detected")
         # one BLAS thread in each process (the forked one inherits it): OpenBLAS's threads
         # wait spinning, and two processes of two threads on two cores took 59-481 s per
         # side of the flexible-washer bench against 12-20 s one after the other

@@ -278,10 +278,8 @@ def _plain_file(data: dict, source: str) -> S.ModelFile:
 
 
 def _library_schemas() -> dict[str, type]:
-    from drivedyn.library import vehicles
-    from drivedyn.library.differentials import schemas as differential_schemas
-
-    return {**differential_schemas(), **vehicles.schemas()}
+    """Library key -> model-file schema of every library model (imports them all)."""
+    return {k: _library_schema(k) for k in _library_keys()}
 
 
 def _library_keys() -> list[str]:

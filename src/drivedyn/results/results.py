@@ -40,9 +40,10 @@ class Results:
         stats: step, Newton and timing counters.
     """
 
-    def __init__(self, dataset: Any, success: bool, message: str, stats: RunStats) -> None:
-        self._dataset = dataset
-        self._contents: tuple[dict, dict, dict] | None = None
+    def __init__(self, dataset: Any, success: bool, message: str, stats: RunStats,
+                 contents: tuple[dict, dict, dict] | None = None) -> None:
+        self._dataset = dataset  # None: built from ``contents`` on first use
+        self._contents = contents
         self.success = success
         self.message = message
         self.stats = stats
@@ -60,16 +61,7 @@ class Results:
         :attr:`attrs`, :meth:`variables` and ``in`` read the arrays without it, so a run
         whose figures are taken from a few variables (``drivedyn tdr``) never imports
         xarray and pandas (0.9 s)."""
-        self = cls.__new__(cls)
-        self._dataset = None
-        self._contents = contents
-        self.success, self.message, self.stats = success, message, stats
-        self.attrs.update({
-            "success": int(success),
-            "message": message,
-            "stats": json.dumps(_jsonable(asdict(stats))),
-        })
-        return self
+        return cls(None, success, message, stats, contents)
 
     @property
     def dataset(self) -> Any:
