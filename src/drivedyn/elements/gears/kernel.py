@@ -88,25 +88,38 @@ def _onset(u, d):
     return 0.5 * u * u - 0.5 * d * u + d * d / 6.0, u - 0.5 * d, 1.0
 
 
-def _gears_loop(skew: bool) -> Any:
-    """The loop over the gear pairs ``idx`` of a group, ``loop(P, C, W, full, idx)``, for
-    pairs of any kind (``skew``) or parallel pairs only. ``skew`` is a constant of the
-    closure: the copy without it has the kind a compile-time constant (fixed loop lengths,
-    ~1.5x faster) and no bevel/crossed code (numba prunes it before typing, so it is never
-    compiled). numba caches the two copies apart (the closure's constants are part of its
-    cache key). A closure rather than one function inlined into two callers: numba's
-    inliner deep-copies the callee's IR block by block with its whole scope (numba issue
-    #8989), which took 4-7 s of this kernel's 30 s first compilation (measured)."""
+def _gear_kernel(skew: bool, name: str) -> Any:
+    """A gear kernel named ``name`` over the pairs of any kind (``skew``) or over the
+    parallel pairs only; the arguments are :func:`gear_kernel`'s.
 
-    @njit(cache=True)
-    def loop(P, C, W, full, idx):
-        (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
-         onset) = P
+    The copy with ``skew`` set runs, in the matrix pass, every pair, and in the residual
+    pass the bevel and crossed pairs (``idx_skew``); the copy without runs the parallel
+    pairs (``idx_par``) in both passes, with the kind a compile-time constant (fixed loop
+    lengths, ~1.5x faster) and without the bevel/crossed code (numba prunes it before
+    typing, so it is never compiled). numba caches the two copies apart (the closure's
+    constants are part of its cache key).
+
+    The loop is the kernel's own body rather than a function the kernel calls: numba
+    compiles a called function on its own and then optimises and code-generates it again
+    inside its caller (docs/numba-notes.md, note 5); one function per copy is compiled
+    once.
+    """
+
+    def kernel(
+        kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
+        onset, idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t,
+        Tn, cM, cC, cK, mode, want, r, rabs, data, eout, aux,
+    ):
+        C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
+             r, rabs, data, eout, aux)
         (L, p, gp, Hp, Ht, Sj, Spp, s, sd, pd, vl, Qs, dQs, dQd, Qp, Ap, Bp, Tm, AG, gx, gr, gu,
-         dF, dFN, dFNd, WTv, wk, (ws, wv)) = W
+         dF, dFN, dFNd, WTv, wk, (ws, wv)) = _work(work)
         rq, _, _, Cd, K, _ = L
-        x, R, _, _, _, es, _, _ = sc.state(C)
-        aux = C[sc.AUX]
+        full = sc.full_pass(want, mode)
+        if skew:
+            idx = np.arange(kind.shape[0]) if full else idx_skew
+        else:
+            idx = idx_par
         for ie in range(idx.shape[0]):
             e = idx[ie]
             if skew:
@@ -334,12 +347,10 @@ def _gears_loop(skew: bool) -> Any:
             aux[e, 17] = s[0]
             aux[e, 18] = s[1]
 
-    return loop
 
+    kernel.__name__ = kernel.__qualname__ = name
+    return njit(cache=True)(kernel)
 
-#: the loop over parallel-axis pairs only, and over pairs of any kind
-_parallel_gears = _gears_loop(False)
-_any_gears = _gears_loop(True)
 
 # the gear loop's work arrays after local_arrays(12, 0): shapes, offsets in one buffer
 _WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS, NP, 12, NS,
@@ -416,37 +427,20 @@ def gear_kernel(
     State: ``es[eoff[e]], es[eoff[e] + 1]`` hold the accumulated wheel angles phi_A, phi_B
     of the last accepted step (see :data:`GEAR_AUX` for the outputs).
     """
-    P = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
-         onset)
-    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
-         rabs, data, eout, aux)
-    W = _work(work)
-    full = sc.full_pass(want, mode)
-    if full:
-        _any_gears(P, C, W, full, np.arange(kind.shape[0]))
-    else:
-        _parallel_gears(P, C, W, full, idx_par)
-        if idx_skew.shape[0] > 0:
-            _any_gears(P, C, W, full, idx_skew)
+    if not sc.full_pass(want, mode):
+        parallel_gear_kernel(
+            kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
+            onset, idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv,
+            t, Tn, cM, cC, cK, mode, want, r, rabs, data, eout, aux)
+    _any_gear_kernel(
+        kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf, onset,
+        idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
+        cM, cC, cK, mode, want, r, rabs, data, eout, aux)
 
 
-@njit(cache=True)
-def parallel_gear_kernel(
-    kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf, onset,
-    idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-    cM, cC, cK, mode, want, r, rabs, data, eout, aux,
-):
-    """:func:`gear_kernel` for a group of parallel-axis pairs only (``idx_skew`` empty).
-
-    Same arguments and results; the loop runs in its parallel-only copy, with and without
-    the matrices. A model without bevel or crossed pairs (both TORSEN models) so compiles one
-    copy of the loop instead of two, without the bevel/crossed code (first compilation: see
-    :mod:`drivedyn.solver.precompile`), and its matrix pass runs the faster parallel-only
-    copy too.
-    """
-    P = (kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
-         onset)
-    C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, r,
-         rabs, data, eout, aux)
-    W = _work(work)
-    _parallel_gears(P, C, W, sc.full_pass(want, mode), idx_par)
+#: :func:`gear_kernel` for a group of parallel-axis pairs only (``idx_skew`` empty): the
+#: parallel-only copy of the loop, in both passes. A model without bevel or crossed pairs
+#: (both TORSEN models) so compiles one copy of the loop, without the bevel/crossed code.
+parallel_gear_kernel = _gear_kernel(False, "parallel_gear_kernel")
+#: the pairs of any kind in the matrix pass, the bevel and crossed ones in the residual pass
+_any_gear_kernel = _gear_kernel(True, "_any_gear_kernel")
