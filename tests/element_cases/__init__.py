@@ -38,8 +38,8 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "rigid_body": [basic.spinning_body],
     "joint": [*(partial(basic.joint_case, j, ground_a=g) for j in JOINT_TYPES
                 for g in (False, True)), basic.mixed_joints_case,
-              *(partial(basic.screw_friction_case, k, ground_a=g) for k in (1.0, 1e5)
-                for g in (False, True))],
+              *(partial(basic.screw_friction_case, k, ground_a=g, stick_onset=n)
+                for k in (1.0, 1e5) for g in (False, True) for n in (0.0, 2.0))],
     "joint_driver": [basic.driver_case, basic.speed_driver_case],
     "travel_driver": [basic.travel_driver_case, basic.travel_speed_driver_case],
     "speed_difference_driver": [basic.speed_difference_case],

@@ -49,17 +49,19 @@ def joint_case(joint_type: type, ground_a: bool = False) -> Spec:
     return spec
 
 
-def screw_friction_case(stick_stiffness: float, ground_a: bool = False) -> Spec:
+def screw_friction_case(stick_stiffness: float, ground_a: bool = False,
+                        stick_onset: float = 0.0) -> Spec:
     """A screw with flank friction (mu 0.3, radius 0.05 m): with the random test state
     (slide ~1e-2 m, screw force ~1-10 N) a stick stiffness of 1 N/m sticks and one of 1e5
     N/m slips, so both branches of the return mapping and the slip's multiplier column
-    are differentiated."""
+    are differentiated; with ``stick_onset`` (2 N: comparable to the normal force) the
+    stiffness's dependence on the screw force too (in stick, the multiplier column)."""
     from drivedyn.elements.joints import Screw
 
     spec = Spec(gravity=(0.0, 0.0, -9.81))
     a, b = _two_bodies(spec, ground_a)
     spec.add(Screw("j", a, b, k=3.0e2, p=1.0e2, pitch=0.05, friction=0.3, radius=0.05,
-                   stick_stiffness=stick_stiffness))
+                   stick_stiffness=stick_stiffness, stick_onset=stick_onset))
     return spec
 
 

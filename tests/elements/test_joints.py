@@ -144,3 +144,27 @@ def test_screw_friction_self_locking_holds():
     # 2 % of the stick spring's oscillation (0.8 um, period 8 ms, windows not whole periods)
     a, b = z[(t > 0.5) & (t <= 0.75)], z[t > 0.75]
     assert abs(a.mean() - b.mean()) < 2e-8
+
+
+@pytest.mark.parametrize("n_c", [0.0, 1.0])
+def test_screw_stick_range_with_a_vanishing_load(n_c):
+    """The return mapping's stick range along the helix: the largest slide ``|s - z|`` the
+    flanks hold is ``mu N / k`` with the stick stiffness ``k = k_t N / (N + n_c)``, i.e.
+    ``mu (N + n_c) / k_t``: with the onset it keeps about ``mu n_c / k_t`` (1e-10 m here) as
+    the normal force vanishes, without it shrinks with N (1e-13 m). Just inside the range
+    the flanks stick with ``F = k (s - z)``; just outside they slip with ``F = mu N`` and the
+    slip leaves the spring at the limit (``k (s - z_new) = F``). Fails with the stiffness
+    taken constant when ``n_c > 0``, or the slip's new ``z`` computed with ``k_t``."""
+    from drivedyn.elements.screw_friction import coulomb_return
+
+    mu, r, c, k_t, sigma = 0.1, 0.05, 0.025, 1e9, 1e-3
+    n = sigma * np.hypot(r, c) / r
+    k = k_t * n / (n + n_c) if n_c > 0 else k_t
+    width = mu * (n + n_c) / k_t
+    f, dfs, _, z, kk = coulomb_return(mu, r, c, k_t, n_c, 0.99 * width, 0.0, sigma)
+    assert kk == pytest.approx(k, rel=1e-12)
+    assert (f, dfs, z) == (pytest.approx(0.99 * k * width, rel=1e-12), kk, 0.0)
+    f, dfs, _, z, _ = coulomb_return(mu, r, c, k_t, n_c, 1.01 * width, 0.0, sigma)
+    assert (f, dfs) == (pytest.approx(mu * n, rel=1e-12), 0.0)
+    assert k * (1.01 * width - z) == pytest.approx(f, rel=1e-9)
+    assert width == pytest.approx(1.0e-10 if n_c else 1.118e-13, rel=2e-3)

@@ -140,6 +140,7 @@ def constraint_kernel(
         z = es[sc.state_offset(C, e) + 1]  # the screw's committed slip
         ff = 0.0
         fpow = 0.0
+        kstick = 0.0
         lam_col = -1
         dlam = 0.0
         for i in range(nrow[e]):
@@ -216,8 +217,9 @@ def constraint_kernel(
                     for b in range(12):
                         K[a, b] += sig * H[a, b] + ga * g[b]
             if typ == ROW_SCREW and friction:
-                ff, dfs, dfsig, z = coulomb_return(fmu[e], frad[e], pitch[e] / (2.0 * np.pi),
-                                                   fstick[e], slide, z, sig)
+                ff, dfs, dfsig, z, kstick = coulomb_return(
+                    fmu[e], frad[e], pitch[e] / (2.0 * np.pi), fstick[e, 0], fstick[e, 1],
+                    slide, z, sig)
                 rate = 0.0
                 for a in range(12):
                     rq[a] += ff * gs[a]
@@ -234,7 +236,8 @@ def constraint_kernel(
                 dlam = dfsig * k
         sc.scatter(C, L, e, 2, full)
         if lam_col >= 0 and dlam != 0.0 and full and sc.wants_matrix(C) and mode == MODE_DYN:
-            # d(friction)/d(lambda) of the screw row (slip): its multiplier column
+            # d(friction)/d(lambda) of the screw row (slip, or stick with the stiffness
+            # rising with the load): its multiplier column
             km = kmap[e]
             for a in range(12):
                 q = km[a * (12 + rtype.shape[1]) + 12 + lam_col]
@@ -247,7 +250,7 @@ def constraint_kernel(
         mv(RB, wv[1], wv[2])  # torque about the node, global
         mv(RB, pB[e], wv[3])  # arm from node to marker
         cross(wv[3], wv[0], wv[4])
-        vstick = 0.5 * ff * ff / fstick[e] if friction else 0.0
+        vstick = 0.5 * ff * ff / kstick if friction and kstick > 0.0 else 0.0
         sc.energy(C, e, 0.0, vstick, power, fpow)
         # the last row's force -sig: the driving torque of a driver row
         sc.report(C, e, (wv[0, 0], wv[0, 1], wv[0, 2], wv[2, 0] - wv[4, 0], wv[2, 1] - wv[4, 1],
@@ -402,16 +405,21 @@ class Screw(Joint):
             axial force into the flanks' normal force and the motion into the slide along
             the helix.
         stick_stiffness: stiffness of the flanks along the helix while they stick [N/m]
-            (> 0 with friction).
+            (> 0 with friction), reached under load.
+        stick_onset: normal force of the flanks at which their stick stiffness is half
+            ``stick_stiffness`` [N]: it rises as ``N / (N + stick_onset)`` from 0 in an
+            unloaded spline (0: constant; :mod:`~drivedyn.elements.screw_friction`).
     """
 
     pitch: float = 0.0
     friction: float = 0.0
     radius: float = 0.0
     stick_stiffness: float = 0.0
+    stick_onset: float = 0.0
     kind: ClassVar[str] = "screw"
     units: ClassVar[dict[str, str]] = {**Joint.units, "pitch": "m", "friction": "1",
-                                       "radius": "m", "stick_stiffness": "N/m"}
+                                       "radius": "m", "stick_stiffness": "N/m",
+                                       "stick_onset": "N"}
     rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_D, 2, 0), (_D, 2, 1), (_S, 2, 0))
     has_angle: ClassVar[bool] = True
 
@@ -421,6 +429,7 @@ class Screw(Joint):
         if check_param(self, "friction", 0.0) > 0.0:
             check_param(self, "radius", 0.0, strict=True)
             check_param(self, "stick_stiffness", 0.0, strict=True)
+            check_param(self, "stick_onset", 0.0)
 
 
 def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
@@ -444,7 +453,9 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
     angle = np.zeros(nel, np.int64)
     pitch = np.zeros(nel)
     c0 = np.zeros(nel)
-    fmu, frad, fstick = np.zeros(nel), np.ones(nel), np.ones(nel)
+    # per element: mu, flank radius [m], stick stiffness [N/m] and its onset [N]
+    fmu, frad, fstick = np.zeros(nel), np.ones(nel), np.zeros((nel, 2))
+    fstick[:, 0] = 1.0
     dofs = np.full((nel, 12 + nr), -1, np.int64)
     eoff = np.zeros(nel, np.int64)
     tfid = np.zeros(nel, np.int64)
@@ -475,7 +486,8 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
         if any(r[0] == ROW_SCREW for r in er):
             pitch[e] = s.pitch
             if s.friction > 0.0:
-                fmu[e], frad[e], fstick[e] = s.friction, s.radius, s.stick_stiffness
+                fmu[e], frad[e] = s.friction, s.radius
+                fstick[e] = s.stick_stiffness, s.stick_onset
             d = xB + RB @ pB[e] - xA - RA @ pA[e]
             c0[e] = float(d @ (RA @ RmA[e][:, 2])) - s.pitch / (2 * np.pi) * th0
         if drive is not None:

@@ -280,7 +280,8 @@ def build_spec(p: TorsenCFile, omega: tuple[float, float, float] = (0.0, 0.0, 0.
     else:
         sp.add(Screw("spline", "cp_spline", "r_spline", pitch=geo.lead,
                      friction=p.spline.mu * friction_scale, radius=p.spline.radius,
-                     stick_stiffness=p.spline.stick_stiffness))
+                     stick_stiffness=p.spline.stick_stiffness,
+                     stick_onset=p.spline.stick_onset))
     # gear markers
     sp.add_marker("m_sun", "sun", axis=Z)
     sp.add_marker("m_ring", "ring", axis=Z)

@@ -65,12 +65,14 @@ class Spline(Strict):
 
     ``mu``: Coulomb friction of the spline's flanks, with stick
     (:class:`~drivedyn.elements.joints.Screw`); ``stick_stiffness`` [N/m]: the flanks'
-    stiffness along the helix while they stick."""
+    stiffness along the helix while they stick, under load; ``stick_onset`` [N]: the flanks'
+    normal force at which it is half that (0: constant)."""
 
     radius: PositiveLength
     helix_angle: Angle  # > 0: lead of the same sign as the sun's helix
     mu: Coefficient = 0.0
     stick_stiffness: Annotated[float, scalar(U.STIFFNESS, positive=True)] = 1e9
+    stick_onset: Annotated[float, scalar(U.FORCE, nonneg=True)] = 0.0
 
 
 class Washer(Strict):
