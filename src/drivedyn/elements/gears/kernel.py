@@ -19,9 +19,10 @@ against the 0.2 ms of a loaded hold. With a 20 nm onset the same hold runs at 0.
 a failure (the TORSEN model files set it; 20 nm is a five-hundredth of a loaded flank's
 deflection, about 10 um under the benches' torques).
 
-Speed: the residual-only loop over parallel pairs is a separate copy with the kind a
-compile-time constant (fixed loop lengths: 1.5x faster), and the code that only bevel and
-crossed pairs need and the assembly of the matrices are compiled out of line.
+Speed: the loop over parallel pairs is a separate copy with the kind a compile-time
+constant (fixed loop lengths: 1.5x faster), in the residual and the matrix pass alike; only
+bevel and crossed pairs run the copy with their code, and the assembly of the matrices is
+compiled out of line.
 """
 
 from __future__ import annotations
@@ -92,12 +93,11 @@ def _gear_kernel(skew: bool, name: str) -> Any:
     """A gear kernel named ``name`` over the pairs of any kind (``skew``) or over the
     parallel pairs only; the arguments are :func:`gear_kernel`'s.
 
-    The copy with ``skew`` set runs, in the matrix pass, every pair, and in the residual
-    pass the bevel and crossed pairs (``idx_skew``); the copy without runs the parallel
-    pairs (``idx_par``) in both passes, with the kind a compile-time constant (fixed loop
-    lengths, ~1.5x faster) and without the bevel/crossed code (numba prunes it before
-    typing, so it is never compiled). numba caches the two copies apart (the closure's
-    constants are part of its cache key).
+    The copy with ``skew`` set runs the bevel and crossed pairs (``idx_skew``), the copy
+    without the parallel pairs (``idx_par``), each in both passes; the parallel copy has the
+    kind a compile-time constant (fixed loop lengths, ~1.5x faster) and no bevel/crossed
+    code (numba prunes it before typing, so it is never compiled). numba caches the two
+    copies apart (the closure's constants are part of its cache key).
 
     The loop is the kernel's own body rather than a function the kernel calls: numba
     compiles a called function on its own and then optimises and code-generates it again
@@ -116,10 +116,7 @@ def _gear_kernel(skew: bool, name: str) -> Any:
          dF, dFN, dFNd, WTv, wk, (ws, wv)) = _work(work)
         rq, _, _, Cd, K, _ = L
         full = sc.full_pass(want, mode)
-        if skew:
-            idx = np.arange(kind.shape[0]) if full else idx_skew
-        else:
-            idx = idx_par
+        idx = idx_skew if skew else idx_par
         for ie in range(idx.shape[0]):
             e = idx[ie]
             if skew:
@@ -427,11 +424,10 @@ def gear_kernel(
     State: ``es[eoff[e]], es[eoff[e] + 1]`` hold the accumulated wheel angles phi_A, phi_B
     of the last accepted step (see :data:`GEAR_AUX` for the outputs).
     """
-    if not sc.full_pass(want, mode):
-        parallel_gear_kernel(
-            kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
-            onset, idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv,
-            t, Tn, cM, cC, cK, mode, want, r, rabs, data, eout, aux)
+    parallel_gear_kernel(
+        kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf,
+        onset, idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv,
+        t, Tn, cM, cC, cK, mode, want, r, rabs, data, eout, aux)
     _any_gear_kernel(
         kind, pA, pB, RmA, RmB, cof, crf, inv, s0, x0, bn, kst, cdamp, terr, fric, Wf, Mf, onset,
         idx_par, idx_skew, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
@@ -442,5 +438,5 @@ def gear_kernel(
 #: parallel-only copy of the loop, in both passes. A model without bevel or crossed pairs
 #: (both TORSEN models) so compiles one copy of the loop, without the bevel/crossed code.
 parallel_gear_kernel = _gear_kernel(False, "parallel_gear_kernel")
-#: the pairs of any kind in the matrix pass, the bevel and crossed ones in the residual pass
+#: the bevel and crossed pairs (the copy that handles pairs of any kind)
 _any_gear_kernel = _gear_kernel(True, "_any_gear_kernel")
