@@ -27,7 +27,9 @@ matters where the normal force nearly vanishes: with a constant ``k_t`` the stic
 ``mu N / k_t`` shrinks to nothing there and the flanks switch between stick and slip at
 every reversal of a small motion; with the onset the range stays ``mu (N + N_c) / k_t``.
 With ``N_c`` a small fraction of the loaded normal force, ``k`` is ``k_t`` where the
-spline carries load.
+spline carries load. The energy account holds the stick spring's ``F^2 / (2 k)`` at the
+current ``k``; a change of ``k`` with the load at a held slide changes it without work (at
+the Type C's loads ``F^2 / (2 k)`` is about 1e-5 J).
 """
 
 from __future__ import annotations

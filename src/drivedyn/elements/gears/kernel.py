@@ -344,7 +344,6 @@ def _gear_kernel(skew: bool, name: str) -> Any:
             aux[e, 17] = s[0]
             aux[e, 18] = s[1]
 
-
     kernel.__name__ = kernel.__qualname__ = name
     return njit(cache=True)(kernel)
 
