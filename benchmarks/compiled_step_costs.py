@@ -26,6 +26,7 @@ Usage::
     python benchmarks/compiled_step_costs.py torsen-b --side right
     python benchmarks/compiled_step_costs.py vehicle-4wd --t-end 3   # launch, state at 2 s
     python benchmarks/compiled_step_costs.py torsen-c --set flexible.washers=true
+    python benchmarks/compiled_step_costs.py vehicle-rwd --config torsen-b --t-end 1
 
 Prints a table and one JSON line.
 """
@@ -101,7 +102,10 @@ def main() -> None:
     ap.add_argument("model", nargs="?", default="torsen-c")
     ap.add_argument("--side", default="rear")
     ap.add_argument("--n", type=int, default=20000, help="repetitions per unit cost")
-    ap.add_argument("--t-end", type=float, default=3.0, help="vehicle-4wd: simulated [s]")
+    ap.add_argument("--t-end", type=float, default=3.0,
+                    help="vehicle-4wd, vehicle-rwd: simulated [s]")
+    ap.add_argument("--config", default="open",
+                    help="vehicle-rwd: the rear differential (open, locked, clutch, torsen-b)")
     ap.add_argument("--set", dest="overrides", action="append", default=[],
                     metavar="KEY=VALUE", help="model-file override (repeatable)")
     args = ap.parse_args()
@@ -114,6 +118,21 @@ def main() -> None:
         settings = p.solver.settings(h_max=p.run.h_max)
         t_probe, t_end, output_dt, what = 2.0 * args.t_end / 3.0, args.t_end, 0.01, "launch"
         args.n = min(args.n, 2000)
+    elif args.model == "vehicle-rwd":
+        import drivedyn.analysis.vehicle_rwd as V  # noqa: N812
+        from drivedyn.config.loader import read_vehicle_differentials, resolve_path
+        from drivedyn.library.vehicles.vehicle_rwd import build_spec as rwd_spec
+
+        base = resolve_path("vehicle-rwd").parent
+        p = V.configure(p, args.config)
+        torsen = read_vehicle_differentials(p, read_library_file(args.model)[2], base)
+        sp, lay = rwd_spec(p, torsen, base)
+        model = compile_model(sp)
+        state0 = V.static_start(p, torsen, base, model, lay)
+        settings = dict(p.solver.settings(h_max=p.run.h_max), state=state0)
+        t_probe, t_end, output_dt = 2.0 * args.t_end / 3.0, args.t_end, V.OUTPUT_DT
+        what = f"split-mu launch, {args.config} rear"
+        args.n = min(args.n, 1000)
     else:
         model = compile_model(bench_spec(of(p), p, args.side)[0])
         settings = p.solver.settings()

@@ -50,29 +50,38 @@ class LinearSolver(abc.ABC):
         return []
 
 
+# The compiled sparse LU's loops index with unsigned integers (``np.uint64``): numba wraps a
+# negative signed index around, a branch per access that also keeps LLVM from vectorising a
+# loop. The arithmetic is the same, in the same order. The RWD vehicle's matrix (799
+# unknowns, 0.68 million multiply-adds): refactorisation 1.50-1.80 ms signed, 0.67-0.79 ms
+# unsigned (benchmarks/README.md, compiled_step_costs.py).
+U1 = np.uint64(1)
+
+
 @njit(cache=True)
 def sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
     """Solve ``A x = b`` with SuperLU's factors ``Pr A Pc = L U`` (CSC, sorted indices,
     L unit lower triangular with its diagonal stored)."""
     n = b.shape[0]
     for i in range(n):
-        z[perm_r[i]] = b[i]
+        z[np.uint64(perm_r[i])] = b[i]
     for j in range(n):  # forward, unit diagonal (first entry of column j)
-        zj = z[j]
+        zj = z[np.uint64(j)]
         if zj != 0.0:
-            for k in range(Lp[j], Lp[j + 1]):
+            for k in range(np.uint64(Lp[j]), np.uint64(Lp[j + 1])):
                 i = Li[k]
                 if i > j:
-                    z[i] -= Lx[k] * zj
-    for j in range(n - 1, -1, -1):  # backward, diagonal is the last entry of column j
-        kd = Up[j + 1] - 1
+                    z[np.uint64(i)] -= Lx[k] * zj
+    for jj in range(n):  # backward, diagonal is the last entry of column j
+        j = np.uint64(n - 1 - jj)
+        kd = np.uint64(Up[j + U1]) - U1
         zj = z[j] / Ux[kd]
         z[j] = zj
         if zj != 0.0:
-            for k in range(Up[j], kd):
-                z[Ui[k]] -= Ux[k] * zj
+            for k in range(np.uint64(Up[j]), kd):
+                z[np.uint64(Ui[k])] -= Ux[k] * zj
     for i in range(n):
-        x[i] = z[perm_c[i]]
+        x[i] = z[np.uint64(perm_c[i])]
 
 
 @njit(cache=True)
@@ -146,13 +155,14 @@ def gp_factor(n, Ap, Ai, Ax, q, tol, Lp, Li, Lio, Lx, Up, Ui, Ux, pinv, prow, Rp
         for p in range(Ap[col], Ap[col + 1]):
             x[Ai[p]] += Ax[p]
         for px in range(top, n):  # x = L \ A[:, col] on the reach, in topological order
-            j = xi[px]
+            j = np.uint64(xi[px])
             J = pinv[j]
             if J < 0:
                 continue
             xj = x[j]
-            for p in range(Lp[J] + 1, Lp[J + 1]):
-                x[Lio[p]] -= Lx[p] * xj
+            uJ = np.uint64(J)
+            for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
+                x[np.uint64(Lio[p])] -= Lx[p] * xj
         ipiv = -1
         amax = -1.0
         for px in range(top, n):
@@ -206,38 +216,40 @@ def gp_refactor(n, Ap, Ai, Ax, q, tol, Lp, Lio, Lx, Up, Ux, pinv, prow, Rp, Ri, 
     when it picks the same pivots. Returns -1 (and leaves ``x`` zero) when a kept pivot is
     below ``tol`` times its column's largest candidate, or not finite: factorise afresh."""
     for k in range(n):
-        col = q[k]
-        for p in range(Ap[col], Ap[col + 1]):
-            x[Ai[p]] += Ax[p]
-        for r in range(Rp[k], Rp[k + 1]):
-            j = Ri[r]
+        col = np.uint64(q[k])
+        for p in range(np.uint64(Ap[col]), np.uint64(Ap[col + U1])):
+            x[np.uint64(Ai[p])] += Ax[p]
+        r_lo, r_hi = np.uint64(Rp[k]), np.uint64(Rp[k + 1])
+        for r in range(r_lo, r_hi):
+            j = np.uint64(Ri[r])
             J = pinv[j]
             if J >= k:
                 continue
             xj = x[j]
-            for p in range(Lp[J] + 1, Lp[J + 1]):
-                x[Lio[p]] -= Lx[p] * xj
-        u = Up[k]
+            uJ = np.uint64(J)
+            for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
+                x[np.uint64(Lio[p])] -= Lx[p] * xj
+        u = np.uint64(Up[k])
         amax = 0.0
-        for r in range(Rp[k], Rp[k + 1]):
-            i = Ri[r]
+        for r in range(r_lo, r_hi):
+            i = np.uint64(Ri[r])
             if pinv[i] < k:
                 Ux[u] = x[i]
-                u += 1
+                u += U1
             elif abs(x[i]) > amax:
                 amax = abs(x[i])
-        pivot = x[prow[k]]
+        pivot = x[np.uint64(prow[k])]
         if not (abs(pivot) >= tol * amax and abs(pivot) > 0.0 and np.isfinite(amax)):
-            for r in range(Rp[k], Rp[k + 1]):
-                x[Ri[r]] = 0.0
+            for r in range(r_lo, r_hi):
+                x[np.uint64(Ri[r])] = 0.0
             return -1
         Ux[u] = pivot
-        lo = Lp[k] + 1
-        for r in range(Rp[k], Rp[k + 1]):
-            i = Ri[r]
+        lo = np.uint64(Lp[k]) + U1
+        for r in range(r_lo, r_hi):
+            i = np.uint64(Ri[r])
             if pinv[i] > k:
                 Lx[lo] = x[i] / pivot
-                lo += 1
+                lo += U1
             x[i] = 0.0
     return 0
 
@@ -248,24 +260,25 @@ def compact_factors(Lp, Li, Lx, Up, Ui, Ux, cLp, cLi, cLx, cUp, cUi, cUx):
     for these values: the solves skip them; the diagonals are never zero); returns
     ``(nnz(L), nnz(U))`` of the copies."""
     n = Lp.shape[0] - 1
-    lz = 0
-    uz = 0
+    lz = np.uint64(0)
+    uz = np.uint64(0)
     cLp[0] = 0
     cUp[0] = 0
     for j in range(n):
-        for p in range(Lp[j], Lp[j + 1]):
+        for p in range(np.uint64(Lp[j]), np.uint64(Lp[j + 1])):
             if Lx[p] != 0.0:
                 cLi[lz] = Li[p]
                 cLx[lz] = Lx[p]
-                lz += 1
+                lz += U1
         cLp[j + 1] = lz
-        for p in range(Up[j], Up[j + 1]):
-            if Ux[p] != 0.0 or p == Up[j + 1] - 1:
+        last = np.uint64(Up[j + 1]) - U1
+        for p in range(np.uint64(Up[j]), last + U1):
+            if Ux[p] != 0.0 or p == last:
                 cUi[uz] = Ui[p]
                 cUx[uz] = Ux[p]
-                uz += 1
+                uz += U1
         cUp[j + 1] = uz
-    return lz, uz
+    return int(lz), int(uz)
 
 
 #: the column orders ``SparseLU("auto")`` compares (SuperLU's names): the approximate
