@@ -15,7 +15,15 @@ from click.testing import CliRunner
 
 import drivedyn as dd
 from drivedyn.cli import main as cli
-from drivedyn.elements.beams.se3 import exp_se3, log_se3, tangent_inv_se3
+from drivedyn.elements.beams.kernel import section_forces, section_tangent
+from drivedyn.elements.beams.se3 import (
+    exp_se3,
+    log_se3,
+    tangent_inv_coeff_rate,
+    tangent_inv_coeffs,
+    tangent_inv_se3,
+    tangent_inv_se3_rate,
+)
 from drivedyn.validation import base
 from drivedyn.validation.beams import cantilever, load_steps, timoshenko_tip_deflection
 
@@ -69,6 +77,65 @@ def test_complex_evaluation_matches_real():
                     np.zeros((3, 3), complex))
     np.testing.assert_array_equal(Tc.real, T)
     assert not Tc.imag.any()
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e-3, 0.4, 0.95, 1.1, 2.5])
+def test_tangent_inverse_rate_is_its_complex_step(scale):
+    """The closed-form derivatives of T_SE3^-1(+-d) along each component of ``d`` and the
+    rate of the coefficient ``e`` equal complex steps of :func:`tangent_inv_se3` and
+    :func:`tangent_inv_coeffs` to round-off, on both sides of the series / closed-form switch
+    at |theta| = 1 (scale 0.95 and 1.1: |theta| about 1.6 and 1.9 with this seed; 0.4 below
+    1). Flipping the sign of one ``c (E S + S E)`` term, or of ``e'``'s ``csc^2 cot`` term,
+    fails it."""
+    rng = np.random.default_rng(11)
+    d = rng.standard_normal(6) * scale
+    t2 = float(d[3:] @ d[3:])
+    c, e = tangent_inv_coeffs(t2)
+    ep = tangent_inv_coeff_rate(t2)
+    _, ec = tangent_inv_coeffs(t2 + 1e-30j)
+    assert ep == pytest.approx(ec.imag / 1e-30, rel=1e-13)
+    for j in range(6):
+        dP, dM = np.zeros((6, 6)), np.zeros((6, 6))
+        tangent_inv_se3_rate(d, j, c, e, ep, dP, dM)
+        for sign, dT in ((1.0, dP), (-1.0, dM)):
+            dc = d.astype(complex)
+            dc[j] += 1e-30j
+            Tc = np.zeros((6, 6), complex)
+            tangent_inv_se3(dc, sign, Tc, np.zeros((3, 3), complex), np.zeros((3, 3), complex))
+            np.testing.assert_allclose(dT, Tc.imag / 1e-30, rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("scale", [1e-3, 0.5, 1.5])
+def test_section_tangent_is_the_complex_step_of_the_section_forces(scale):
+    """The beam's closed-form stiffness ``d(fA, fB)/dd`` (material damping and section
+    velocities included) equals six complex steps of :func:`section_forces`, the kernel's
+    former tangent, to round-off. Dropping the ``beta`` term of ``dsig`` or the ``dTi^T
+    sig`` term (the geometric stiffness) fails it."""
+    rng = np.random.default_rng(5)
+    d = rng.standard_normal(6) * scale
+    etaA, etaB = rng.standard_normal(6), rng.standard_normal(6)
+    eps0 = rng.standard_normal(6) * 1e-3
+    Ks = np.array([2e8, 5e7, 6e7, 1e4, 3e4, 4e4])
+    L, beta = 0.37, 2e-4
+    w = [np.zeros(6) for _ in range(5)]
+    TiP, TiM, S, U = np.zeros((6, 6)), np.zeros((6, 6)), np.zeros((3, 3)), np.zeros((3, 3))
+    section_forces(d, etaA, etaB, L, eps0, Ks, beta, TiP, TiM, S, U, *w)
+    sig = w[2]
+    Dd = np.zeros((12, 6))
+    section_tangent(d, etaA, etaB, L, Ks, beta, TiP, TiM, sig, np.zeros((6, 6)),
+                    np.zeros((6, 6)), np.zeros(6), Dd)
+    ref = np.zeros((12, 6))
+    for j in range(6):
+        dc = d.astype(complex)
+        dc[j] += 1e-30j
+        wc = [np.zeros(6, complex) for _ in range(5)]
+        section_forces(dc, etaA.astype(complex), etaB.astype(complex), L,
+                       eps0.astype(complex), Ks.astype(complex), beta,
+                       np.zeros((6, 6), complex), np.zeros((6, 6), complex),
+                       np.zeros((3, 3), complex), np.zeros((3, 3), complex), *wc)
+        ref[:6, j] = wc[3].imag / 1e-30
+        ref[6:, j] = wc[4].imag / 1e-30
+    np.testing.assert_allclose(Dd, ref, rtol=0, atol=1e-13 * np.abs(ref).max())
 
 
 # -- validation cases --------------------------------------------------------------------------

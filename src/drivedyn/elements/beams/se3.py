@@ -85,6 +85,95 @@ def tangent_inv_se3(d, sign, out, S, U):
 
 
 @njit(cache=True)
+def tangent_inv_coeff_rate(t2):
+    """``e' = de/dt2`` of ``e = c'(t)/t`` (:func:`tangent_inv_coeffs`; ``e = 2 dc/dt2``, so
+    ``e'`` is twice the second derivative of ``c`` in ``t2``) for real ``t2 = theta .
+    theta``: the Bernoulli series for ``t2 < 1``, the closed form above (``h = t/2``)::
+
+        de/dt = 8/t^5 - 3 csc^2(h)/(4 t^3) - 3 cot(h)/(2 t^4) - csc^2(h) cot(h)/(4 t^2)
+        e'    = (de/dt) / (2 t)
+    """
+    if t2 < 1.0:
+        r = 2.0 * 9.0 * 8.0 * _C[9]
+        for k in range(8, 1, -1):
+            r = r * t2 + 2.0 * k * (k - 1) * _C[k]
+        return r
+    t = np.sqrt(t2)
+    h = 0.5 * t
+    s = np.sin(h)
+    cot = np.cos(h) / s
+    csc2 = 1.0 / (s * s)
+    dedt = (8.0 / (t2 * t2 * t) - 0.75 * csc2 / (t2 * t) - 1.5 * cot / (t2 * t2)
+            - 0.25 * csc2 * cot / t2)
+    return dedt / (2.0 * t)
+
+
+@njit(cache=True)
+def tangent_inv_se3_rate(d, j, c, e, ep, dP, dM):
+    """``dP`` and ``dM`` (6, 6) <- the derivatives of ``T_SE3^-1(d)`` and of
+    ``T_SE3^-1(-d)`` with respect to the component ``j`` of ``d`` (6,) ``(u, theta)``, for
+    real ``d``; ``c, e`` of :func:`tangent_inv_coeffs` and ``ep`` of
+    :func:`tangent_inv_coeff_rate` at ``t2 = theta . theta``.
+
+    With ``S = theta~``, ``U = u~``, ``tu = theta . u`` and the identity
+    ``a~ b~ + b~ a~ = a b^T + b a^T - 2 (a . b) I``, the blocks of :func:`tangent_inv_se3`
+    (``sign = +-1``) ``D = I + sign S/2 + c S^2`` and ``O = sign U/2 + c (U S + S U) + e tu
+    S^2`` have, for ``E = e_k~`` (``k`` the component within its half)::
+
+        d/du_k:     dD = 0,                    dO = sign E/2 + c (E S + S E) + e theta_k S^2
+        d/dtheta_k: dD = sign E/2 + c (E S + S E) + e theta_k S^2,
+                    dO = c (U E + E U) + e theta_k (U S + S U) + 2 e' theta_k tu S^2
+                         + e u_k S^2 + e tu (E S + S E)
+
+    (``dc/dt2 = e/2``, ``dtu/dtheta_k = u_k``)."""
+    k = j % 3
+    rot = j >= 3
+    t0, t1, t2_ = d[3], d[4], d[5]
+    u0, u1, u2 = d[0], d[1], d[2]
+    th2 = t0 * t0 + t1 * t1 + t2_ * t2_
+    tu = t0 * u0 + t1 * u1 + t2_ * u2
+    thk = d[3 + k]
+    uk = d[k]
+    for a in range(3):
+        ta = d[3 + a]
+        ua = d[a]
+        for b in range(3):
+            tb = d[3 + b]
+            ub = d[b]
+            dab = 1.0 if a == b else 0.0
+            eak = 1.0 if a == k else 0.0
+            ebk = 1.0 if b == k else 0.0
+            # E = e_k~: E[a, b] = -eps_{a b k} (-1 for (a, b, k) cyclic)
+            Eab = 0.0
+            if a != b and a != k and b != k:
+                Eab = -1.0 if (b - a + 3) % 3 == 1 else 1.0
+            s2 = ta * tb - th2 * dab                               # S^2
+            es = ta * ebk + eak * tb - 2.0 * thk * dab               # E S + S E
+            if rot:
+                us = ua * tb + ta * ub - 2.0 * tu * dab              # U S + S U
+                eu = ua * ebk + eak * ub - 2.0 * uk * dab            # U E + E U
+                sym = c * es + e * thk * s2
+                off = (c * eu + e * thk * us + 2.0 * ep * thk * tu * s2 + e * uk * s2
+                       + e * tu * es)
+                dP[a, b] = 0.5 * Eab + sym
+                dM[a, b] = -0.5 * Eab + sym
+                dP[3 + a, 3 + b] = dP[a, b]
+                dM[3 + a, 3 + b] = dM[a, b]
+                dP[a, 3 + b] = off
+                dM[a, 3 + b] = off
+            else:
+                sym = c * es + e * thk * s2
+                dP[a, b] = 0.0
+                dM[a, b] = 0.0
+                dP[3 + a, 3 + b] = 0.0
+                dM[3 + a, 3 + b] = 0.0
+                dP[a, 3 + b] = 0.5 * Eab + sym
+                dM[a, 3 + b] = -0.5 * Eab + sym
+            dP[3 + a, b] = 0.0
+            dM[3 + a, b] = 0.0
+
+
+@njit(cache=True)
 def log_se3(xA, RA, xB, RB, out):
     """``out`` (6,) <- ``log(H_A^-1 H_B)`` of two frames (positions (3,) [m], rotations
     (3, 3)): the relative rotation vector ``theta`` and ``u = T(-theta)^-1 R_A^T (x_B - x_A)``
