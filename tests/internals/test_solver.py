@@ -506,3 +506,42 @@ def test_sparse_lu_chooses_its_order_again_once_when_the_first_pivots_fail(
         A3 = sps.csc_matrix((d, indices, indptr), shape=(n, n)).toarray()
         assert np.max(np.abs(A3 @ x - 1.0) / (np.abs(A3) @ np.abs(x) + 1.0)) < 1e-13
     assert len(calls) == choices
+
+
+def test_inherited_factorisations_that_do_not_contract_are_skipped_after_a_streak() -> None:
+    """newton_kernel._inheritance at converged steps: a step whose inherited factorisation
+    did not contract (I_INHERITED = 2) and was refreshed extends the streak; from STREAK_MIN
+    such steps in a row the next 1, 2, 4, ... steps (at most SKIP_MAX) start afresh; a step
+    whose inherited factorisation contracted, or that converged on it (corrections at the
+    round-off level), or that began without one, ends or leaves the streak. Counting a step
+    that converged on its inherited factorisation (the refresh condition dropped) fails the
+    third block; a shift by streak - STREAK_MIN + 1 fails the second."""
+    from drivedyn.solver.newton_kernel import (
+        I_INHERITED,
+        I_NFAC,
+        I_SKIP,
+        I_STREAK,
+        NISTATE,
+        SKIP_MAX,
+        STREAK_MIN,
+        _inheritance,
+    )
+
+    ist = np.zeros(NISTATE, np.int64)
+
+    def step(inherited: int, refreshed: bool) -> tuple[int, int]:
+        nfac0 = int(ist[I_NFAC])
+        ist[I_INHERITED] = inherited
+        ist[I_NFAC] += int(refreshed)
+        _inheritance(ist, nfac0)
+        return int(ist[I_STREAK]), int(ist[I_SKIP])
+
+    for k in range(1, STREAK_MIN):
+        assert step(2, True) == (k, 0)
+    skips = [step(2, True)[1] for _ in range(8)]
+    assert skips == [min(2 ** k, SKIP_MAX) for k in range(8)]
+    ist[I_SKIP] = 0
+    assert step(2, False) == (0, 0)  # converged on it: round-off ratios, not a sign
+    assert step(2, True) == (1, 0)
+    assert step(0, True) == (1, 0)  # no inherited factorisation: the streak stays
+    assert step(1, True) == (0, 0)  # it contracted: the streak ends
