@@ -448,7 +448,7 @@ class SparseLU(LinearSolver):
     def refactor_ops(self) -> int:
         """Multiply-adds of a refactorisation with the present pivots (:func:`gp_refactor`:
         each off-diagonal entry ``U[J, k]`` applies column ``J`` of L below its diagonal),
-        which sets its time: 2.5-4 ns each for the vehicles' factors (measured). Fewer
+        which sets its time: 1.3-1.5 ns each for the vehicles' factors (measured). Fewer
         entries need not mean fewer operations: the RWD vehicle's factors hold 63 500
         entries with COLAMD and 55 500 with the minimum degree of A^T A, for 1.34 and 1.09
         million operations; those of A^T + A 119 700 entries and 6.4 million."""
@@ -533,7 +533,7 @@ DENSE_MAX = 150
 #: above DENSE_MAX, the dense LU still wins when the sparse LU's factors fill more than this
 #: share of the dense matrix (the sparse LU's scalar loops then lose to LAPACK by far), up to
 #: DENSE_FILL_MAX unknowns; with the column order SparseLU chooses, the 383 unknowns of the
-#: 4WD vehicle fill 15 % and refactorise in 0.66 ms against 2.6 ms dense; a banded chain of
+#: 4WD vehicle fill 15 % and refactorise in 0.46 ms against 2.6 ms dense; a banded chain of
 #: 330-396 unknowns fills a few % and SuperLU takes 0.5 ms against 1.2-1.9 ms dense; the
 #: 2200-unknown chain's factors fill 0.9 % and refactorise in 0.37 ms (measured)
 DENSE_FILL = 0.3
