@@ -29,15 +29,10 @@ from drivedyn.solver.newton_kernel import (
     I_LU,
     I_NFAC,
     I_ROFF,
-    I_SKIP,
-    I_STREAK,
-    NO_CONTRACTION,
     NOISE_FACTOR,
     REFACTOR_AFTER,
     ROUNDOFF_ULPS,
-    SKIP_MAX,
     STALL_ULPS,
-    STREAK_MIN,
     absmax,
     correction_size,
     newton_update,
@@ -160,13 +155,6 @@ class ReferenceStepper(Stepper):
         # well; the contraction monitor below refactors if it does not
         if self.lu_h is not None and abs(self.lu_h - h) > H_REUSE * h:
             self._forget()
-        # inherited factorisations refused in a row: start afresh (newton_kernel's note at
-        # STREAK_MIN)
-        if self._istate[I_SKIP] > 0:
-            self._istate[I_SKIP] -= 1
-            self._forget()
-        inherited = self.lu_h is not None
-        no_contraction = False  # the inherited factorisation's first ratio >= NO_CONTRACTION
         full = nw.strategy == "full"
         cM = 1.0 / (self.bp * h * h)
         cC = self.gp / (self.bp * h)
@@ -208,13 +196,6 @@ class ReferenceStepper(Stepper):
                     # converged, but slowly, on a factorisation from an earlier step: it is
                     # stale (contacts or gear flanks changed since); refresh it next step
                     self._forget()
-                if inherited and (not no_contraction or self.factorizations == nfac0):
-                    self._istate[I_STREAK] = 0
-                elif inherited:
-                    self._istate[I_STREAK] += 1
-                    streak = int(self._istate[I_STREAK])
-                    if streak >= STREAK_MIN:
-                        self._istate[I_SKIP] = min(2 ** min(streak - STREAK_MIN, 30), SKIP_MAX)
                 if nd:
                     self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
                 if self.lu_h is not None:
@@ -245,8 +226,6 @@ class ReferenceStepper(Stepper):
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite Newton correction")
             ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
-            if it == 1 and inherited and self.factorizations == nfac0:
-                no_contraction = ratio >= NO_CONTRACTION
             last = correction_size(delta, nd, xmax)
             if it > 0 and ratio > nw.contraction:
                 # within the round-off noise a growing correction is not divergence

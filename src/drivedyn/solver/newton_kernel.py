@@ -218,25 +218,6 @@ def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
 # 8.8e-7 of E0 (tolerance 3e-7; 6.8e-8 with four): converged to the tolerance, not below.
 H_REUSE = 0.1
 REFACTOR_AFTER = 4
-# When the factorisation inherited from the step before had to be refreshed because its
-# first two corrections did not contract at all (ratio NO_CONTRACTION or more), in STREAK_MIN
-# consecutive steps, the next 2^(streak - STREAK_MIN) steps (at most SKIP_MAX) do not try
-# their inherited factorisation: they factorise at their
-# first iteration, from the residual's own evaluation. A part spinning at Omega turns its
-# body-frame tangent by Omega h per step: the RWD vehicle's pinion at 20 rad/s turns its
-# bearing's constraint rows by 1.9 degrees in a 1.67 ms step, and the previous step's
-# factorisation then gave a second correction as large as the first (ratio 1.0) in every
-# step: two evaluations and two solves spent before each refresh. An inherited matrix that
-# contracts, if slowly, is not a sign: 92 % of the 4WD launch's refused inheritances had a
-# first ratio below 0.9 (median 0.23), and skipping them after streaks of any refusal cost
-# the launch 10 % more factorisations; nor is a step that converged on it with such a ratio
-# (corrections at the round-off level: counted, they cost the Type C vehicle configuration's
-# zero-torque holds 19 % more factorisations). RWD vehicle, open rear, 1.5 s: residual
-# evaluations 4970 -> 3003 and Newton iterations 3079 -> 1768 for the same 925
-# factorisations; 4WD launch and Type C vehicle: factorisations within 1 %.
-NO_CONTRACTION = 0.9
-STREAK_MIN = 2
-SKIP_MAX = 16
 # A correction that did not contract (ratio above Newton.contraction) marks the factorisation
 # stale; it is refreshed at the next iteration only if that iteration has not converged. A
 # step converged on a factorisation of an earlier step keeps it: near a zero-torque hold's
@@ -271,13 +252,10 @@ NEED_FACTOR = 6
 
 # istate fields: factorisation valid, round-off levels valid, factorisations, evaluations,
 # factorise outside (1: return NEED_FACTOR), factors in the dense workspace (1) or SparseLU's
-# arrays (0), resuming after an outside factorisation, the saved iteration and factorisation
-# count at the start of the step, whether the step began with an inherited factorisation
-# (2: one that did not contract), the steps in a row whose inherited factorisation did not
-# contract, and the steps left to start afresh (STREAK_MIN)
-(I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0, I_INHERITED,
- I_STREAK, I_SKIP) = range(12)
-NISTATE = 12
+# arrays (0), resuming after an outside factorisation, and the saved iteration and
+# factorisation count at the start of the step
+I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0 = range(9)
+NISTATE = 9
 # fstate fields: step size of the factorisation, force scale, and the saved correction
 # sizes and largest coordinate of an iteration left for an outside factorisation
 F_LU_H, F_FORCE, F_PREV, F_LAST, F_XMAX = range(5)
@@ -322,22 +300,6 @@ def _clear(r, rabs, data, want, hdq, nn, Tn, istate):
         tangents(hdq, nn, Tn)
     istate[I_NEVAL] += 1
     return want
-
-
-@njit(cache=True, inline="always")
-def _inheritance(istate, nfac0):
-    """At a converged step: count the steps in a row whose inherited factorisation did not
-    contract, and set the steps to start afresh (the note at STREAK_MIN)."""
-    if istate[I_INHERITED] == 0:
-        return
-    if istate[I_INHERITED] == 1 or istate[I_NFAC] == nfac0:
-        # it contracted, or the step converged on it (a ratio near 1 of corrections at the
-        # round-off level: the Type C's zero-torque holds)
-        istate[I_STREAK] = 0
-        return
-    istate[I_STREAK] += 1
-    if istate[I_STREAK] >= STREAK_MIN:
-        istate[I_SKIP] = min(1 << min(istate[I_STREAK] - STREAK_MIN, 30), SKIP_MAX)
 
 
 @njit(cache=True, inline="always")
@@ -416,10 +378,6 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         # well; the contraction monitor below refactors if it does not
         if istate[I_LU] != 0 and abs(fstate[F_LU_H] - h) > H_REUSE * h:
             _forget(istate, roff)
-        if istate[I_SKIP] > 0:  # inherited factorisations refused in a row (STREAK_MIN)
-            istate[I_SKIP] -= 1
-            _forget(istate, roff)
-        istate[I_INHERITED] = istate[I_LU]
         eval_time_functions(t, tf_kind, tf_par, tf_fstart, tf_tab, tfv)
         assembled = _clear(r, rabs, data, full or istate[I_LU] == 0, hdq, nn, Tn, istate)
         _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, assembled, r, rabs, data,
@@ -462,7 +420,6 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     _forget(istate, roff)
                 elif it >= 3 and istate[I_NFAC] == nfac0:
                     _forget(istate, roff)  # slow convergence on an old factorisation: stale
-                _inheritance(istate, nfac0)
                 if nd:
                     fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
                 if istate[I_LU] != 0:
@@ -514,9 +471,6 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         if not finite:
             return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0
         ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
-        if it == 1 and istate[I_INHERITED] != 0 and istate[I_NFAC] == nfac0 \
-                and ratio >= NO_CONTRACTION:
-            istate[I_INHERITED] = 2
         last = correction_size(delta, nd, xmax)
         if it > 0 and ratio > contraction:
             # a correction within the round-off noise that grows is not divergence
