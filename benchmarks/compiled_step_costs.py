@@ -47,8 +47,9 @@ from drivedyn.library.differentials.scenarios import bench_spec
 from drivedyn.model.compile import compile_model
 from drivedyn.solver.kernel_calls import KernelTable, call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve, workspace
-from drivedyn.solver.linear import DenseLU, default_linear_solver, sparse_lu_solve
+from drivedyn.solver.linear import DenseLU, default_linear_solver
 from drivedyn.solver.simulate import simulate
+from drivedyn.solver.sparse_lu import sparse_lu_solve
 from drivedyn.solver.step_loop import StepLoop
 from drivedyn.solver.system import System
 

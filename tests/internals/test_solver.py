@@ -383,7 +383,8 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     round-off."""
     import scipy.sparse as sps
 
-    from drivedyn.solver.linear import SparseLU, gp_refactor
+    from drivedyn.solver.linear import SparseLU
+    from drivedyn.solver.sparse_lu import gp_refactor
 
     data, indices, indptr, A = _saddle_csc(60, 17, 4)
     n = A.shape[0]

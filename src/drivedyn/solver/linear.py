@@ -6,9 +6,9 @@ import abc
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit
 
 from drivedyn.solver import lapack
+from drivedyn.solver.sparse_lu import compact_factors, gp_factor, gp_refactor, sparse_lu_solve
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -50,237 +50,6 @@ class LinearSolver(abc.ABC):
         return []
 
 
-# The compiled sparse LU's loops index with unsigned integers (``np.uint64``): numba wraps a
-# negative signed index around, a branch per access that also keeps LLVM from vectorising a
-# loop. The arithmetic is the same, in the same order. The RWD vehicle's matrix (799
-# unknowns, 0.68 million multiply-adds): refactorisation 1.50-1.80 ms signed, 0.67-0.79 ms
-# unsigned (benchmarks/README.md, compiled_step_costs.py).
-U1 = np.uint64(1)
-
-
-@njit(cache=True)
-def sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x):
-    """Solve ``A x = b`` with SuperLU's factors ``Pr A Pc = L U`` (CSC, sorted indices,
-    L unit lower triangular with its diagonal stored)."""
-    n = b.shape[0]
-    for i in range(n):
-        z[np.uint64(perm_r[i])] = b[i]
-    for j in range(n):  # forward, unit diagonal (first entry of column j)
-        zj = z[np.uint64(j)]
-        if zj != 0.0:
-            for k in range(np.uint64(Lp[j]), np.uint64(Lp[j + 1])):
-                i = Li[k]
-                if i > j:
-                    z[np.uint64(i)] -= Lx[k] * zj
-    for jj in range(n):  # backward, diagonal is the last entry of column j
-        j = np.uint64(n - 1 - jj)
-        kd = np.uint64(Up[j + U1]) - U1
-        zj = z[j] / Ux[kd]
-        z[j] = zj
-        if zj != 0.0:
-            for k in range(np.uint64(Up[j]), kd):
-                z[np.uint64(Ui[k])] -= Ux[k] * zj
-    for i in range(n):
-        x[i] = z[np.uint64(perm_c[i])]
-
-
-@njit(cache=True)
-def _reach(j, Lp, Li, pinv, top, xi, pstack, mark, stamp):
-    """Depth-first search from row ``j`` through the columns of L computed so far (row
-    ``i`` is column ``pinv[i]`` of L once it is pivotal); the rows reached are pushed onto
-    ``xi[top:]`` in topological order; returns the new ``top`` (CSparse ``cs_dfs``)."""
-    head = 0
-    xi[0] = j
-    while head >= 0:
-        j = xi[head]
-        jnew = pinv[j]
-        if mark[j] != stamp:
-            mark[j] = stamp
-            pstack[head] = 0 if jnew < 0 else Lp[jnew]
-        done = True
-        p2 = 0 if jnew < 0 else Lp[jnew + 1]
-        for p in range(pstack[head], p2):
-            i = Li[p]
-            if mark[i] == stamp:
-                continue
-            pstack[head] = p
-            head += 1
-            xi[head] = i
-            done = False
-            break
-        if done:
-            head -= 1
-            top -= 1
-            xi[top] = j
-    return top
-
-
-@njit(cache=True)
-def gp_factor(n, Ap, Ai, Ax, q, tol, Lp, Li, Lio, Lx, Up, Ui, Ux, pinv, prow, Rp, Ri, x, xi,
-              pstack, mark):
-    """Left-looking sparse LU with threshold partial pivoting (Gilbert and Peierls; the
-    algorithm of CSparse's ``cs_lu``): ``P A Q = L U`` for the CSC matrix ``(Ap, Ai, Ax)``
-    with the column order ``q`` (``Q[:, k] = e_q[k]``). Each column is a sparse triangular
-    solve on the columns of L computed so far; the pivot is the diagonal entry if it is at
-    least ``tol`` times the largest candidate, else the largest.
-
-    Output in the format :func:`sparse_lu_solve` takes: L unit lower triangular with its
-    diagonal first in each column, U with its diagonal last, rows in pivot order;
-    ``pinv[i]`` the pivot step of row ``i``. For :func:`gp_refactor`: ``Lio`` the rows of L
-    in the original order, ``prow[k]`` the pivot row of step ``k``, ``Rp, Ri`` each column's
-    reach in topological order. Work arrays ``x`` (n, zero on entry and exit), ``xi`` (2n),
-    ``pstack`` (n), ``mark`` (n). Returns ``(status, nnz(L), nnz(U))``: status 0, -1
-    (singular or non-finite), -2 (L, U or reach arrays too short: enlarge, call again)."""
-    lnz = 0
-    unz = 0
-    rnz = 0
-    Lp[0] = 0
-    Up[0] = 0
-    Rp[0] = 0
-    for i in range(n):
-        pinv[i] = -1
-        mark[i] = -1
-    for k in range(n):
-        col = q[k]
-        top = n
-        for p in range(Ap[col], Ap[col + 1]):
-            i = Ai[p]
-            if mark[i] != k:
-                top = _reach(i, Lp, Lio, pinv, top, xi, pstack, mark, k)
-        if (lnz + n - top + 1 > Li.shape[0] or unz + n - top + 1 > Ui.shape[0]
-                or rnz + n - top > Ri.shape[0]):
-            for px in range(top, n):
-                x[xi[px]] = 0.0
-            return -2, lnz, unz
-        for p in range(Ap[col], Ap[col + 1]):
-            x[Ai[p]] += Ax[p]
-        for px in range(top, n):  # x = L \ A[:, col] on the reach, in topological order
-            j = np.uint64(xi[px])
-            J = pinv[j]
-            if J < 0:
-                continue
-            xj = x[j]
-            uJ = np.uint64(J)
-            for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
-                x[np.uint64(Lio[p])] -= Lx[p] * xj
-        ipiv = -1
-        amax = -1.0
-        for px in range(top, n):
-            i = xi[px]
-            if pinv[i] < 0:
-                t = abs(x[i])
-                if t > amax:
-                    amax = t
-                    ipiv = i
-            else:
-                Ui[unz] = pinv[i]
-                Ux[unz] = x[i]
-                unz += 1
-        if ipiv < 0 or not (amax > 0.0) or not np.isfinite(amax):
-            for px in range(top, n):
-                x[xi[px]] = 0.0
-            return -1, lnz, unz
-        if pinv[col] < 0 and abs(x[col]) >= amax * tol:
-            ipiv = col  # the diagonal when it is large enough (keeps the fill of the order)
-        pivot = x[ipiv]
-        Ui[unz] = k
-        Ux[unz] = pivot
-        unz += 1
-        Up[k + 1] = unz
-        pinv[ipiv] = k
-        prow[k] = ipiv
-        Lio[lnz] = ipiv
-        Lx[lnz] = 1.0
-        lnz += 1
-        for px in range(top, n):
-            i = xi[px]
-            if pinv[i] < 0:
-                Lio[lnz] = i
-                Lx[lnz] = x[i] / pivot
-                lnz += 1
-            x[i] = 0.0
-            Ri[rnz] = i
-            rnz += 1
-        Lp[k + 1] = lnz
-        Rp[k + 1] = rnz
-    for p in range(lnz):
-        Li[p] = pinv[Lio[p]]
-    return 0, lnz, unz
-
-
-@njit(cache=True)
-def gp_refactor(n, Ap, Ai, Ax, q, tol, Lp, Lio, Lx, Up, Ux, pinv, prow, Rp, Ri, x):
-    """:func:`gp_factor` again for new values on the same pattern, with the pivots and the
-    reaches of the last full factorisation (no search, no pivot choice: KLU's refactor).
-    The same arithmetic in the same order, so the factors are those :func:`gp_factor` gives
-    when it picks the same pivots. Returns -1 (and leaves ``x`` zero) when a kept pivot is
-    below ``tol`` times its column's largest candidate, or not finite: factorise afresh."""
-    for k in range(n):
-        col = np.uint64(q[k])
-        for p in range(np.uint64(Ap[col]), np.uint64(Ap[col + U1])):
-            x[np.uint64(Ai[p])] += Ax[p]
-        r_lo, r_hi = np.uint64(Rp[k]), np.uint64(Rp[k + 1])
-        for r in range(r_lo, r_hi):
-            j = np.uint64(Ri[r])
-            J = pinv[j]
-            if J >= k:
-                continue
-            xj = x[j]
-            uJ = np.uint64(J)
-            for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
-                x[np.uint64(Lio[p])] -= Lx[p] * xj
-        u = np.uint64(Up[k])
-        amax = 0.0
-        for r in range(r_lo, r_hi):
-            i = np.uint64(Ri[r])
-            if pinv[i] < k:
-                Ux[u] = x[i]
-                u += U1
-            elif abs(x[i]) > amax:
-                amax = abs(x[i])
-        pivot = x[np.uint64(prow[k])]
-        if not (abs(pivot) >= tol * amax and abs(pivot) > 0.0 and np.isfinite(amax)):
-            for r in range(r_lo, r_hi):
-                x[np.uint64(Ri[r])] = 0.0
-            return -1
-        Ux[u] = pivot
-        lo = np.uint64(Lp[k]) + U1
-        for r in range(r_lo, r_hi):
-            i = np.uint64(Ri[r])
-            if pinv[i] > k:
-                Lx[lo] = x[i] / pivot
-                lo += U1
-            x[i] = 0.0
-    return 0
-
-
-@njit(cache=True)
-def compact_factors(Lp, Li, Lx, Up, Ui, Ux, cLp, cLi, cLx, cUp, cUi, cUx):
-    """Copy the factors without their exact zeros (entries of the fixed pattern that are zero
-    for these values: the solves skip them; the diagonals are never zero); returns
-    ``(nnz(L), nnz(U))`` of the copies."""
-    n = Lp.shape[0] - 1
-    lz = np.uint64(0)
-    uz = np.uint64(0)
-    cLp[0] = 0
-    cUp[0] = 0
-    for j in range(n):
-        for p in range(np.uint64(Lp[j]), np.uint64(Lp[j + 1])):
-            if Lx[p] != 0.0:
-                cLi[lz] = Li[p]
-                cLx[lz] = Lx[p]
-                lz += U1
-        cLp[j + 1] = lz
-        last = np.uint64(Up[j + 1]) - U1
-        for p in range(np.uint64(Up[j]), last + U1):
-            if Ux[p] != 0.0 or p == last:
-                cUi[uz] = Ui[p]
-                cUx[uz] = Ux[p]
-                uz += U1
-        cUp[j + 1] = uz
-    return int(lz), int(uz)
-
-
 #: the column orders ``SparseLU("auto")`` compares (SuperLU's names): the approximate
 #: minimum degree of A's columns, and the minimum degree of A^T A and of A^T + A
 ORDERS = ("COLAMD", "MMD_ATA", "MMD_AT_PLUS_A")
@@ -298,9 +67,10 @@ PIVOT_THRESHOLD = 0.01
 class SparseLU(LinearSolver):
     """Sparse LU on the model's fixed pattern: a column order computed once on the first
     matrix (SuperLU's), then every factorisation a compiled left-looking LU with threshold
-    partial pivoting (:func:`gp_factor`), or, while the last pivots stay large enough, a
-    refactorisation with them (:func:`gp_refactor`); the triangular solves are compiled too
-    (:func:`sparse_lu_solve`).
+    partial pivoting (:func:`~drivedyn.solver.sparse_lu.gp_factor`), or, while the last
+    pivots stay large enough, a refactorisation with them
+    (:func:`~drivedyn.solver.sparse_lu.gp_refactor`); the triangular solves are compiled too
+    (:func:`~drivedyn.solver.sparse_lu.sparse_lu_solve`).
 
     ``permc_spec``: SuperLU's name of the column order, or ``"auto"``: each order of
     :data:`ORDERS` factorised once on the first matrix, the one whose refactorisation takes
@@ -336,6 +106,10 @@ class SparseLU(LinearSolver):
         self._chosen_again = False  # "auto": chosen a second time (at most once)
         self._f: tuple | None = None
         self._n = -1
+        #: factorisations with pivot search (the others kept the last pivots; the trial
+        #: factorisations of the orders ``"auto"`` compares not counted)
+        self.fresh = 0
+        self._tol = np.array([diag_pivot_thresh])
 
     def factor(self, A: sp.csc_matrix) -> None:
         A = _csc(A)  # duplicates are summed by the factorisation
@@ -417,11 +191,13 @@ class SparseLU(LinearSolver):
             self._chosen_again = True
             self._order(data, indices, indptr, n)
         self._factor_fresh(data, indices, indptr, n)
+        self.fresh += 1
         self._compact()
 
     def _factor_fresh(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
                       n: int) -> None:
-        """:func:`gp_factor` with pivot search (arrays enlarged while too short)."""
+        """:func:`~drivedyn.solver.sparse_lu.gp_factor` with pivot search (arrays enlarged
+        while too short)."""
         while True:
             status, lnz, unz = gp_factor(
                 n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
@@ -446,9 +222,10 @@ class SparseLU(LinearSolver):
 
     @property
     def refactor_ops(self) -> int:
-        """Multiply-adds of a refactorisation with the present pivots (:func:`gp_refactor`:
-        each off-diagonal entry ``U[J, k]`` applies column ``J`` of L below its diagonal),
-        which sets its time: 1.3-1.5 ns each for the vehicles' factors (measured). Fewer
+        """Multiply-adds of a refactorisation with the present pivots
+        (:func:`~drivedyn.solver.sparse_lu.gp_refactor`: each off-diagonal entry ``U[J, k]``
+        applies column ``J`` of L below its diagonal), which sets its time: 1.3-1.5 ns each
+        for the vehicles' factors (measured). Fewer
         entries need not mean fewer operations: the RWD vehicle's factors hold 63 500
         entries with COLAMD and 55 500 with the minimum degree of A^T A, for 1.34 and 1.09
         million operations; those of A^T + A 119 700 entries and 6.4 million."""
@@ -462,11 +239,22 @@ class SparseLU(LinearSolver):
         if self._cLi.size < lnz or self._cUi.size < unz:
             self._cLi, self._cLx = np.zeros(lnz, np.int64), np.zeros(lnz)
             self._cUi, self._cUx = np.zeros(unz, np.int64), np.zeros(unz)
-        lz, uz = compact_factors(self._Lp, self._Li[:lnz], self._Lx[:lnz], self._Up,
-                                 self._Ui[:unz], self._Ux[:unz], self._cLp, self._cLi,
-                                 self._cLx, self._cUp, self._cUi, self._cUx)
-        self._f = (self._cLp, self._cLi[:lz], self._cLx[:lz], self._cUp, self._cUi[:uz],
-                   self._cUx[:uz], self._pinv, self._qinv)
+        compact_factors(self._Lp, self._Li[:lnz], self._Lx[:lnz], self._Up, self._Ui[:unz],
+                        self._Ux[:unz], self._cLp, self._cLi, self._cLx, self._cUp, self._cUi,
+                        self._cUx)
+        # whole arrays (the solves read the columns' ranges): a refactorisation in compiled
+        # code (sparse_lu.refactor_in_place) compacts into them in place, with another count
+        # of zeros
+        self._f = (self._cLp, self._cLi, self._cLx, self._cUp, self._cUi, self._cUx,
+                   self._pinv, self._qinv)
+
+    def refactor_arrays(self) -> tuple:
+        """The arrays of a refactorisation in compiled code
+        (:func:`~drivedyn.solver.sparse_lu.refactor_in_place`): ``(q, tol, Lp, Li, Lio, Lx,
+        Up, Ui, Ux, prow, Rp, Ri, x)``, valid until the next factorisation with pivot search
+        (which may enlarge them)."""
+        return (self._q, self._tol, self._Lp, self._Li, self._Lio, self._Lx, self._Up,
+                self._Ui, self._Ux, self._prow, self._Rp, self._Ri, self._x)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.empty_like(b)

@@ -31,8 +31,8 @@ from numba import njit
 from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.solver.kernel_calls import call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve
-from drivedyn.solver.linear import sparse_lu_solve
 from drivedyn.solver.redundancy import hold_multipliers, set_aside
+from drivedyn.solver.sparse_lu import refactor_in_place, sparse_lu_solve
 from drivedyn.solver.system import lie_update, tangents
 from drivedyn.timefunctions import eval_time_functions
 
@@ -252,10 +252,12 @@ NEED_FACTOR = 6
 
 # istate fields: factorisation valid, round-off levels valid, factorisations, evaluations,
 # factorise outside (1: return NEED_FACTOR), factors in the dense workspace (1) or SparseLU's
-# arrays (0), resuming after an outside factorisation, and the saved iteration and
-# factorisation count at the start of the step
-I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0 = range(9)
-NISTATE = 9
+# arrays (0), resuming after an outside factorisation, the saved iteration and factorisation
+# count at the start of the step, and SparseLU's pivots at hand (1: refactorise here, return
+# NEED_FACTOR only when a kept pivot is refused)
+(I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0,
+ I_REFACTOR) = range(10)
+NISTATE = 10
 # fstate fields: step size of the factorisation, force scale, and the saved correction
 # sizes and largest coordinate of an iteration left for an outside factorisation
 F_LU_H, F_FORCE, F_PREV, F_LAST, F_XMAX = range(5)
@@ -328,19 +330,23 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                   indices, indptr, red)      # System's arrays, the time functions, CSC
                                              # pattern, the rows set aside (redundancy)
         linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
-        sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z)   # SparseLU's factors
+        sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, refactor)   # SparseLU's
+                                             # factors and its refactor_arrays()
 
     ``G`` (a :class:`~drivedyn.solver.kernel_calls.KernelTable`) holds the groups' kernels
     and arguments; they add their contributions into ``r, rabs, data``. Returns ``(code,
     iterations, factorisations of this step)`` with the codes of this module; ``r`` holds the
     last residual.
 
-    With ``istate[I_EXTERNAL]`` set, a factorisation is left to the caller (the sparse LU
-    takes its column order from SuperLU and grows its arrays in Python): the function
+    With ``istate[I_EXTERNAL]`` set, the sparse LU refactorises here with its last pivots
+    (``istate[I_REFACTOR]``, :func:`~drivedyn.solver.sparse_lu.refactor_in_place`); a first
+    factorisation, or one whose kept pivots are refused, is left to the caller (the sparse
+    LU takes its column order from SuperLU and grows its arrays in Python): the function
     returns ``NEED_FACTOR`` with the matrix assembled in ``data`` and its loop state saved;
     the caller factorises, sets ``istate[I_DENSE]`` (factors in ``linear``'s dense
-    workspace, or in ``sparse``) and
-    calls again, and the iteration goes on from the factorisation.
+    workspace, or in ``sparse``) and calls again, and the iteration goes on from the
+    factorisation. A return to Python cost the RWD vehicle 0.2-0.4 ms per factorisation
+    (the unboxing of the loop's arguments), a third of the refactorisation itself.
     """
     nn, nd, w, t, h = sizes
     x0, R0, v0, vd0, a0, prev_vd = accepted
@@ -348,7 +354,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr,
      red) = arrays
     lu, piv, ib, tr, delta, roff, no_roff = linear
-    Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z = sparse
+    Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, _ = sparse
     am, af, gamma, beta, bp, gp = par[0], par[1], par[2], par[3], par[4], par[5]
     tol, phi_tol, contraction = par[6], par[7], par[8]
     max_iter = int(par[9])
@@ -446,14 +452,18 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC,
                               bool(True), r, rabs, data, red, nd)  # noqa: UP018
                 if istate[I_EXTERNAL] != 0:
-                    istate[I_PHASE] = 1
-                    istate[I_IT] = it
-                    istate[I_NFAC0] = nfac0
-                    fstate[F_PREV] = prev
-                    fstate[F_LAST] = last
-                    fstate[F_XMAX] = xmax
-                    return NEED_FACTOR, it, istate[I_NFAC] - nfac0
-                if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
+                    # the sparse LU with its last pivots here; afresh (pivot search, arrays
+                    # grown) in Python
+                    if istate[I_REFACTOR] == 0 or \
+                            refactor_in_place(data, indices, indptr, sparse) != 0:
+                        istate[I_PHASE] = 1
+                        istate[I_IT] = it
+                        istate[I_NFAC0] = nfac0
+                        fstate[F_PREV] = prev
+                        fstate[F_LAST] = last
+                        fstate[F_XMAX] = xmax
+                        return NEED_FACTOR, it, istate[I_NFAC] - nfac0
+                elif dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
                     _forget(istate, roff)
                     return SINGULAR, it, istate[I_NFAC] - nfac0
                 _factorised(istate, fstate, h)

@@ -48,6 +48,7 @@ from drivedyn.solver.newton_kernel import (
     I_EXTERNAL,
     I_LU,
     I_NFAC,
+    I_REFACTOR,
     I_ROFF,
     ROUNDOFF_ULPS,
     STALL_ULPS,
@@ -121,8 +122,9 @@ class Stepper:
         # another overload)
         self._no_dense = lapack.workspace(2)
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
-        self._no_sparse = (np.zeros(1, np.int64), i0, f0, np.zeros(1, np.int64), i0, f0, i0,
-                           i0, f0)
+        p0 = np.zeros(1, np.int64)
+        self._no_sparse = (p0, i0, f0, p0, i0, f0, i0, i0, f0,
+                           (i0, np.zeros(1), p0, i0, i0, f0, p0, i0, f0, i0, p0, i0, f0))
         if self._solvers() is None:
             raise TypeError(f"linear_solver must be a DenseLU, SparseLU or AutoLU (got "
                             f"{type(self.lin).__name__}): the compiled stepping loop "
@@ -184,8 +186,10 @@ class Stepper:
         else:
             lu, piv, ib, tr = self._no_dense
             f = sparse._f
-            sp_args = self._no_sparse if f is None else (*f, sparse._z)
+            sp_args = self._no_sparse if f is None else (*f, sparse._z,
+                                                         sparse.refactor_arrays())
         self._istate[I_EXTERNAL] = 0 if dense is not None else 1
+        self._istate[I_REFACTOR] = 0 if dense is not None or sparse._f is None else 1
         self._istate[I_DENSE] = 1 if dense is not None else 0
         return (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), sp_args
 
