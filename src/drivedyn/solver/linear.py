@@ -109,7 +109,6 @@ class SparseLU(LinearSolver):
         #: factorisations with pivot search (the others kept the last pivots; the trial
         #: factorisations of the orders ``"auto"`` compares not counted)
         self.fresh = 0
-        self._tol = np.array([diag_pivot_thresh])
 
     def factor(self, A: sp.csc_matrix) -> None:
         A = _csc(A)  # duplicates are summed by the factorisation
@@ -253,8 +252,8 @@ class SparseLU(LinearSolver):
         (:func:`~drivedyn.solver.sparse_lu.refactor_in_place`): ``(q, tol, Lp, Li, Lio, Lx,
         Up, Ui, Ux, prow, Rp, Ri, x)``, valid until the next factorisation with pivot search
         (which may enlarge them)."""
-        return (self._q, self._tol, self._Lp, self._Li, self._Lio, self._Lx, self._Up,
-                self._Ui, self._Ux, self._prow, self._Rp, self._Ri, self._x)
+        return (self._q, np.array([self.diag_pivot_thresh]), self._Lp, self._Li, self._Lio,
+                self._Lx, self._Up, self._Ui, self._Ux, self._prow, self._Rp, self._Ri, self._x)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = np.empty_like(b)
