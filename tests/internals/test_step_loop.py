@@ -4,10 +4,11 @@ iterations of drivedyn.solver.newton_kernel) against its oracle, the same algori
 outputs (states, element outputs, energy account) bit for bit, since both call the same
 element kernels and the same LAPACK routines in the same order. Cases: a TORSEN bench with
 rejections (adaptive steps, dense LU, three output batchings), the same on the sparse LU
-(factorisations in Python between calls) and on AutoLU gone dense, a slider-crank at a dead
-centre (round-off stagnation test) with modified and full Newton, a tyre (a commit of the
-step's time), runs that fail down to h_min with fixed and adaptive steps, and the
-step-by-step mode of DEBUG logging (the same log lines). A deliberate change to either side
+(refactorisations in the loop, pivot searches in Python between calls) and on AutoLU gone
+dense, a slider-crank at a dead centre (round-off stagnation test) with modified and full
+Newton, a tyre (a commit of the step's time), runs that fail down to h_min with fixed and
+adaptive steps, and the step-by-step mode of DEBUG logging (the same log lines). A
+deliberate change to either side
 (e.g. REFACTOR_AFTER = 4 in the reference only, or the predictor's weight capped at 0.5 in
 newton_kernel.predict) makes these fail."""
 
