@@ -399,8 +399,12 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     lin._compact()
     fresh = SparseLU()
     fresh.factor_csc(data2, indices, indptr, n)
-    for a, f in zip(lin._f, fresh._f, strict=True):
-        assert np.array_equal(a, f)
+    # the used part of each array (the solves read the columns' ranges; a refactorisation
+    # compacts in place, so entries past them may be those of an earlier factorisation)
+    lz, uz = lin._f[0][-1], lin._f[3][-1]
+    used = (None, lz, lz, None, uz, uz, None, None)
+    for a, f, k in zip(lin._f, fresh._f, used, strict=True):
+        assert np.array_equal(a[:k], f[:k])
     # shrink the first pivot: the kept pivot order is refused, a new one is searched
     col = lin._q[0]  # the column of the first elimination step
     rows = indices[indptr[col]:indptr[col + 1]]

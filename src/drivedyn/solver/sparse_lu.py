@@ -14,8 +14,8 @@ from numba import njit
 # The compiled sparse LU's loops index with unsigned integers (``np.uint64``): numba wraps a
 # negative signed index around, a branch per access that also keeps LLVM from vectorising a
 # loop. The arithmetic is the same, in the same order. The RWD vehicle's matrix (799
-# unknowns, 0.68 million multiply-adds): refactorisation 1.50-1.80 ms signed, 0.67-0.79 ms
-# unsigned (benchmarks/README.md, compiled_step_costs.py).
+# unknowns, 0.68 million multiply-adds): refactorisation 1.50-2.00 ms signed, 0.86-1.02 ms
+# unsigned; solve 80-101 us against 48-56 us (benchmarks/README.md, compiled_step_costs.py).
 U1 = np.uint64(1)
 
 
