@@ -32,6 +32,7 @@ from drivedyn.solver.newton_kernel import (
     NOISE_FACTOR,
     REFACTOR_AFTER,
     ROUNDOFF_ULPS,
+    SLOW_AFTER,
     STALL_ULPS,
     absmax,
     correction_size,
@@ -192,7 +193,7 @@ class ReferenceStepper(Stepper):
                     # no contraction on this step's own factorisation: an event (contact,
                     # stick-slip) within the step (newton_kernel's note on the deferral)
                     self._forget()
-                elif it >= 3 and self.factorizations == nfac0:
+                elif it >= SLOW_AFTER and self.factorizations == nfac0:
                     # converged, but slowly, on a factorisation from an earlier step: it is
                     # stale (contacts or gear flanks changed since); refresh it next step
                     self._forget()
