@@ -242,7 +242,7 @@ class ReferenceStepper(Stepper):
             lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
             # the matrix with the residual when the next iteration factorises for certain
             # (no factorisation); not after a correction that did not contract or after
-            # three iterations on one factorisation, where the next check often converges
+            # REFACTOR_AFTER iterations on one factorisation, where the next check often converges
             assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
         sq, sphi = scaled_residual(sys)
         worst, wval = _worst(sys, sq, sphi)
