@@ -32,7 +32,6 @@ from drivedyn.solver.newton_kernel import (
     NOISE_FACTOR,
     REFACTOR_AFTER,
     ROUNDOFF_ULPS,
-    SLOW_AFTER,
     STALL_ULPS,
     absmax,
     correction_size,
@@ -193,7 +192,7 @@ class ReferenceStepper(Stepper):
                     # no contraction on this step's own factorisation: an event (contact,
                     # stick-slip) within the step (newton_kernel's note on the deferral)
                     self._forget()
-                elif it >= SLOW_AFTER and self.factorizations == nfac0:
+                elif it >= 3 and self.factorizations == nfac0:
                     # converged, but slowly, on a factorisation from an earlier step: it is
                     # stale (contacts or gear flanks changed since); refresh it next step
                     self._forget()
@@ -242,7 +241,7 @@ class ReferenceStepper(Stepper):
             lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
             # the matrix with the residual when the next iteration factorises for certain
             # (no factorisation); not after a correction that did not contract or after
-            # REFACTOR_AFTER iterations on one factorisation, where the next check often converges
+            # three iterations on one factorisation, where the next check often converges
             assembled = self._evaluate(st, cM, cC, full or self.lu_h is None)
         sq, sphi = scaled_residual(sys)
         worst, wval = _worst(sys, sq, sphi)

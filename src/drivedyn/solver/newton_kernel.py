@@ -209,20 +209,15 @@ def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
 
 
 # modified Newton: a factorisation is kept for a step size within H_REUSE of its own, and
-# refreshed after REFACTOR_AFTER iterations on it within a step (the configuration moved on:
-# refresh it rather than creep along), or at the next step after a step that converged in
-# SLOW_AFTER or more iterations on a factorisation of an earlier step (it is stale: contacts,
-# gear flanks or spinning parts moved since). A factorisation costs 5-10 iterations (Type C
-# bench: matrix 105 us + LU 51 us against residual 24 us + solve 4 us; RWD vehicle: 0.63 +
-# 1.06 ms against 0.13 + 0.05 ms), so it pays to iterate on one: 1e-2 / 3 -> 0.1 / 4 with
-# Newton.contraction 0.3 -> 0.5 gave the Type C bench -25 % factorisations for +17 %
-# iterations, and REFACTOR_AFTER, SLOW_AFTER 4, 3 -> 5, 5 (measured, benchmarks/README.md):
-# Type C bench rear side 4801 -> 3422 factorisations for 18 271 -> 18 098 iterations, the
-# RWD vehicle's TORSEN launch (1 s) 2302 -> 1993 for 9998 -> 11 145; the beam_energy
-# validation case's energy figures the same to 4 digits.
+# refreshed after REFACTOR_AFTER iterations on it (the configuration moved on: refresh it
+# rather than creep along). With the step compiled, a factorisation of the Type C (matrix
+# 62 us + LU 45 us) costs eight iterations (residual 11 us + solve 2 us), so it pays to
+# iterate longer on one: 1e-2 / 3 -> 0.1 / 4 with Newton.contraction 0.3 -> 0.5 gives the
+# Type C bench -25 % factorisations for +17 % iterations (benchmarks/README.md). Five
+# iterations were faster still, but left the beam_energy validation case's energy rise at
+# 8.8e-7 of E0 (tolerance 3e-7; 6.8e-8 with four): converged to the tolerance, not below.
 H_REUSE = 0.1
-REFACTOR_AFTER = 5
-SLOW_AFTER = 5
+REFACTOR_AFTER = 4
 # A correction that did not contract (ratio above Newton.contraction) marks the factorisation
 # stale; it is refreshed at the next iteration only if that iteration has not converged. A
 # step converged on a factorisation of an earlier step keeps it: near a zero-torque hold's
@@ -429,7 +424,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     # no contraction on this step's own factorisation: an event (contact,
                     # stick-slip) within the step; refresh it next step
                     _forget(istate, roff)
-                elif it >= SLOW_AFTER and istate[I_NFAC] == nfac0:
+                elif it >= 3 and istate[I_NFAC] == nfac0:
                     _forget(istate, roff)  # slow convergence on an old factorisation: stale
                 if nd:
                     fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
