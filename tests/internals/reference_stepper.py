@@ -22,16 +22,19 @@ from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import State
 from drivedyn.solver.newton_kernel import (
     EPS,
+    EXCESS_MAX,
     F_FORCE,
     F_LU_H,
     FLOOR_REL,
     H_REUSE,
+    I_EXCESS,
     I_LU,
     I_NFAC,
     I_ROFF,
     NOISE_FACTOR,
     REFACTOR_AFTER,
     ROUNDOFF_ULPS,
+    SLOW_CONTRACTION,
     STALL_ULPS,
     absmax,
     correction_size,
@@ -127,6 +130,7 @@ class ReferenceStepper(Stepper):
             return StepOutcome(StepStatus.SINGULAR, message=str(exc))
         self._istate[I_LU] = 1
         self._istate[I_ROFF] = 0  # computed from this matrix when Newton first stagnates on it
+        self._istate[I_EXCESS] = 0
         self._fstate[F_LU_H] = h
         self._istate[I_NFAC] += 1
         return None
@@ -171,6 +175,7 @@ class ReferenceStepper(Stepper):
         xmax = absmax(st.x)
         last = np.inf
         stale = False
+        worst = 0.0  # the largest contraction ratio of this step's corrections
         for it in range(nw.max_iter + 1):
             rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
                                                     self._no_roff, self.force_scale)
@@ -192,10 +197,14 @@ class ReferenceStepper(Stepper):
                     # no contraction on this step's own factorisation: an event (contact,
                     # stick-slip) within the step (newton_kernel's note on the deferral)
                     self._forget()
-                elif it >= 3 and self.factorizations == nfac0:
+                elif self.factorizations == nfac0 and it > 1:
                     # converged, but slowly, on a factorisation from an earlier step: it is
-                    # stale (contacts or gear flanks changed since); refresh it next step
-                    self._forget()
+                    # stale (contacts or gear flanks changed since), or its extra iterations
+                    # add up to a factorisation's price; refresh it next step
+                    self._istate[I_EXCESS] += it - 1
+                    if ((it >= 3 and worst > SLOW_CONTRACTION)
+                            or self._istate[I_EXCESS] >= EXCESS_MAX):
+                        self._forget()
                 if nd:
                     self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
                 if self.lu_h is not None:
@@ -226,6 +235,7 @@ class ReferenceStepper(Stepper):
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite Newton correction")
             ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
+            worst = max(worst, ratio)
             last = correction_size(delta, nd, xmax)
             if it > 0 and ratio > nw.contraction:
                 # within the round-off noise a growing correction is not divergence

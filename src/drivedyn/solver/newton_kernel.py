@@ -218,6 +218,15 @@ def newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC):
 # 8.8e-7 of E0 (tolerance 3e-7; 6.8e-8 with four): converged to the tolerance, not below.
 H_REUSE = 0.1
 REFACTOR_AFTER = 4
+# A step converged in three or more iterations on a factorisation of an earlier step refreshes
+# it for the next step if one of its corrections contracted by less than SLOW_CONTRACTION
+# (ratio above it: the matrix has gone stale), or once the steps on it have taken EXCESS_MAX
+# iterations beyond one each (the price of a factorisation in iterations: a matrix that
+# costs every step a second iteration, as one taken with gear flanks apart, is refreshed
+# after EXCESS_MAX steps, not kept for the run). Three iterations at good contraction come
+# from the predictor's distance, which a fresh matrix does not shorten much.
+SLOW_CONTRACTION = 0.1
+EXCESS_MAX = 8
 # A correction that did not contract (ratio above Newton.contraction) marks the factorisation
 # stale; it is refreshed at the next iteration only if that iteration has not converged. A
 # step converged on a factorisation of an earlier step keeps it: near a zero-torque hold's
@@ -256,8 +265,8 @@ NEED_FACTOR = 6
 # count at the start of the step, and SparseLU's pivots at hand (1: refactorise here, return
 # NEED_FACTOR only when a kept pivot is refused)
 (I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0,
- I_REFACTOR) = range(10)
-NISTATE = 10
+ I_REFACTOR, I_EXCESS) = range(11)
+NISTATE = 11
 # fstate fields: step size of the factorisation, force scale, and the saved correction
 # sizes and largest coordinate of an iteration left for an outside factorisation
 F_LU_H, F_FORCE, F_PREV, F_LAST, F_XMAX = range(5)
@@ -309,6 +318,7 @@ def _factorised(istate, fstate, h):
     """Bookkeeping of a new factorisation for step size ``h``."""
     istate[I_LU] = 1
     istate[I_ROFF] = 0  # computed from this matrix when Newton first stagnates on it
+    istate[I_EXCESS] = 0
     fstate[F_LU_H] = h
     istate[I_NFAC] += 1
 
@@ -377,6 +387,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         fresh = True
         since_factor = 0
         stale = False
+        worst = 0.0
     else:
         predict(vd0, a0, v0, prev_vd, w, h, af, am, gamma, beta, vd, a, v, hdq)
         lie_update(x0, R0, hdq, nn, x, R, Tn, False)
@@ -396,6 +407,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         xmax = absmax(x)
         last = np.inf
         stale = False
+        worst = 0.0
     while True:
         if not resumed:
             rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, no_roff,
@@ -424,8 +436,12 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     # no contraction on this step's own factorisation: an event (contact,
                     # stick-slip) within the step; refresh it next step
                     _forget(istate, roff)
-                elif it >= 3 and istate[I_NFAC] == nfac0:
-                    _forget(istate, roff)  # slow convergence on an old factorisation: stale
+                elif istate[I_NFAC] == nfac0 and it > 1:
+                    # slow convergence on an old factorisation (SLOW_CONTRACTION)
+                    istate[I_EXCESS] += it - 1
+                    if (it >= 3 and worst > SLOW_CONTRACTION) or \
+                            istate[I_EXCESS] >= EXCESS_MAX:
+                        _forget(istate, roff)
                 if nd:
                     fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
                 if istate[I_LU] != 0:
@@ -481,6 +497,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         if not finite:
             return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0
         ratio = nrm / prev if 0.0 < prev < np.inf else 0.0
+        if ratio > worst:
+            worst = ratio
         last = correction_size(delta, nd, xmax)
         if it > 0 and ratio > contraction:
             # a correction within the round-off noise that grows is not divergence
