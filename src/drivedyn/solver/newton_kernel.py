@@ -263,7 +263,8 @@ NEED_FACTOR = 6
 # factorise outside (1: return NEED_FACTOR), factors in the dense workspace (1) or SparseLU's
 # arrays (0), resuming after an outside factorisation, the saved iteration and factorisation
 # count at the start of the step, and SparseLU's pivots at hand (1: refactorise here, return
-# NEED_FACTOR only when a kept pivot is refused)
+# NEED_FACTOR only when a kept pivot is refused), and the iterations beyond one per step
+# taken on the present factorisation (EXCESS_MAX)
 (I_LU, I_ROFF, I_NFAC, I_NEVAL, I_EXTERNAL, I_DENSE, I_PHASE, I_IT, I_NFAC0,
  I_REFACTOR, I_EXCESS) = range(11)
 NISTATE = 11
