@@ -417,6 +417,48 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     assert lin._prow[0] != fresh._prow[0]
 
 
+
+@pytest.mark.parametrize("share, afresh", [(3e-3, False), (3e-4, True)])
+def test_sparse_lu_keeps_a_pivot_down_to_its_refactorisation_threshold(
+        share: float, afresh: bool) -> None:
+    """A refactorisation keeps the last pivots while each is at least
+    ``REFACTOR_THRESHOLD`` (1e-3) of its column's largest candidate, a tenth of the pivot
+    search's 0.01: with the first pivot shrunk to 3e-3 of its column's largest entry the
+    matrix is refactorised with it (no new pivot search) and still solves to round-off; at
+    3e-4 it is factorised afresh. Fails with the refactorisation held to the search's
+    threshold (the first case searches afresh), or with no test of the kept pivots (the
+    second does not). Bad thresholds are refused by name."""
+    import scipy.sparse as sps
+
+    from drivedyn.solver.linear import REFACTOR_THRESHOLD, SparseLU
+
+    assert 3e-4 < REFACTOR_THRESHOLD < 3e-3
+    data, indices, indptr, A = _saddle_csc(60, 17, 4)
+    n = A.shape[0]
+    lin = SparseLU()
+    lin.factor_csc(data, indices, indptr, n)
+    assert lin.fresh == 1
+    # the first elimination step's column: its pivot entry set to ``share`` of the largest
+    # other entry (at the first step the candidates are the column's entries themselves)
+    col = lin._q[0]
+    lo, hi = indptr[col], indptr[col + 1]
+    rows = indices[lo:hi]
+    k = lo + int(np.flatnonzero(rows == lin._prow[0])[0])
+    d = data * (1.0 + 0.01 * np.sin(np.arange(data.size)))
+    others = np.delete(np.abs(d[lo:hi]), k - lo)
+    d[k] = np.copysign(share * others.max(), d[k])
+    lin.factor_csc(d, indices, indptr, n)
+    assert lin.fresh == (2 if afresh else 1)
+    A2 = sps.csc_matrix((d, indices, indptr), shape=(n, n)).toarray()
+    b = np.linspace(-1.0, 2.0, n)
+    x = lin.solve(b)
+    assert np.max(np.abs(A2 @ x - b) / (np.abs(A2) @ np.abs(x) + np.abs(b))) < 1e-12
+    with pytest.raises(ValueError, match=r"refactor_thresh = 0\.1"):
+        SparseLU(refactor_thresh=0.1)
+    with pytest.raises(ValueError, match="diag_pivot_thresh = 2"):
+        SparseLU(diag_pivot_thresh=2)
+
+
 def _hub_csc(nblocks: int = 4, nb: int = 30, nh: int = 6, seed: int = 1):
     """A matrix of ``nblocks`` sparse symmetric blocks of ``nb`` unknowns, each coupled
     through three of its unknowns to a hub of ``nh`` (the pattern of a vehicle: sub-systems

@@ -63,6 +63,17 @@ ORDERS = ("COLAMD", "MMD_ATA", "MMD_AT_PLUS_A")
 #: and 1.3 ms at 0.1 (benchmarks/README.md)
 PIVOT_THRESHOLD = 0.01
 
+#: threshold of a refactorisation with the last pivots (gp_refactor): a kept pivot is
+#: refused, and the matrix factorised afresh with pivot search, only when it falls below this
+#: share of its column's largest candidate. A tenth of PIVOT_THRESHOLD: a kept pivot may let
+#: a column's entries grow by up to 1000 in a step (KLU's refactorisation tests no pivot but
+#: zero; the Newton iteration computes its residual exactly, so a less accurate solve costs
+#: at most an iteration). Measured (benchmarks/README.md, the RWD vehicle's TORSEN launch,
+#: 3 s): factorisations afresh 276 -> 63 of about 4600 (each four refactorisations' work
+#: and a return to Python), Newton iterations 24 082 -> 23 496; the 4WD launch 77 -> 20 of
+#: 1930, iterations the same to 0.1 %
+REFACTOR_THRESHOLD = 1e-3
+
 
 class SparseLU(LinearSolver):
     """Sparse LU on the model's fixed pattern: a column order computed once on the first
@@ -87,20 +98,36 @@ class SparseLU(LinearSolver):
     The iteration matrix is a saddle-point matrix (zero multiplier block), so partial pivoting
     is kept on (``diag_pivot_thresh``: the diagonal is taken when it is at least this share
     of the column's largest candidate, :data:`PIVOT_THRESHOLD`) rather than forcing diagonal
-    pivots. Not SuperLU for every factorisation: its ordering and setup cost 1.45 ms for the
+    pivots. A refactorisation keeps the pivots so chosen while each stays at least
+    ``refactor_thresh`` of its column's largest candidate (default
+    :data:`REFACTOR_THRESHOLD`, a tenth of the search's). Not SuperLU for every
+    factorisation: its ordering and setup cost 1.45 ms for the
     2200 unknowns of the 200-disk chain whose factors hold 5826 entries
     (benchmarks/README.md); and not its solves, which cost about 16 ns per factor entry
     through scipy.
     """
 
     def __init__(self, permc_spec: str = "auto",
-                 diag_pivot_thresh: float = PIVOT_THRESHOLD) -> None:
+                 diag_pivot_thresh: float = PIVOT_THRESHOLD,
+                 refactor_thresh: float | None = None) -> None:
         known = (*ORDERS, "NATURAL")
         if permc_spec != "auto" and permc_spec not in known:
             raise ValueError(f"permc_spec = {permc_spec!r}: expected 'auto' or one of "
                              f"{', '.join(known)}")
+        if not 0.0 <= diag_pivot_thresh <= 1.0:
+            raise ValueError(f"diag_pivot_thresh = {diag_pivot_thresh!r}: expected a share "
+                             "of the column's largest entry, in [0, 1]")
+        if refactor_thresh is None:
+            refactor_thresh = min(REFACTOR_THRESHOLD, diag_pivot_thresh)
+        if not 0.0 <= refactor_thresh <= diag_pivot_thresh:
+            raise ValueError(f"refactor_thresh = {refactor_thresh!r}: expected a share in "
+                             f"[0, diag_pivot_thresh = {diag_pivot_thresh!r}] (a kept pivot "
+                             "is held to at most the threshold it was chosen by)")
         self.permc_spec = permc_spec
         self.diag_pivot_thresh = diag_pivot_thresh
+        #: a refactorisation keeps the last pivots while each is at least this share of its
+        #: column's largest candidate (REFACTOR_THRESHOLD)
+        self.refactor_thresh = refactor_thresh
         #: the column order in use (SuperLU's name; None before the first factorisation)
         self.order: str | None = None
         self._chosen_again = False  # "auto": chosen a second time (at most once)
@@ -179,7 +206,7 @@ class SparseLU(LinearSolver):
             self._chosen_again = self.permc_spec != "auto"
         # the pivots of the last factorisation while they stay large enough (-1: afresh)
         if self._f is not None and gp_refactor(
-                n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
+                n, indptr, indices, data, self._q, self.refactor_thresh, self._Lp,
                 self._Lio, self._Lx, self._Up, self._Ux, self._pinv, self._prow, self._Rp,
                 self._Ri, self._x) == 0:
             self._compact()
@@ -252,7 +279,7 @@ class SparseLU(LinearSolver):
         (:func:`~drivedyn.solver.sparse_lu.refactor_in_place`): ``(q, tol, Lp, Li, Lio, Lx,
         Up, Ui, Ux, prow, Rp, Ri, x)``, valid until the next factorisation with pivot search
         (which may enlarge them)."""
-        return (self._q, np.array([self.diag_pivot_thresh]), self._Lp, self._Li, self._Lio,
+        return (self._q, np.array([self.refactor_thresh]), self._Lp, self._Li, self._Lio,
                 self._Lx, self._Up, self._Ui, self._Ux, self._prow, self._Rp, self._Ri, self._x)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
