@@ -516,6 +516,65 @@ def test_sparse_lu_keeps_the_order_with_the_fewest_refactorisation_operations(
         SparseLU("METIS")
 
 
+
+def _chain_saddle_csc(nb: int = 40, seed: int = 2):
+    """The iteration matrix of a chain of ``nb`` bodies of 3 coordinates (SPD blocks,
+    springs between neighbours) and a joint of 2 constraint rows between each pair of
+    neighbours (zero multiplier block): CSC arrays and the dense copy."""
+    import scipy.sparse as sps
+
+    rng = np.random.default_rng(seed)
+    nd, nm = 3 * nb, 2 * (nb - 1)
+    A = np.zeros((nd + nm, nd + nm))
+    for i in range(nb):
+        B = rng.normal(size=(3, 3))
+        A[3 * i:3 * i + 3, 3 * i:3 * i + 3] = B @ B.T + 3.0 * np.eye(3)
+        if i:
+            A[3 * i, 3 * i - 3] = A[3 * i - 3, 3 * i] = -0.5
+    for j in range(nb - 1):
+        G = rng.normal(size=(2, 6))
+        cols = np.r_[3 * j:3 * j + 6]
+        A[nd + 2 * j:nd + 2 * j + 2, cols] = G
+        A[np.ix_(cols, np.r_[nd + 2 * j:nd + 2 * j + 2])] = G.T
+    c = sps.csc_matrix(A)
+    return c.data.copy(), c.indices.astype(np.int64), c.indptr.astype(np.int64), A
+
+
+def test_saddle_point_order_takes_every_pivot_on_the_diagonal() -> None:
+    """The SADDLE order (the minimum degree of A^T + A with each zero-diagonal column moved
+    after the last of its neighbours) on a chain of jointed bodies: a permutation in which
+    every multiplier comes after all of its coordinates; the factorisation then takes every
+    pivot on the diagonal (the minimum degree alone reaches multipliers first: row
+    interchanges) and solves to round-off; whether it is the cheaper order depends on the
+    matrix (here it is not), which ``SparseLU("auto")`` settles by counting. Fails if the
+    multipliers are not moved (pivots off the diagonal) or moved
+    after the first of their coordinates instead of the last."""
+    import scipy.sparse as sps
+
+    from drivedyn.solver.linear import SADDLE, SparseLU, saddle_point_order
+
+    data, indices, indptr, A = _chain_saddle_csc()
+    n = A.shape[0]
+    nd = 120
+    plain = SparseLU("MMD_AT_PLUS_A")
+    plain.factor_csc(data, indices, indptr, n)
+    assert np.any(plain._prow != plain._q)  # the plain order interchanges rows
+    q = saddle_point_order(plain._q, sps.csc_matrix(A))
+    assert np.array_equal(np.sort(q), np.arange(n))
+    pos = np.empty(n, np.int64)
+    pos[q] = np.arange(n)
+    for m in range(nd, n):
+        coords = np.flatnonzero(A[:nd, m])
+        assert pos[m] > pos[coords].max()
+    lin = SparseLU(SADDLE)
+    lin.factor_csc(data, indices, indptr, n)
+    assert np.array_equal(lin._q, q)
+    assert np.array_equal(lin._prow, lin._q)  # every pivot on the diagonal
+    b = np.linspace(1.0, 2.0, n)
+    x = lin.solve(b)
+    assert np.max(np.abs(A @ x - b) / (np.abs(A) @ np.abs(x) + np.abs(b))) < 1e-13
+
+
 @pytest.mark.parametrize("spec, choices", [("auto", 2), ("COLAMD", 1)])
 def test_sparse_lu_chooses_its_order_again_once_when_the_first_pivots_fail(
         monkeypatch, spec: str, choices: int) -> None:
