@@ -118,23 +118,24 @@ REFACTOR_THRESHOLD = 1e-3
 
 class SparseLU(LinearSolver):
     """Sparse LU on the model's fixed pattern: a column order computed once on the first
-    matrix (SuperLU's), then every factorisation a compiled left-looking LU with threshold
-    partial pivoting (:func:`~drivedyn.solver.sparse_lu.gp_factor`), or, while the last
-    pivots stay large enough, a refactorisation with them
+    matrix (SuperLU's, or :data:`SADDLE` built on one of them), then every factorisation a
+    compiled left-looking LU with threshold partial pivoting
+    (:func:`~drivedyn.solver.sparse_lu.gp_factor`), or, while the last pivots stay large
+    enough, a refactorisation with them
     (:func:`~drivedyn.solver.sparse_lu.gp_refactor`); the triangular solves are compiled too
     (:func:`~drivedyn.solver.sparse_lu.sparse_lu_solve`).
 
-    ``permc_spec``: SuperLU's name of the column order, or ``"auto"``: each order of
-    :data:`ORDERS` factorised once on the first matrix, the one whose refactorisation takes
-    the fewest operations kept (:attr:`order`, :attr:`refactor_ops`), and chosen once more
-    at the first refactorisation whose kept pivots are refused: the first matrix (a model at
-    rest, its contacts open) need not stand for the run's (the 4WD vehicle's first matrix
-    favours the minimum degree of A^T + A by 7 %, its loaded ones that of A^T A by a factor
-    of 2). No one order suits every model: COLAMD keeps a chain of gears or beam elements
-    banded, while a body that every joint hangs on (the car body of a vehicle) makes
-    COLAMD's factors fill the matrix and the minimum-degree orders do not (the 4WD vehicle,
-    383 unknowns: 135 700 entries and 15.4 million operations with COLAMD, 22 000 and 0.31
-    million with ``MMD_ATA``; benchmarks/README.md).
+    ``permc_spec``: SuperLU's name of the column order, :data:`SADDLE`, or ``"auto"``: each
+    order of :data:`ORDERS` factorised once on the first matrix, the one whose
+    refactorisation takes the fewest operations kept (:attr:`order`, :attr:`refactor_ops`),
+    and chosen once more at the first refactorisation whose kept pivots are refused: the
+    first matrix (a model at rest, its contacts open) need not stand for the run's (the 4WD
+    vehicle's first matrix favours the minimum degree of A^T + A by 7 %, its loaded ones
+    that of A^T A by a factor of 2). No one order suits every model: COLAMD keeps a chain of
+    gears or beam elements banded, while a body that every joint hangs on (the car body of a
+    vehicle) makes COLAMD's factors fill the matrix and the minimum-degree orders do not
+    (the 4WD vehicle, 383 unknowns: 135 700 entries and 15.4 million operations with COLAMD,
+    22 000 and 0.31 million with ``MMD_ATA``; benchmarks/README.md).
 
     The iteration matrix is a saddle-point matrix (zero multiplier block), so partial pivoting
     is kept on (``diag_pivot_thresh``: the diagonal is taken when it is at least this share
@@ -169,7 +170,8 @@ class SparseLU(LinearSolver):
         #: a refactorisation keeps the last pivots while each is at least this share of its
         #: column's largest candidate (REFACTOR_THRESHOLD)
         self.refactor_thresh = refactor_thresh
-        #: the column order in use (SuperLU's name; None before the first factorisation)
+        #: the column order in use (a name of ORDERS or "NATURAL"; None before the first
+        #: factorisation)
         self.order: str | None = None
         self._chosen_again = False  # "auto": chosen a second time (at most once)
         self._f: tuple | None = None
