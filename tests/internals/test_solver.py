@@ -555,7 +555,7 @@ def test_saddle_point_order_takes_every_pivot_on_the_diagonal() -> None:
 
     data, indices, indptr, A = _chain_saddle_csc()
     n = A.shape[0]
-    nd = 120
+    nd = 3 * 40  # the chain's 40 bodies of 3 coordinates
     plain = SparseLU("MMD_AT_PLUS_A")
     plain.factor_csc(data, indices, indptr, n)
     assert np.any(plain._prow != plain._q)  # the plain order interchanges rows
