@@ -41,10 +41,13 @@ Per evaluation, in the road axes of the tyre (``e_x = a x n`` heading, ``e_y = n
 * forces ``Fx, Fy, Mz`` from the formula at the contact point below the centre, rolling
   resistance ``My`` opposing the spin (smoothed over 0.01 m/s of rolling speed).
 
-The tangent matrices are central finite differences of the element's own residual over its
-12 local coordinates (6 positions with right rotation perturbations, 6 velocities): the
-combined-slip formula's derivatives in closed form would be long and fragile, and a tyre
-group has a handful of elements. The registry tangent test checks them like any other.
+The tangent matrices are forward finite differences of the element's own residual over its
+12 local coordinates (6 positions with right rotation perturbations, 6 velocities), from
+the residual already evaluated: the combined-slip formula's derivatives in closed form would
+be long and fragile, and a tyre group has a handful of elements. The registry tangent test
+checks them like any other (its 1e-6 relative; steps FD_POS, FD_VEL). Central differences
+took twice the evaluations: 160 against 81 us for the 4WD vehicle's four tyres with their
+matrix, the same steps and wheel torques (benchmarks/README.md).
 """
 
 from __future__ import annotations
@@ -78,7 +81,7 @@ MAX_PATCHES = 8
 NSTATE = 5  # kappa', alpha' (tan), time of the committed values, their rates
 NAUX = 22
 FD_POS = 1e-7  # [m] and [rad]: steps of the in-kernel finite differences
-FD_VEL = 1e-6  # [m/s] and [rad/s]
+FD_VEL = 1e-7  # [m/s] and [rad/s] (1e-6 left the damping tangent 2.5e-6 off, forward)
 V_ROLL = 0.01  # [m/s] rolling speed over which the rolling resistance changes sign
 
 
@@ -236,7 +239,7 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
     """The residual ``rq`` (6,) of one tyre at node position ``xn`` (3,), rotation ``Rn``
     (3, 3), velocity ``vn`` (3,) and body angular velocity ``Om`` (3,); ``aux`` (NAUX,) the
     outputs, returns (potential energy, dissipated power). Scalar arithmetic only: it runs
-    25 times per tangent evaluation (the central differences)."""
+    13 times per tangent evaluation (the forward differences)."""
     mu0, blend, zroad, pres, relax, dlow, kz, _ = opt
     for i in range(6):
         rq[i] = 0.0
@@ -396,37 +399,36 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
         if full:
             K[:, :] = 0.0
             Cd[:, :] = 0.0
-            for j in range(6):
-                for sgn in (1.0, -1.0):
+            for j in range(6):  # forward differences (module docstring)
+                for i in range(3):
+                    for k in range(3):  # element-wise: a slice copy allocates
+                        Rp[i, k] = R[n, i, k]
+                    vp[i] = vn[i]
+                    Op[i] = Om[i]
+                for i in range(3):
+                    xp[i] = x[n, i]
+                # positions: translation j < 3, right rotation j >= 3
+                if j < 3:
+                    xp[j] += FD_POS
+                else:
                     for i in range(3):
-                        for k in range(3):  # element-wise: a slice copy allocates
-                            Rp[i, k] = R[n, i, k]
-                        vp[i] = vn[i]
-                        Op[i] = Om[i]
-                    for i in range(3):
-                        xp[i] = x[n, i]
-                    # positions: translation j < 3, right rotation j >= 3
-                    if j < 3:
-                        xp[j] += sgn * FD_POS
-                    else:
-                        for i in range(3):
-                            ph[i] = 0.0
-                        ph[j - 3] = sgn * FD_POS
-                        exp_so3_into(ph, Eph)
-                        mm(R[n], Eph, Rp)
-                    _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], xp,
-                                Rp, vn, Om, es0, t, out, axd, rp)
-                    for i in range(6):
-                        K[i, j] += sgn * rp[i] / (2.0 * FD_POS)
-                    # velocities
-                    if j < 3:
-                        vp[j] += sgn * FD_VEL
-                    else:
-                        Op[j - 3] += sgn * FD_VEL
-                    _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], x[n],
-                                R[n], vp, Op, es0, t, out, axd, rm)
-                    for i in range(6):
-                        Cd[i, j] += sgn * rm[i] / (2.0 * FD_VEL)
+                        ph[i] = 0.0
+                    ph[j - 3] = FD_POS
+                    exp_so3_into(ph, Eph)
+                    mm(R[n], Eph, Rp)
+                _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], xp,
+                            Rp, vn, Om, es0, t, out, axd, rp)
+                for i in range(6):
+                    K[i, j] += (rp[i] - rq[i]) / FD_POS
+                # velocities
+                if j < 3:
+                    vp[j] += FD_VEL
+                else:
+                    Op[j - 3] += FD_VEL
+                _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], x[n],
+                            R[n], vp, Op, es0, t, out, axd, rm)
+                for i in range(6):
+                    Cd[i, j] += (rm[i] - rq[i]) / FD_VEL
         sc.scatter(C, L, e, 1, full)
         sc.energy(C, e, 0.0, pot, 0.0, dis)
         for k in range(NAUX):
