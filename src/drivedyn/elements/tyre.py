@@ -397,9 +397,7 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
         pot, dis = _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], x[n],
                                R[n], vn, Om, es0, t, out, ax, rq)
         if full:
-            K[:, :] = 0.0
-            Cd[:, :] = 0.0
-            for j in range(6):  # forward differences (module docstring)
+            for j in range(6):  # forward differences (module docstring): every column set
                 for i in range(3):
                     for k in range(3):  # element-wise: a slice copy allocates
                         Rp[i, k] = R[n, i, k]
@@ -419,7 +417,7 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
                 _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], xp,
                             Rp, vn, Om, es0, t, out, axd, rp)
                 for i in range(6):
-                    K[i, j] += (rp[i] - rq[i]) / FD_POS
+                    K[i, j] = (rp[i] - rq[i]) / FD_POS
                 # velocities
                 if j < 3:
                     vp[j] += FD_VEL
@@ -428,7 +426,7 @@ def tyre_kernel(params, opts, patches, npatch, pm, Rm,
                 _tyre_state(params[e], opts[e], patches[e], npatch[e], pm[e], Rm[e], x[n],
                             R[n], vp, Op, es0, t, out, axd, rm)
                 for i in range(6):
-                    Cd[i, j] += (rm[i] - rq[i]) / FD_VEL
+                    Cd[i, j] = (rm[i] - rq[i]) / FD_VEL
         sc.scatter(C, L, e, 1, full)
         sc.energy(C, e, 0.0, pot, 0.0, dis)
         for k in range(NAUX):
