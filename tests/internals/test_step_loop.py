@@ -354,3 +354,45 @@ def test_another_linear_solver_is_refused() -> None:
     model = slider_crank_model(0.0, ("speed", SmoothStep(0.0, 0.5, 0.0, 4.0 * np.pi)))
     with pytest.raises(TypeError, match="Mine"):
         dd.simulate(model, 0.005, linear_solver=Mine())
+
+
+def test_kernels_borrow_the_state_arrays() -> None:
+    """call_groups hands the kernels the state arrays without their memory owner (meminfo),
+    so a view a kernel takes (``x[n]``) counts no reference: a probe kernel called through a
+    KernelTable finds a null owner on ``x`` and on its view, while the caller's ``x`` has
+    one. It fails if call_groups passes the caller's arrays as they are (the kernels then
+    pay an atomic increment and decrement per view)."""
+    from llvmlite import ir
+    from numba import njit, typeof, types
+    from numba.extending import intrinsic
+
+    from drivedyn.solver.kernel_calls import KernelTable, call_groups, entry_address
+
+    @intrinsic
+    def owner(typingctx, a):
+        def codegen(context, builder, sig, args):
+            ary = context.make_array(sig.args[0])(context, builder, value=args[0])
+            return builder.ptrtoint(ary.meminfo, ir.IntType(64))
+        return types.int64(a), codegen
+
+    @njit
+    def probe(out, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want):
+        out[0] = owner(x)
+        out[1] = owner(x[0])
+        out[2] = 1
+
+    @njit
+    def caller(G, out, x, R, v, vd, lam, es, tfv, t, Tn):
+        call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, 1.0, 1.0, 1.0, 0, False)
+        out[3] = owner(x)
+
+    x, R, v, vd = np.ones((2, 3)), np.ones((2, 3, 3)), np.ones(12), np.ones(12)
+    lam, es, tfv, Tn = np.ones(1), np.ones(1), np.ones((1, 4)), np.ones((2, 3, 3))
+    out = np.zeros(4, np.int64)
+    mid = (x, R, v, vd, lam, es, tfv, 0.0, Tn, 1.0, 1.0, 1.0, 0, False)
+    probe(out, *mid)  # compile the overload the table calls
+    sig = tuple(typeof(a) for a in (out, *mid))
+    G = KernelTable([(entry_address(probe, sig), (out,), ())])
+    caller(G, out, x, R, v, vd, lam, es, tfv, 0.0, Tn)
+    assert out[2] == 1 and out[3] != 0
+    assert out[0] == 0 and out[1] == 0
