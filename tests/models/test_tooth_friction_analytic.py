@@ -398,7 +398,7 @@ def _check_meshes(run, p, mode: int, meshes: list[tuple[list[str], float]]) -> N
 def _c_bench(name: str, side: str):
     # spline friction off in the exact case: the stuck spline sits near, not at, the
     # Coulomb limit the analytic model takes (test_torsen_c: its own agreement test)
-    # and Newton to 1e-8 (the file's 1e-6 is set for speed): identities to solver precision
+    # and Newton to 1e-8 (the file's 1e-5 is set for speed): identities to solver precision
     extra = {"exact": {"pockets.mu": 0.0, "gears.tooth_friction": MU_T, "spline.mu": 0.0,
                        "solver.newton.tol": 1e-8},
              "shipped": {"gears.tooth_friction": MU_T}}[name]

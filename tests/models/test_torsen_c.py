@@ -93,7 +93,7 @@ def _set(name: str) -> dict:
         # depends on the loading history (the analytic model takes the limit itself);
         # test_spline_friction_* check it
         "no pocket friction": {"pockets.mu": 0.0, "spline.mu": 0.0},
-        # Newton to the default 1e-8 of each equation's force sum (the file's 1e-6 is set for
+        # Newton to the default 1e-8 of each equation's force sum (the file's 1e-5 is set for
         # speed): identities checked to the solver's precision
         "shipped, Newton 1e-8": {"solver.newton.tol": 1e-8, "spline.mu": 0.0},
     }[name]
@@ -518,8 +518,8 @@ def test_sim_power_balance():
     the power dissipated by the contacts (kinetic and mesh energies are constant).
 
     Checked with Newton at 1e-8: the identity holds to what Newton leaves in the equations.
-    With the file's 1e-6 the largest gap is 7e-8 of the dissipated power (measured), which
-    the tolerance allows (each residual within 1e-6 of its equation's force sum); at 1e-8 it
+    With Newton at 1e-6 the largest gap is 7e-8 of the dissipated power (measured), which
+    that tolerance allows (each residual within 1e-6 of its equation's force sum); at 1e-8 it
     is 1.9e-9, at the coast window's start (the last of the transition's transient; 2e-11
     in the drive window)."""
     run = bench("shipped, Newton 1e-8", "rear")
@@ -560,7 +560,7 @@ def test_sim_tdr_independent_of_speed():
     forces vanish (all rates are zero), and with the housing held there is no centrifugal or
     gyroscopic load (planet axes fixed). So the TDR at 10 and 40 rpm equals the nominal 20
     rpm one to solver precision: with Newton at 1e-8, measured <= 3.5e-11; asserted 1e-9.
-    (With the file's 1e-6, set for speed, 4.4e-9: what that tolerance leaves.)"""
+    (With Newton at 1e-6, 4.4e-9: what that tolerance leaves.)"""
     p = SHIPPED
     eps_v = p.contact.eps_v
     nominal = bench("shipped, Newton 1e-8", "rear")
