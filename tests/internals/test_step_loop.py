@@ -303,6 +303,35 @@ def test_auto_lu_that_went_dense_is_the_same(monkeypatch) -> None:
     assert_identical(slow, fast)
 
 
+def test_a_dense_lu_runs_the_loop_built_without_the_sparse_path() -> None:
+    """A model on the dense LU alone hands ``sparse=None`` to the compiled loop
+    (:mod:`drivedyn.solver.lu_paths`): numba builds it without the sparse solve and the
+    refactorisation in place. Its run is the run of the loop built with both paths with the
+    dense LU active (AutoLU gone dense at the initial state), to the bit. Fails if the
+    dense-only path solves otherwise than the dense branch of the full one (seen with its
+    correction's first entry scaled by 1 + 1e-12), or if the DenseLU stepper hands the
+    sparse stand-ins again (no ``none`` overload)."""
+    from numba import types
+
+    from drivedyn.config import read_library_file
+    from drivedyn.library.differentials import of
+    from drivedyn.library.differentials.scenarios import bench_spec
+    from drivedyn.solver.linear import AutoLU, DenseLU
+    from drivedyn.solver.step_loop import run_steps
+
+    p = read_library_file("torsen-c")[0]
+    model = dd.compile_model(bench_spec(of(p), p, "rear")[0])
+    runs = []
+    for lin in (DenseLU(), AutoLU()):
+        runs.append(dd.simulate(model, 0.02, **p.solver.settings(), output_dt=1e-3,
+                                linear_solver=lin))
+    assert runs[0].success and runs[0].stats.rejected > 0
+    assert_identical(runs[0], runs[1])
+    sparse_arg = [sig[6] for sig in run_steps.overloads]  # run_steps(G, ..., linear, sparse
+    assert types.none in sparse_arg
+    assert any(isinstance(t, types.BaseTuple) for t in sparse_arg)
+
+
 def test_the_loop_is_precompiled_for_the_types_it_runs_with(monkeypatch) -> None:
     """simulate hands the compiled loop's signature (``run_steps``), the System its kernels'
     and time functions', to the first-evaluation precompile (parallel workers): each must

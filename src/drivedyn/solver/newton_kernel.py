@@ -30,9 +30,8 @@ from numba import njit
 
 from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.solver.kernel_calls import call_groups
-from drivedyn.solver.lapack import dense_factor_csc, dense_solve
+from drivedyn.solver.lu_paths import FACTOR_OUTSIDE, FACTOR_SINGULAR, lu_factor, lu_solve
 from drivedyn.solver.redundancy import hold_multipliers, set_aside
-from drivedyn.solver.sparse_lu import refactor_in_place, sparse_lu_solve
 from drivedyn.solver.system import lie_update, tangents
 from drivedyn.timefunctions import eval_time_functions
 
@@ -342,7 +341,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                                              # pattern, the rows set aside (redundancy)
         linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
         sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, refactor)   # SparseLU's
-                                             # factors and its refactor_arrays()
+                                             # factors and its refactor_arrays(), or None
+                                             # for a dense LU only (lu_paths)
 
     ``G`` (a :class:`~drivedyn.solver.kernel_calls.KernelTable`) holds the groups' kernels
     and arguments; they add their contributions into ``r, rabs, data``. Returns ``(code,
@@ -364,8 +364,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     x, R, v, vd, a, lam, es, hdq = trial
     (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr,
      red) = arrays
-    lu, piv, ib, tr, delta, roff, no_roff = linear
-    Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, _ = sparse
+    delta, roff, no_roff = linear[4], linear[5], linear[6]
     am, af, gamma, beta, bp, gp = par[0], par[1], par[2], par[3], par[4], par[5]
     tol, phi_tol, contraction = par[6], par[7], par[8]
     max_iter = int(par[9])
@@ -449,11 +448,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     # the closing correction (the note above the outcome codes)
                     for i in range(r.shape[0]):
                         delta[i] = -r[i]
-                    if istate[I_DENSE] != 0:
-                        dense_solve(lu, piv, delta, ib, tr)
-                    else:
-                        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z,
-                                        delta)
+                    lu_solve(linear, sparse, istate[I_DENSE] != 0, delta)
                     newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
                     lie_update(x0, R0, hdq, nn, x, R, Tn, False)
                 return SUCCESS, it, istate[I_NFAC] - nfac0
@@ -468,19 +463,19 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     # bool(True) types as a boolean, True as a literal: a second overload
                     _evaluate(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC,
                               bool(True), r, rabs, data, red, nd)  # noqa: UP018
-                if istate[I_EXTERNAL] != 0:
-                    # the sparse LU with its last pivots here; afresh (pivot search, arrays
-                    # grown) in Python
-                    if istate[I_REFACTOR] == 0 or \
-                            refactor_in_place(data, indices, indptr, sparse) != 0:
-                        istate[I_PHASE] = 1
-                        istate[I_IT] = it
-                        istate[I_NFAC0] = nfac0
-                        fstate[F_PREV] = prev
-                        fstate[F_LAST] = last
-                        fstate[F_XMAX] = xmax
-                        return NEED_FACTOR, it, istate[I_NFAC] - nfac0
-                elif dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
+                # the sparse LU with its last pivots here; afresh (pivot search, arrays
+                # grown) in Python
+                factored = lu_factor(data, indices, indptr, linear, sparse,
+                                     istate[I_EXTERNAL] != 0, istate[I_REFACTOR] != 0)
+                if factored == FACTOR_OUTSIDE:
+                    istate[I_PHASE] = 1
+                    istate[I_IT] = it
+                    istate[I_NFAC0] = nfac0
+                    fstate[F_PREV] = prev
+                    fstate[F_LAST] = last
+                    fstate[F_XMAX] = xmax
+                    return NEED_FACTOR, it, istate[I_NFAC] - nfac0
+                elif factored == FACTOR_SINGULAR:
                     _forget(istate, roff)
                     return SINGULAR, it, istate[I_NFAC] - nfac0
                 _factorised(istate, fstate, h)
@@ -490,10 +485,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         since_factor += 1
         for i in range(r.shape[0]):
             delta[i] = -r[i]
-        if istate[I_DENSE] != 0:
-            dense_solve(lu, piv, delta, ib, tr)
-        else:
-            sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z, delta)
+        lu_solve(linear, sparse, istate[I_DENSE] != 0, delta)
         nrm, finite = newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
         if not finite:
             return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0

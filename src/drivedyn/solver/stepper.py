@@ -121,14 +121,19 @@ class Stepper:
         # smaller array is C- as well as F-contiguous, numba would type it as C and compile
         # another overload)
         self._no_dense = lapack.workspace(2)
+        # None for a solver that is dense for good: the compiled loop is then built without
+        # the sparse path (solver.lu_paths)
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
         p0 = np.zeros(1, np.int64)
-        self._no_sparse = (p0, i0, f0, p0, i0, f0, i0, i0, f0,
-                           (i0, np.zeros(1), p0, i0, i0, f0, p0, i0, f0, i0, p0, i0, f0))
+        self._no_sparse: tuple | None = (
+            p0, i0, f0, p0, i0, f0, i0, i0, f0,
+            (i0, np.zeros(1), p0, i0, i0, f0, p0, i0, f0, i0, p0, i0, f0))
         if self._solvers() is None:
             raise TypeError(f"linear_solver must be a DenseLU, SparseLU or AutoLU (got "
                             f"{type(self.lin).__name__}): the compiled stepping loop "
                             "factorises and solves with them")
+        if isinstance(self.lin, DenseLU):
+            self._no_sparse = None
 
     @property
     def factorizations(self) -> int:
@@ -175,7 +180,7 @@ class Stepper:
         self._G = G
         return G
 
-    def _linear_arrays(self) -> tuple[tuple, tuple]:
+    def _linear_arrays(self) -> tuple[tuple, tuple | None]:
         """The ``linear`` and ``sparse`` arguments of the compiled step for the active
         factors; sets the solver fields of the Newton memory."""
         dense, sparse = self._solvers()
