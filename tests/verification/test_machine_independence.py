@@ -42,14 +42,19 @@ def _validate(env_extra: dict[str, str]) -> list[dict]:
 def allowed(row: dict) -> float:
     """How far a figure may move between the two settings: 0.1 % of its magnitude (TDRs,
     ratios, splits) or of the limit of a bound (stored as the reference, tolerance 0); a
-    balance compared with 0 by a tenth of its tolerance. Such a balance is a small remainder
-    (what Newton's tolerance leaves, or a window-mean inertia torque of the mesh-stiffness
-    ripple, whose phase at the window's ends round-off moves): its own relative change means
-    nothing, its distance from its tolerance does. Measured: the Type B bench's right-side
-    balance 2.46e-6 and 2.67e-6 of the applied torque (2 % of its 1e-5)."""
+    balance by a tenth of its tolerance, whether compared with 0 (its tolerance) or checked
+    against a limit (``at_most``: its limit). Such a balance is a small remainder (what
+    Newton's tolerance leaves, or a window-mean inertia torque of the mesh-stiffness ripple,
+    whose phase at the window's ends round-off moves): its own relative change means nothing,
+    its distance from its tolerance does (the issue asks "balances within their
+    tolerances"). Measured: the Type B bench's right-side balance 2.46e-6 and 2.67e-6 of the
+    applied torque (2 % of its 1e-5); the 4WD's front TORSEN balance 1.61e-6 and 1.73e-6
+    (limit 5e-5; Newton's tolerance 1e-4 in vehicle-4wd.toml)."""
     if row["reference"] == 0:
         return 0.1 * row["tolerance"]
     if row["tolerance"] == 0:
+        if "balance" in row["quantity"]:
+            return 0.1 * abs(row["reference"])
         return 1e-3 * max(abs(row["simulated"]), abs(row["reference"]))
     return 1e-3 * abs(row["simulated"])
 
