@@ -651,3 +651,30 @@ def test_a_matrix_costing_every_step_an_iteration_is_refreshed() -> None:
     st = res.stats
     assert res.success and st.steps == 1000
     assert st.newton_iterations / st.steps < 1.1, (st.newton_iterations, st.factorizations)
+
+
+def test_lu_paths_from_python_take_the_dense_path_for_no_sparse_factors() -> None:
+    """``lu_factor`` and ``lu_solve`` (solver.lu_paths) called from Python with
+    ``sparse=None`` factorise and solve with the dense LU: the solution of a random
+    well-conditioned system against numpy's to 1e-12, a singular matrix reported as
+    FACTOR_SINGULAR. Fails if the Python dispatch took the sparse branch for None (it would
+    unpack None) or dropped the dense factorisation's outcome."""
+    import scipy.sparse as sp
+
+    from drivedyn.solver.lapack import workspace
+    from drivedyn.solver.lu_paths import FACTOR_SINGULAR, FACTORED, lu_factor, lu_solve
+
+    rng = np.random.default_rng(3)
+    n = 7
+    A = rng.standard_normal((n, n)) + n * np.eye(n)
+    b = rng.standard_normal(n)
+    csc = sp.csc_matrix(A)
+    linear = workspace(n)
+    assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, False, False) == FACTORED
+    x = b.copy()
+    lu_solve(linear, None, True, x)
+    np.testing.assert_allclose(x, np.linalg.solve(A, b), rtol=0, atol=1e-12)
+    A[:, 2] = 0.0  # a zero column: exactly singular
+    csc = sp.csc_matrix(A)
+    assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, False,
+                     False) == FACTOR_SINGULAR

@@ -6,15 +6,16 @@ workspace ``linear = (lu, piv, ib, tr, ...)`` (:func:`~drivedyn.solver.lapack.wo
 the sparse LU's factors ``sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, refactor)``
 (:meth:`~drivedyn.solver.linear.SparseLU.refactor_arrays`). A model factorised by the dense LU
 alone (:class:`~drivedyn.solver.linear.DenseLU`) passes ``sparse=None``: numba then compiles
-the dense path only, without the sparse solve and the refactorisation in place (about 1 s of
-the loop's first compilation of 9-12 s, measured on the Type C bench). A model whose solver
+the dense path only, without the sparse solve and the refactorisation in place (the loop's
+first compilation 8.1-8.8 -> 6.1-6.3 s on the Type C bench: the sparse functions' own
+compilation and as much again for optimising their code inside the loop). A model whose solver
 is or may become sparse (:class:`~drivedyn.solver.linear.SparseLU`,
 :class:`~drivedyn.solver.linear.AutoLU`) passes the factors and both paths are compiled; the
 Newton memory's ``I_DENSE`` field picks one at run time (AutoLU switches to the dense LU
 during a run).
 
-The functions below run as written when called from Python; compiled, the ``@overload``
-after each picks its implementation from the argument types.
+:func:`lu_solve` and :func:`lu_factor` pick their implementation from the type of
+``sparse``: at run time in Python, at compile time in numba (an ``@overload`` of each).
 """
 
 from __future__ import annotations
@@ -30,16 +31,43 @@ from drivedyn.solver.sparse_lu import refactor_in_place, sparse_lu_solve
 FACTORED, FACTOR_OUTSIDE, FACTOR_SINGULAR = 0, 1, 2
 
 
+def _solve_dense(linear, sparse, dense, delta):
+    lu, piv, ib, tr = linear[0], linear[1], linear[2], linear[3]
+    dense_solve(lu, piv, delta, ib, tr)
+
+
+def _solve_either(linear, sparse, dense, delta):
+    lu, piv, ib, tr = linear[0], linear[1], linear[2], linear[3]
+    if dense:
+        dense_solve(lu, piv, delta, ib, tr)
+    else:
+        Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, _ = sparse
+        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z, delta)
+
+
+def _factor_dense(data, indices, indptr, linear, sparse, external, refactor):
+    lu, piv, ib = linear[0], linear[1], linear[2]
+    if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
+        return FACTOR_SINGULAR
+    return FACTORED
+
+
+def _factor_either(data, indices, indptr, linear, sparse, external, refactor):
+    if external:
+        if not refactor or refactor_in_place(data, indices, indptr, sparse) != 0:
+            return FACTOR_OUTSIDE
+        return FACTORED
+    lu, piv, ib = linear[0], linear[1], linear[2]
+    if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
+        return FACTOR_SINGULAR
+    return FACTORED
+
+
 def lu_solve(linear: tuple, sparse: tuple | None, dense: bool, delta: np.ndarray) -> None:
     """Solve ``A x = delta`` in place with the current factors: the dense LU's in
     ``linear`` if ``dense`` (or ``sparse`` is None), else the sparse LU's in ``sparse``.
     ``delta`` (neq,)."""
-    lu, piv, ib, tr = linear[0], linear[1], linear[2], linear[3]
-    if dense or sparse is None:
-        dense_solve(lu, piv, delta, ib, tr)
-    else:
-        Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z = sparse[:9]
-        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z, delta)
+    (_solve_dense if sparse is None else _solve_either)(linear, sparse, dense, delta)
 
 
 def lu_factor(data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, linear: tuple,
@@ -50,53 +78,17 @@ def lu_factor(data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, linear:
     factorisation in Python). Returns :data:`FACTORED`, :data:`FACTOR_OUTSIDE` (the sparse
     LU must factorise afresh, in Python) or :data:`FACTOR_SINGULAR` (the dense LU found a
     zero pivot)."""
-    if external and sparse is not None:
-        if not refactor or refactor_in_place(data, indices, indptr, sparse) != 0:
-            return FACTOR_OUTSIDE
-        return FACTORED
-    lu, piv, ib = linear[0], linear[1], linear[2]
-    if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
-        return FACTOR_SINGULAR
-    return FACTORED
+    impl = _factor_dense if sparse is None else _factor_either
+    return impl(data, indices, indptr, linear, sparse, external, refactor)
 
 
+# the overloads' parameters carry no annotations: numba compares them with the
+# implementations', annotations included
 @overload(lu_solve)
 def _lu_solve_compiled(linear, sparse, dense, delta):
-    # no annotations: numba compares these parameters with the implementations', annotations
-    # included
-    if isinstance(sparse, types.NoneType):
-        def dense_only(linear, sparse, dense, delta):
-            lu, piv, ib, tr = linear[0], linear[1], linear[2], linear[3]
-            dense_solve(lu, piv, delta, ib, tr)
-        return dense_only
-
-    def either(linear, sparse, dense, delta):
-        lu, piv, ib, tr = linear[0], linear[1], linear[2], linear[3]
-        if dense:
-            dense_solve(lu, piv, delta, ib, tr)
-        else:
-            Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, _ = sparse
-            sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z, delta)
-    return either
+    return _solve_dense if isinstance(sparse, types.NoneType) else _solve_either
 
 
 @overload(lu_factor)
 def _lu_factor_compiled(data, indices, indptr, linear, sparse, external, refactor):
-    if isinstance(sparse, types.NoneType):
-        def dense_only(data, indices, indptr, linear, sparse, external, refactor):
-            lu, piv, ib = linear[0], linear[1], linear[2]
-            if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
-                return FACTOR_SINGULAR
-            return FACTORED
-        return dense_only
-
-    def either(data, indices, indptr, linear, sparse, external, refactor):
-        if external:
-            if not refactor or refactor_in_place(data, indices, indptr, sparse) != 0:
-                return FACTOR_OUTSIDE
-            return FACTORED
-        lu, piv, ib = linear[0], linear[1], linear[2]
-        if dense_factor_csc(data, indices, indptr, lu, piv, ib) != 0:
-            return FACTOR_SINGULAR
-        return FACTORED
-    return either
+    return _factor_dense if isinstance(sparse, types.NoneType) else _factor_either
