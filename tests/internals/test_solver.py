@@ -655,10 +655,11 @@ def test_a_matrix_costing_every_step_an_iteration_is_refreshed() -> None:
 
 def test_lu_paths_from_python_take_the_dense_path_for_no_sparse_factors() -> None:
     """``lu_factor`` and ``lu_solve`` (solver.lu_paths) called from Python with
-    ``sparse=None`` factorise and solve with the dense LU: the solution of a random
-    well-conditioned system against numpy's to 1e-12, a singular matrix reported as
-    FACTOR_SINGULAR. Fails if the Python dispatch took the sparse branch for None (it would
-    unpack None) or dropped the dense factorisation's outcome."""
+    ``sparse=None`` factorise and solve with the dense LU whatever the flags say (as the
+    loop compiled for ``sparse=None`` does): the solution of a random well-conditioned
+    system against numpy's to 1e-12, a singular matrix reported as FACTOR_SINGULAR. Fails if
+    the Python dispatch takes the branch for sparse factors on None (seen: it unpacks None)
+    or drops the dense factorisation's outcome."""
     import scipy.sparse as sp
 
     from drivedyn.solver.lapack import workspace
@@ -670,11 +671,11 @@ def test_lu_paths_from_python_take_the_dense_path_for_no_sparse_factors() -> Non
     b = rng.standard_normal(n)
     csc = sp.csc_matrix(A)
     linear = workspace(n)
-    assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, False, False) == FACTORED
+    assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, True, True) == FACTORED
     x = b.copy()
-    lu_solve(linear, None, True, x)
+    lu_solve(linear, None, False, x)
     np.testing.assert_allclose(x, np.linalg.solve(A, b), rtol=0, atol=1e-12)
     A[:, 2] = 0.0  # a zero column: exactly singular
     csc = sp.csc_matrix(A)
-    assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, False,
-                     False) == FACTOR_SINGULAR
+    assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, True,
+                     True) == FACTOR_SINGULAR
