@@ -125,15 +125,13 @@ class Stepper:
         # the sparse path (solver.lu_paths)
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
         p0 = np.zeros(1, np.int64)
-        self._no_sparse: tuple | None = (
+        self._no_sparse = None if isinstance(self.lin, DenseLU) else (
             p0, i0, f0, p0, i0, f0, i0, i0, f0,
             (i0, np.zeros(1), p0, i0, i0, f0, p0, i0, f0, i0, p0, i0, f0))
         if self._solvers() is None:
             raise TypeError(f"linear_solver must be a DenseLU, SparseLU or AutoLU (got "
                             f"{type(self.lin).__name__}): the compiled stepping loop "
                             "factorises and solves with them")
-        if isinstance(self.lin, DenseLU):
-            self._no_sparse = None
 
     @property
     def factorizations(self) -> int:
