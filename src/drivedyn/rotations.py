@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-_SMALL = 1e-4  # below this angle [rad] Taylor series are exact to double precision
+SMALL_ANGLE = 1e-4  # below this angle [rad] Taylor series are exact to double precision
 
 
 @njit(cache=True)
@@ -49,9 +49,9 @@ def unskew(S: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _coeffs(t: float) -> tuple[float, float, float]:
+def angle_coeffs(t: float) -> tuple[float, float, float]:
     """Return a = sin t / t, b = (1 - cos t)/t^2, c = (t - sin t)/t^3 for angle t >= 0."""
-    if t < _SMALL:
+    if t < SMALL_ANGLE:
         t2 = t * t
         a = 1.0 - t2 / 6.0 + t2 * t2 / 120.0
         b = 0.5 - t2 / 24.0 + t2 * t2 / 720.0
@@ -70,7 +70,7 @@ def _coeffs(t: float) -> tuple[float, float, float]:
 def exp_so3(phi: np.ndarray) -> np.ndarray:
     """Rotation matrix (3, 3) of the rotation vector ``phi`` (3,) [rad] (Rodrigues)."""
     t = np.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2)
-    a, b, _ = _coeffs(t)
+    a, b, _ = angle_coeffs(t)
     S = skew(phi)
     return np.eye(3) + a * S + b * (S @ S)
 
@@ -79,7 +79,7 @@ def exp_so3(phi: np.ndarray) -> np.ndarray:
 def exp_so3_into(phi: np.ndarray, out: np.ndarray) -> None:
     """:func:`exp_so3` written into ``out`` (3, 3): no allocation (element loops)."""
     t = np.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2)
-    a, b, _ = _coeffs(t)
+    a, b, _ = angle_coeffs(t)
     # S = phi~, S S = phi phi^T - |phi|^2 I
     t2 = phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2
     for i in range(3):
@@ -106,8 +106,8 @@ def log_so3(R: np.ndarray) -> np.ndarray:
     w = unskew(R)  # = sin(t) n
     s = np.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
     t = np.arctan2(s, c)
-    if t < _SMALL:
-        a, _, _ = _coeffs(t)
+    if t < SMALL_ANGLE:
+        a, _, _ = angle_coeffs(t)
         return w / a
     if c > -0.7:
         return w * (t / s)
@@ -134,7 +134,7 @@ def log_so3(R: np.ndarray) -> np.ndarray:
 def tangent(phi: np.ndarray) -> np.ndarray:
     """Right tangent operator T(phi) (3, 3): ``exp(phi + d) ~ exp(phi) exp(T d)``."""
     t = np.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2)
-    _, b, c = _coeffs(t)
+    _, b, c = angle_coeffs(t)
     S = skew(phi)
     return np.eye(3) - b * S + c * (S @ S)
 
@@ -149,7 +149,7 @@ def tangent_into(p0: float, p1: float, p2: float, Tn: np.ndarray, i: int) -> Non
     (and its compilation costs seconds, the slice assignment of its result more).
     """
     t2 = p0 * p0 + p1 * p1 + p2 * p2
-    _, b, c = _coeffs(np.sqrt(t2))
+    _, b, c = angle_coeffs(np.sqrt(t2))
     Tn[i, 0, 0] = 1.0 + c * (p0 * p0 - t2)
     Tn[i, 1, 1] = 1.0 + c * (p1 * p1 - t2)
     Tn[i, 2, 2] = 1.0 + c * (p2 * p2 - t2)
@@ -166,7 +166,7 @@ def tangent_inv(phi: np.ndarray) -> np.ndarray:
     """Inverse of :func:`tangent` (3, 3), valid for |phi| < 2 pi."""
     t = np.sqrt(phi[0] ** 2 + phi[1] ** 2 + phi[2] ** 2)
     S = skew(phi)
-    if t < _SMALL:
+    if t < SMALL_ANGLE:
         t2 = t * t
         d = 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0
     else:

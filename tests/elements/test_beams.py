@@ -67,6 +67,28 @@ def test_se3_log_inverts_exp():
         np.testing.assert_allclose(out, d, atol=1e-13)
 
 
+@pytest.mark.parametrize("angle", [3e-5, 0.4, 2.0, 2.5, 3.1])
+def test_se3_log_rotation_is_log_so3_bit_for_bit(angle):
+    """log_se3 computes the relative rotation vector with scalars (no temporaries), as
+    :func:`drivedyn.rotations.log_so3` does on ``R_A^T R_B`` (``mtm``), operation for operation: the
+    same bits in the three regimes (the series below 1e-4 rad, the skew part, and beyond
+    134 deg, where it calls log_so3). It fails if the scalar transcription reorders an
+    operation (the trace summed in the other order: seen failing at 0.4 rad)."""
+    from drivedyn.elements.framework.primitives import mtm
+    from drivedyn.rotations import exp_so3, log_so3
+
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        RA = exp_so3(rng.standard_normal(3))
+        n = rng.standard_normal(3)
+        RB = RA @ exp_so3(angle * n / np.linalg.norm(n))
+        out = np.zeros(6)
+        log_se3(rng.standard_normal(3), RA, rng.standard_normal(3), RB, out)
+        Rr = np.zeros((3, 3))
+        mtm(RA, RB, Rr)
+        assert np.array_equal(out[3:], log_so3(Rr)), angle
+
+
 def test_complex_evaluation_matches_real():
     """The complex-step derivative needs the complex path to equal the real one."""
     d = np.array([0.3, -0.2, 0.1, 0.4, 0.9, -0.7])

@@ -425,3 +425,43 @@ def test_kernels_borrow_the_state_arrays() -> None:
     caller(G, out, x, R, v, vd, lam, es, tfv, 0.0, Tn)
     assert out[2] == 1 and out[3] != 0
     assert out[0] == 0 and out[1] == 0
+
+
+def test_borrow_leaves_out_the_owner_of_every_array_in_a_tuple() -> None:
+    """``borrow`` (the stepping loop's arguments at its entry) gives every array of a nested
+    tuple without its memory owner and leaves the other values as they are: a probe finds a
+    null owner on each borrowed array (at two depths) and on a view of one, the same data,
+    and the originals still owned. It fails if borrow passes an array as it is or skips
+    nested tuples (the loop then pays an atomic increment and decrement per view and per
+    call that takes the array)."""
+    from llvmlite import ir
+    from numba import njit, types
+    from numba.extending import intrinsic
+
+    from drivedyn.solver.kernel_calls import borrow
+
+    @intrinsic
+    def owner(typingctx, a):
+        def codegen(context, builder, sig, args):
+            ary = context.make_array(sig.args[0])(context, builder, value=args[0])
+            return builder.ptrtoint(ary.meminfo, ir.IntType(64))
+        return types.int64(a), codegen
+
+    @njit
+    def probe(t, out):
+        b = borrow(t)
+        (a, (c, k, none)) = b
+        out[0] = owner(a)
+        out[1] = owner(c)
+        out[2] = owner(c[1:])
+        out[3] = owner(t[0])
+        out[4] = k
+        out[5] = 1 if none is None else 0
+        out[6] = a[2] + c[1, 0]
+
+    a, c = np.arange(4.0), np.ones((2, 2), np.int64)
+    out = np.zeros(7, np.int64)
+    probe((a, (c, 7, None)), out)
+    assert list(out[:3]) == [0, 0, 0]
+    assert out[3] != 0
+    assert list(out[4:]) == [7, 1, 3]

@@ -158,6 +158,32 @@ def _borrowed(context, builder, t, value):
     return ary._getvalue()
 
 
+def _borrowed_value(context, builder, t, value):
+    """``value`` of type ``t`` with every array in it (nested tuples included) borrowed."""
+    if isinstance(t, types.Array):
+        return _borrowed(context, builder, t, value)
+    if isinstance(t, types.BaseTuple):
+        out = value
+        for i, ti in enumerate(t.types):
+            item = builder.extract_value(value, i)
+            out = builder.insert_value(out, _borrowed_value(context, builder, ti, item), i)
+        return out
+    return value
+
+
+@intrinsic
+def borrow(typingctx, value):
+    """``value`` (an array, or a tuple of arrays, tuples and other values) with its arrays'
+    memory owners left out: for a compiled function that works on its arguments while its
+    caller holds them, and keeps none of them beyond the call. Its views and the arrays it
+    passes on then count no references (an atomic increment and decrement each, per view
+    and per call of a function that takes the array)."""
+    def codegen(context, builder, sig, args):
+        return _borrowed_value(context, builder, sig.args[0], args[0])
+
+    return value(value), codegen
+
+
 @intrinsic
 def call_groups(typingctx, G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want):
     """Call every group's kernel: ``G`` is a :class:`KernelTable`, the other arguments are

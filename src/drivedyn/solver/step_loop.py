@@ -51,6 +51,7 @@ from drivedyn.elements.framework.group import COMMIT_TIME, aux_offset
 from drivedyn.model.model import Model, State
 from drivedyn.results.recorder import EnergyAccount, advance_energy, total
 from drivedyn.solver import newton_kernel as nk
+from drivedyn.solver.kernel_calls import borrow
 from drivedyn.solver.newton_kernel import I_NEVAL, I_PHASE, _forget, newton_iterations
 from drivedyn.solver.redundancy import watched
 from drivedyn.solver.step_control import (
@@ -164,6 +165,11 @@ def run_steps(G, sizes, accepted, trial, arrays, linear, sparse, par, istate, fs
     before the accepted one (the predictor's and the error estimate's history, time
     ``ls[LS_PREV_T]``).
     """
+    # the caller holds every array throughout and the loop keeps none: borrowed, its views
+    # and the functions it passes them to count no references
+    (accepted, trial, arrays, linear, sparse, par, istate, fstate, control, energy, commits,
+     snaps) = borrow((accepted, trial, arrays, linear, sparse, par, istate, fstate, control,
+                      energy, commits, snaps))
     nn, nd, every = sizes
     x0, R0, v0, vd0, a0, lam0, es0, prev_vd, prev_a = accepted
     x, R, v, vd, a, lam, es, hdq = trial

@@ -13,7 +13,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from drivedyn.elements.beams.kernel import beam_kernel
+from drivedyn.elements.beams.kernel import WORK_SIZE, beam_kernel
 from drivedyn.elements.beams.se3 import log_se3
 from drivedyn.elements.beams.section import Material, SectionProperties
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
@@ -184,7 +184,7 @@ class BeamFamily(Family):
             spar[e] = p.stress_params
             beta[e] = float(s.damping)
         params = (length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar,
-                  np.asarray(ctx.gravity, float))
+                  np.asarray(ctx.gravity, float), np.zeros(WORK_SIZE))
         g = make_group(self.name, specs, beam_kernel, params, lnodes, node_dofs(ctx, lnodes),
                        OUTPUTS, dissipative=True)
         g.extra["section_rotation"] = (CA, CB)

@@ -49,8 +49,9 @@ from drivedyn.elements.beams.se3 import (
     tangent_inv_se3_rate,
 )
 from drivedyn.elements.beams.section import outer_fibre_stresses
-from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.primitives import mm, mtv, set_skew
+from drivedyn.elements.framework.work_arrays import carve
 
 ROUNDOFF_SCALE = 1e-6  # see _term_scale
 
@@ -191,26 +192,63 @@ def _term_scale(rabs, dofs, d, L, eps0, Ks, TiP, TiM, RsA, CA, RsB, CB, a, w):
                     rabs[gi] += abs(A[i, 0]) * w[0] + abs(A[i, 1]) * w[1] + abs(A[i, 2]) * w[2]
 
 
-@njit(cache=True)
-def _work():
-    z = np.zeros
-    return (z(6), z(6), z(6), z((6, 6)), z((6, 6)), z((3, 3)), z((3, 3)), z(6), z(6), z(6),
-            z(6), z(6), z(12), z(12), z((6, 6)), z((6, 6)), z(6),
-            z((12, 6)), z((6, 12)), z((12, 6)), z((6, 12)), z((24, 12)), z((3, 3)), z((3, 3)),
-            z((3, 3)), z(3), z(6))
+# the work arrays' shapes, in the order of the kernel's unpacking (after the local arrays)
+_SHAPES = ((6,), (6,), (6,), (6, 6), (6, 6), (3, 3), (3, 3), (6,), (6,), (6,), (6,), (6,),
+           (12,), (12,), (6, 6), (6, 6), (6,), (12, 6), (6, 12), (12, 6), (6, 12), (24, 12),
+           (3, 3), (3, 3), (3, 3), (3,), (6,))
+_L12 = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
+#: entries of the beams' work buffer (their last parameter, ``work``)
+WORK_SIZE = _L12 + sum(int(np.prod(s)) for s in _SHAPES)
+
+
+@njit(cache=True, inline="always")
+def _work(buf):
+    """The kernel's work arrays as views of ``buf`` (:data:`_SHAPES`, from entry ``_L12``)."""
+    o = _L12
+    d = carve(buf, o, 6)
+    etaA = carve(buf, o + 6, 6)
+    etaB = carve(buf, o + 12, 6)
+    TiP = carve(buf, o + 18, (6, 6))
+    TiM = carve(buf, o + 54, (6, 6))
+    S = carve(buf, o + 90, (3, 3))
+    U = carve(buf, o + 99, (3, 3))
+    o += 108
+    v5 = (carve(buf, o, 6), carve(buf, o + 6, 6), carve(buf, o + 12, 6), carve(buf, o + 18, 6),
+          carve(buf, o + 24, 6))
+    o += 30
+    vl = carve(buf, o, 12)
+    al = carve(buf, o + 12, 12)
+    dTP = carve(buf, o + 24, (6, 6))
+    dTM = carve(buf, o + 60, (6, 6))
+    dsig = carve(buf, o + 96, 6)
+    o += 102
+    Dd = carve(buf, o, (12, 6))
+    Q = carve(buf, o + 72, (6, 12))
+    Fe = carve(buf, o + 144, (12, 6))
+    Wv = carve(buf, o + 216, (6, 12))
+    X = carve(buf, o + 288, (24, 12))
+    o += 576
+    RsA = carve(buf, o, (3, 3))
+    RsB = carve(buf, o + 9, (3, 3))
+    Sk = carve(buf, o + 18, (3, 3))
+    w = carve(buf, o + 27, 3)
+    tw = carve(buf, o + 30, 6)
+    return (d, etaA, etaB, TiP, TiM, S, U, *v5, vl, al, dTP, dTM, dsig, Dd, Q, Fe, Wv, X, RsA, RsB,
+            Sk, w, tw)
 
 
 @njit(cache=True)
 def beam_kernel(
-    length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar, gravity,
+    length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar, gravity, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     CAs, CBs = CA, CB
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     (L, d, etaA, etaB, TiP, TiM, S, U, eps, epsd, sig, fA, fB, vl, al, dTP, dTM, dsig, Dd, Q,
-     Fe, Wv, X, RsA, RsB, Sk, w, tw) = (local_arrays(12, 0), *_work())
+     Fe, Wv, X, RsA, RsB, Sk, w, tw) = (local_arrays_at(buf, 0, 12, 0), *_work(buf))
     full = sc.full_pass(want, mode)
     rq, _, M, Cd, K, _ = L
     for e in range(sc.count(C)):

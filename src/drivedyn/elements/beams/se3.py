@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from drivedyn.elements.framework.primitives import mtm, set_skew
-from drivedyn.rotations import exp_so3, log_so3, tangent
+from drivedyn.rotations import SMALL_ANGLE, angle_coeffs, exp_so3, log_so3, tangent
 
 # c(t) = sum_k |B_2k| t^(2k-2) / (2k)!  (Bernoulli numbers), k = 1..10: converges for t < 2 pi
 _C = np.array([
@@ -177,19 +177,43 @@ def tangent_inv_se3_rate(d, j, c, e, ep, dP, dM):
 def log_se3(xA, RA, xB, RB, out):
     """``out`` (6,) <- ``log(H_A^-1 H_B)`` of two frames (positions (3,) [m], rotations
     (3, 3)): the relative rotation vector ``theta`` and ``u = T(-theta)^-1 R_A^T (x_B - x_A)``
-    (the left Jacobian's inverse is ``Ti(-theta)``). Written with scalar loops and no
+    (the left Jacobian's inverse is ``Ti(-theta)``). Written with scalars and no
     temporaries: it runs for every element at every evaluation (3x3 products through BLAS
-    and small allocations cost more than the arithmetic)."""
-    Rr = np.empty((3, 3))
-    mtm(RA, RB, Rr)
-    th = log_so3(Rr)
+    and small allocations cost more than the arithmetic). The rotation vector is
+    :func:`~drivedyn.rotations.log_so3`'s, operation for operation; for frames turned by
+    more than 134 deg relative to each other (``cos theta <= -0.7``) it is log_so3 itself."""
+    r00 = RA[0, 0] * RB[0, 0] + RA[1, 0] * RB[1, 0] + RA[2, 0] * RB[2, 0]
+    r11 = RA[0, 1] * RB[0, 1] + RA[1, 1] * RB[1, 1] + RA[2, 1] * RB[2, 1]
+    r22 = RA[0, 2] * RB[0, 2] + RA[1, 2] * RB[1, 2] + RA[2, 2] * RB[2, 2]
+    r01 = RA[0, 0] * RB[0, 1] + RA[1, 0] * RB[1, 1] + RA[2, 0] * RB[2, 1]
+    r10 = RA[0, 1] * RB[0, 0] + RA[1, 1] * RB[1, 0] + RA[2, 1] * RB[2, 0]
+    r02 = RA[0, 0] * RB[0, 2] + RA[1, 0] * RB[1, 2] + RA[2, 0] * RB[2, 2]
+    r20 = RA[0, 2] * RB[0, 0] + RA[1, 2] * RB[1, 0] + RA[2, 2] * RB[2, 0]
+    r12 = RA[0, 1] * RB[0, 2] + RA[1, 1] * RB[1, 2] + RA[2, 1] * RB[2, 2]
+    r21 = RA[0, 2] * RB[0, 1] + RA[1, 2] * RB[1, 1] + RA[2, 2] * RB[2, 1]
+    c = min(1.0, max(-1.0, 0.5 * (r00 + r11 + r22 - 1.0)))
+    w0 = 0.5 * (r21 - r12)
+    w1 = 0.5 * (r02 - r20)
+    w2 = 0.5 * (r10 - r01)
+    s = np.sqrt(w0**2 + w1**2 + w2**2)
+    t = np.arctan2(s, c)
+    if t < SMALL_ANGLE:
+        a, _, _ = angle_coeffs(t)
+        t0, t1, t2 = w0 / a, w1 / a, w2 / a
+    elif c > -0.7:
+        f = t / s
+        t0, t1, t2 = w0 * f, w1 * f, w2 * f
+    else:  # near a half turn: log_so3's symmetric-part branch
+        Rr = np.empty((3, 3))
+        mtm(RA, RB, Rr)
+        th = log_so3(Rr)
+        t0, t1, t2 = th[0], th[1], th[2]
     d0 = xB[0] - xA[0]
     d1 = xB[1] - xA[1]
     d2 = xB[2] - xA[2]
     p0 = RA[0, 0] * d0 + RA[1, 0] * d1 + RA[2, 0] * d2
     p1 = RA[0, 1] * d0 + RA[1, 1] * d1 + RA[2, 1] * d2
     p2 = RA[0, 2] * d0 + RA[1, 2] * d1 + RA[2, 2] * d2
-    t0, t1, t2 = th[0], th[1], th[2]
     c, _ = tangent_inv_coeffs(t0 * t0 + t1 * t1 + t2 * t2)
     # Ti(-theta) p = p - theta x p / 2 + c theta x (theta x p)
     c0 = t1 * p2 - t2 * p1

@@ -46,9 +46,10 @@ from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw, law_table
 from drivedyn.elements.flexible.family import flexible_body_named, invariants
 from drivedyn.elements.framework.building import make_group, what_of
-from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 
 OUTPUTS = (
@@ -201,19 +202,57 @@ def _skew_into(a, S):
     S[2, 1] = a[0]
 
 
+@njit(cache=True, inline="always")
+def work_size(nd: int, nqm: int) -> int:
+    """Entries of the work buffer of a face-contact group: ``nd`` dofs per element, ``nqm``
+    elastic coordinates at most."""
+    ncol = 12 + nqm
+    return local_size(nd, 0) + nd + 2 * nqm + 24 + 12 * ncol + 54 + 54 + 6
+
+
+@njit(cache=True, inline="always")
+def _work(buf, nd, nqm):
+    """The kernel's work arrays as views of ``buf`` (:func:`work_size` entries)."""
+    ncol = 12 + nqm
+    o = local_size(nd, 0)
+    vl = carve(buf, o, nd)
+    qv = carve(buf, o + nd, nqm)
+    qdv = carve(buf, o + nd + nqm, nqm)
+    o += nd + 2 * nqm
+    v3 = (carve(buf, o, 3), carve(buf, o + 3, 3), carve(buf, o + 6, 3), carve(buf, o + 9, 3),
+          carve(buf, o + 12, 3), carve(buf, o + 15, 3), carve(buf, o + 18, 3),
+          carve(buf, o + 21, 3))
+    o += 24
+    Jr = carve(buf, o, (3, ncol))
+    Jd = carve(buf, o + 3 * ncol, (3, ncol))
+    o += 6 * ncol
+    dP = carve(buf, o, (3, 18))
+    S1 = carve(buf, o + 54, (3, 3))
+    S2 = carve(buf, o + 63, (3, 3))
+    S3 = carve(buf, o + 72, (3, 3))
+    o += 81
+    Dp = carve(buf, o, (3, ncol))
+    Dv = carve(buf, o + 3 * ncol, (3, ncol))
+    o += 6 * ncol
+    Dq = carve(buf, o, (3, 3))
+    Tr = carve(buf, o + 9, (3, 3))
+    Tb = carve(buf, o + 18, (3, 3))
+    ng = carve(buf, o + 27, 3)
+    xo = carve(buf, o + 30, 3)
+    return (local_arrays_at(buf, 0, nd, 0), vl, qv, qdv, *v3, Jr, Jd, dP, S1, S2, S3, Dp, Dv,
+            Dq, Tr, Tb, ng, xo)
+
+
 @njit(cache=True)
 def flexible_washer_kernel(
-    X, Phi, af, nfs, nqs, area, law, fric, pB, nB,
+    X, Phi, af, nfs, nqs, area, law, fric, pB, nB, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nd = 6 * lnodes.shape[1]
     nqm = Phi.shape[3]
-    ncol = 12 + nqm
-    z = np.zeros
-    W = (local_arrays(nd, 0), z(nd), z(nqm), z(nqm), z(3), z(3), z(3), z(3), z(3), z(3), z(3),
-         z(3), z((3, ncol)), z((3, ncol)), z((3, 18)), z((3, 3)), z((3, 3)), z((3, 3)),
-         z((3, ncol)), z((3, ncol)), z((3, 3)), z((3, 3)), z((3, 3)), z(3), z(3))
+    # the work arrays are views of the group's buffer
+    W = _work(sc.work_buffer(work, work_size(nd, nqm)), nd, nqm)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     full = sc.full_pass(want, mode)
@@ -540,7 +579,8 @@ class FlexibleWasherContactFamily(Family):
         dofs = np.array([ctx.local_dofs(list(ln), 0, 0) for ln in lnodes], np.int64)
         g = make_group(self.name, specs, flexible_washer_kernel,
                        (X, Phi, af, nfs, nqs, area, law_table([s.law for s in specs]), fric,
-                        pBa, nBa), lnodes, dofs, OUTPUTS, dissipative=True)
+                        pBa, nBa, np.zeros(work_size(6 * lnodes.shape[1], nqm))),
+                       lnodes, dofs, OUTPUTS, dissipative=True)
         g.naux = NOUT + nfm
         g.extra["fields"] = [{"name": "nodal_pressure", "column": NOUT, "count": int(nfs[e]),
                               "units": "Pa", "description": "contact pressure at the face "
