@@ -26,11 +26,15 @@ element loop (small allocations cost more than the maths), and best not at all: 
 carve every work array (:func:`drivedyn.elements.framework.work_arrays.carve`) from a buffer
 allocated with its group, its last parameter ``work`` (:func:`work_buffer`; the ``*_at``
 helpers below and ``local_arrays_at`` carve the usual sets). The rigid bodies, loads, joints,
-drivers, gear pairs and contacts do so: allocating per call (``malloc``, ``free``, numba's
-wrapper) took 13 % of the Type C vehicle configuration's run (measured with ``perf``).
-Families that allocate per call (``local_arrays``, :func:`grad_hess`...) get one allocation
-per helper: each carves its arrays from one zeroed buffer, and vectors of one length are the
-rows of one array (``V = np.zeros((k, 12))``; ``V[0]``...). The loop skips its matrix
+drivers, gear pairs, contacts, beams and flexible washer faces do so: allocating per call
+(``malloc``, ``free``, numba's wrapper) took 13 % of the Type C vehicle configuration's run
+(measured with ``perf``). The buffer also reaches the kernel without its memory owner (the
+kernel table passes it so), and so do the views carved from it: a view of an array the
+kernel allocated, or its passing to a helper that is not inlined, costs an atomic increment
+and decrement of the owner's count (the beam race, 100 elements: 22 % of the run less
+with the beams' buffer). Families that allocate per call (``local_arrays``,
+:func:`grad_hess`...) get one allocation per helper: each carves its arrays from one zeroed
+buffer, and vectors of one length are the rows of one array (``V = np.zeros((k, 12))``; ``V[0]``...). The loop skips its matrix
 branches when ``full`` (:func:`full_pass`) is false.
 
 The loop is the kernel's own body, not a function the kernel calls: numba compiles a called
