@@ -34,8 +34,8 @@ kernel allocated, or its passing to a helper that is not inlined, costs an atomi
 and decrement of the owner's count (the beam race, 100 elements: 22 % of the run less
 with the beams' buffer). Families that allocate per call (``local_arrays``,
 :func:`grad_hess`...) get one allocation per helper: each carves its arrays from one zeroed
-buffer, and vectors of one length are the rows of one array (``V = np.zeros((k, 12))``; ``V[0]``...). The loop skips its matrix
-branches when ``full`` (:func:`full_pass`) is false.
+buffer, and vectors of one length are the rows of one array (``V = np.zeros((k, 12))``;
+``V[0]``...). The loop skips its matrix branches when ``full`` (:func:`full_pass`) is false.
 
 The loop is the kernel's own body, not a function the kernel calls: numba compiles a called
 function on its own, then links its code into the caller and optimises and generates all of
