@@ -4,12 +4,17 @@ A family writes one kernel with the calling convention of
 :mod:`drivedyn.elements.framework.contract` (its parameters, then the common arguments); its
 body is the loop over the elements (the physics)::
 
+    L12 = local_size.py_func(12, 0)
+    WORK_SIZE = L12 + 12 + sc.WORKSPACE_SIZE   # the group passes np.zeros(WORK_SIZE)
+
     @njit(cache=True)
-    def spring_kernel(stiff, damp, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
-                      cM, cC, cK, mode, want, r, rabs, data, eout, aux):
+    def spring_kernel(stiff, damp, work, lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv,
+                      t, Tn, cM, cC, cK, mode, want, r, rabs, data, eout, aux):
         C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode,
              want, r, rabs, data, eout, aux)
-        L, vl, (ws, wv) = local_arrays(12, 0), np.zeros(12), sc.workspace()  # work arrays
+        buf = sc.work_buffer(work, WORK_SIZE)   # work arrays: views of the group's buffer
+        L, vl = local_arrays_at(buf, 0, 12, 0), carve(buf, L12, 12)
+        ws, wv = sc.workspace_at(buf, L12 + 12)
         full = sc.full_pass(want, mode)         # the element matrices are wanted
         rq, rl, M, Cd, K, G = L                 # local residual and matrices
         x, R, v, vd, lam, es, tfv, t = sc.state(C)
