@@ -385,17 +385,11 @@ def test_another_linear_solver_is_refused() -> None:
         dd.simulate(model, 0.005, linear_solver=Mine())
 
 
-def test_kernels_borrow_the_state_arrays() -> None:
-    """call_groups hands the kernels the state arrays without their memory owner (meminfo),
-    so a view a kernel takes (``x[n]``) counts no reference: a probe kernel called through a
-    KernelTable finds a null owner on ``x`` and on its view, while the caller's ``x`` has
-    one. It fails if call_groups passes the caller's arrays as they are (the kernels then
-    pay an atomic increment and decrement per view)."""
+def _owner_probe():
+    """A compiled ``owner(a)``: the address of the array ``a``'s memory owner (0: none)."""
     from llvmlite import ir
-    from numba import njit, typeof, types
+    from numba import types
     from numba.extending import intrinsic
-
-    from drivedyn.solver.kernel_calls import KernelTable, call_groups, entry_address
 
     @intrinsic
     def owner(typingctx, a):
@@ -403,6 +397,21 @@ def test_kernels_borrow_the_state_arrays() -> None:
             ary = context.make_array(sig.args[0])(context, builder, value=args[0])
             return builder.ptrtoint(ary.meminfo, ir.IntType(64))
         return types.int64(a), codegen
+
+    return owner
+
+
+def test_kernels_borrow_the_state_arrays() -> None:
+    """call_groups hands the kernels the state arrays without their memory owner (meminfo),
+    so a view a kernel takes (``x[n]``) counts no reference: a probe kernel called through a
+    KernelTable finds a null owner on ``x`` and on its view, while the caller's ``x`` has
+    one. It fails if call_groups passes the caller's arrays as they are (the kernels then
+    pay an atomic increment and decrement per view)."""
+    from numba import njit, typeof
+
+    from drivedyn.solver.kernel_calls import KernelTable, call_groups, entry_address
+
+    owner = _owner_probe()
 
     @njit
     def probe(out, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want):
@@ -434,18 +443,11 @@ def test_borrow_leaves_out_the_owner_of_every_array_in_a_tuple() -> None:
     and the originals still owned. It fails if borrow passes an array as it is or skips
     nested tuples (the loop then pays an atomic increment and decrement per view and per
     call that takes the array)."""
-    from llvmlite import ir
-    from numba import njit, types
-    from numba.extending import intrinsic
+    from numba import njit
 
     from drivedyn.solver.kernel_calls import borrow
 
-    @intrinsic
-    def owner(typingctx, a):
-        def codegen(context, builder, sig, args):
-            ary = context.make_array(sig.args[0])(context, builder, value=args[0])
-            return builder.ptrtoint(ary.meminfo, ir.IntType(64))
-        return types.int64(a), codegen
+    owner = _owner_probe()
 
     @njit
     def probe(t, out):
