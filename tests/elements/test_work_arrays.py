@@ -170,3 +170,85 @@ def test_a_used_or_short_work_buffer_gives_the_same_evaluation(family, cases) ->
         np.testing.assert_array_equal(r2, r0)
         np.testing.assert_array_equal(K2, K0)
         np.testing.assert_array_equal(q2, q0)
+
+
+_ALLOCATIONS_SCRIPT = r"""
+import json, sys
+import numpy as np
+from numba import njit
+from numba.core.runtime import rtsys
+sys.path.insert(0, sys.argv[1])
+from element_cases import TANGENT_CASES
+from drivedyn.elements.framework.contract import MODE_DYN
+from drivedyn.model.compile import compile_model
+from drivedyn.solver.kernel_calls import KernelTable, call_groups, entry_address
+from drivedyn.solver.system import System
+
+
+@njit
+def caller(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want, n):
+    for _ in range(n):
+        call_groups(G, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want)
+
+
+out = {}
+for fam in sys.argv[2:]:
+    worst = 0.0
+    for case in TANGENT_CASES[fam]:
+        model = compile_model(case())
+        st = model.initial_state()
+        sys_ = System(model)
+        sys_.reset_tangent()
+        sys_.evaluate(st, 2.0, 3.0, 1.0, MODE_DYN, True)
+        for want in (True, False):
+            for g, (k, pre, mid, post) in zip(
+                    model.groups, sys_._kernel_args(st, 2.0, 3.0, 1.0, MODE_DYN, want)):
+                if g.family != fam:
+                    continue
+                sig = sys_._signature(k, pre, mid, post)
+                G = KernelTable([(entry_address(k, sig), pre, post)])
+                caller(G, *mid, 1)
+                a0 = rtsys.get_allocation_stats().alloc
+                caller(G, *mid, 20)
+                # the caller's own unboxing of its array arguments, once per call of it
+                n = rtsys.get_allocation_stats().alloc - a0
+                n -= sum(isinstance(a, np.ndarray) for a in mid)
+                worst = max(worst, n / 20)
+    out[fam] = worst
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.slow
+def test_kernels_with_a_work_buffer_allocate_nothing_in_the_stepping_loop(tmp_path) -> None:
+    """Every family whose kernel takes a ``work`` buffer makes no allocation when the
+    stepping loop calls it (through a KernelTable, residual and matrix passes, every
+    element case of the family): an allocation inside the element loop costs ``malloc``
+    and ``free``, and every view of the array an atomic reference count. Counted with
+    numba's NRT statistics (``NUMBA_NRT_STATS=1``, in a subprocess: the switch is read at
+    numba's start). It fails when a helper of an element loop allocates a temporary (seen:
+    a one-entry ``np.ones`` in ``log_se3``, one allocation per beam element; the former
+    ``log_se3`` made three). After editing a module that a kernel calls, run it with an
+    empty ``NUMBA_CACHE_DIR``: numba's cache of the kernel does not see the edit
+    (docs/numba-notes.md, note 4)."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from drivedyn.model.compile import compile_model
+    from element_cases import TANGENT_CASES
+
+    fams = [fam for fam, cases in sorted(TANGENT_CASES.items())
+            if any(_work_params(g) for g in compile_model(cases[0]()).groups
+                   if g.family == fam)]
+    script = tmp_path / "allocations.py"
+    script.write_text(_ALLOCATIONS_SCRIPT)
+    here = str(Path(__file__).resolve().parents[1])
+    proc = subprocess.run([sys.executable, str(script), here, *fams], capture_output=True,
+                          text=True, env={**os.environ, "NUMBA_NRT_STATS": "1"}, timeout=1200)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    counts = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert set(counts) == set(fams)
+    assert counts == {fam: 0.0 for fam in fams}
