@@ -43,7 +43,7 @@ import drivedyn.elements.framework.scaffold as sc
 import drivedyn.units as U  # noqa: N812
 from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
 from drivedyn.elements.framework.checks import check_param, check_param_optional
-from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.curves import (
     check_table,
     curve_integral,
@@ -53,6 +53,7 @@ from drivedyn.elements.framework.curves import (
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_distance, scalar_force
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 
 #: a table as the specs hold it: ``((x0, y0), (x1, y1), ...)`` in SI units
@@ -64,6 +65,19 @@ MIN_LENGTH = 1e-9
 
 # --- kernels -----------------------------------------------------------------------------------
 
+_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
+_GH12 = sc.grad_hess_size.py_func(12)
+#: entries of the work buffer of both families (their last parameter, ``work``)
+WORK_SIZE = _L12 + _GH12 + 24 + sc.WORKSPACE_SIZE
+
+
+@njit(cache=True, inline="always")
+def _work(buf):
+    """Local arrays, gradient and Hessian, two 12-vectors and the primitives' workspace, as
+    views of ``buf`` (:data:`WORK_SIZE`)."""
+    o = _L12 + _GH12
+    return (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, _L12, 12), carve(buf, o, 12),
+            carve(buf, o + 12, 12), sc.workspace_at(buf, o + 24))
 
 @njit(cache=True, inline="always")
 def _length_and_rate(x, R, nA, nB, pA, pB, C, e, g, H, vl, full, ws, wv):
@@ -78,11 +92,11 @@ def _length_and_rate(x, R, nA, nB, pA, pB, C, e, g, H, vl, full, ws, wv):
 
 @njit(cache=True)
 def nonlinear_spring_kernel(
-    pA, pB, free, pre, lin, cid, X, Y, D, start,
+    pA, pB, free, pre, lin, cid, X, Y, D, start, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    W = (local_arrays(12, 0), sc.grad_hess(12), np.zeros(12), np.zeros(12), sc.workspace())
+    W = _work(sc.work_buffer(work, WORK_SIZE))  # views of the group's buffer
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     L, (g, H), vl, Hv, (ws, wv) = W
@@ -166,11 +180,11 @@ def stop_potential(X, Y, D, start, k, d, eps):
 
 @njit(cache=True)
 def bump_stop_kernel(
-    pA, pB, contact, side, cid, damp, eps, X, Y, D, start,
+    pA, pB, contact, side, cid, damp, eps, X, Y, D, start, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    W = (local_arrays(12, 0), sc.grad_hess(12), np.zeros(12), np.zeros(12), sc.workspace())
+    W = _work(sc.work_buffer(work, WORK_SIZE))  # views of the group's buffer
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     L, (g, H), vl, Hv, (ws, wv) = W
@@ -483,7 +497,7 @@ class NonlinearSpringFamily(Family):
         params = (pA, pB, free,
                   np.array([s.preload for s in specs], float),
                   np.array([s.stiffness or 0.0 for s in specs], float),
-                  cid, *pack_curves(tables))
+                  cid, *pack_curves(tables), np.zeros(WORK_SIZE))
         outputs = (("force", "N", "tension (positive pulls the markers together)"),
                    *_LINE_OUTPUTS,
                    ("deflection", "m", "length minus free length (> 0: extension)"),
@@ -521,7 +535,7 @@ class BumpStopFamily(Family):
         params = (pA, pB, contact, side, np.arange(len(specs), dtype=np.int64),
                   np.array([s.damping for s in specs], float),
                   np.array([s.transition for s in specs], float),
-                  *pack_curves([s.table() for s in specs]))
+                  *pack_curves([s.table() for s in specs]), np.zeros(WORK_SIZE))
         return make_group(self.name, specs, bump_stop_kernel, params, lnodes,
                           node_dofs(ctx, lnodes), outputs, dissipative=True)
 

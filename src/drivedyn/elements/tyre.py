@@ -62,10 +62,11 @@ from numba import njit
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
 from drivedyn.elements.framework.checks import check_param, check_param_optional, unit_of
-from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.group import COMMIT_TIME, Group
 from drivedyn.elements.framework.primitives import mm
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
+from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 from drivedyn.rotations import exp_so3_into
 from drivedyn.tyres import Tyre, resolve_tyre
@@ -83,6 +84,9 @@ NAUX = 22
 FD_POS = 1e-7  # [m] and [rad]: steps of the in-kernel finite differences
 FD_VEL = 1e-7  # [m/s] and [rad/s] (1e-6 left the damping tangent 2.5e-6 off, forward)
 V_ROLL = 0.01  # [m/s] rolling speed over which the rolling resistance changes sign
+_L6 = local_size.py_func(6, 0)  # the plain function: nothing compiled at import
+#: entries of the tyres' work buffer (their last parameter, ``work``)
+WORK_SIZE = _L6 + NOUT + 2 * NAUX + 42
 
 
 @dataclass(frozen=True)
@@ -375,16 +379,20 @@ def _tyre_state(P, opt, patches, npatch, pm, Rm, xn, Rn, vn, Om, es0, t, out, au
 
 
 @njit(cache=True)
-def tyre_kernel(params, opts, patches, npatch, pm, Rm,
+def tyre_kernel(params, opts, patches, npatch, pm, Rm, work,
                 lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
                 cM, cC, cK, mode, want, r, rabs, data, eout, aux):
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
-    L = local_arrays(6, 0)
-    out, ax, axd, rp, rm = np.zeros(NOUT), np.zeros(NAUX), np.zeros(NAUX), np.zeros(6), \
-        np.zeros(6)
-    Rp, vp, Op, xp, ph, Eph = np.zeros((3, 3)), np.zeros(3), np.zeros(3), np.zeros(3), \
-        np.zeros(3), np.zeros((3, 3))
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
+    L = local_arrays_at(buf, 0, 6, 0)
+    o = _L6
+    out, ax, axd = carve(buf, o, NOUT), carve(buf, o + NOUT, NAUX), \
+        carve(buf, o + NOUT + NAUX, NAUX)
+    o += NOUT + 2 * NAUX
+    rp, rm, Rp, vp, Op, xp, ph, Eph = carve(buf, o, 6), carve(buf, o + 6, 6), \
+        carve(buf, o + 12, (3, 3)), carve(buf, o + 21, 3), carve(buf, o + 24, 3), \
+        carve(buf, o + 27, 3), carve(buf, o + 30, 3), carve(buf, o + 33, (3, 3))
     full = sc.full_pass(want, mode)
     rq, _, _, Cd, K, _ = L
     for e in range(sc.count(C)):
@@ -493,7 +501,8 @@ class TyreFamily(Family):
             # rate of 0 where the slip velocity is not was an O(h) error carried on)
             eoff[e] = ctx.alloc_state([0.0, 0.0, 0.0, math.nan, math.nan])
         return make_group(
-            self.name, specs, tyre_kernel, (params, opts, patches, npatch, pm, Rm), lnodes,
+            self.name, specs, tyre_kernel, (params, opts, patches, npatch, pm, Rm,
+                                            np.zeros(WORK_SIZE)), lnodes,
             node_dofs(ctx, lnodes), OUTPUTS, eoff=eoff, nstate=NSTATE,
             commit_cols=(6, 7, COMMIT_TIME, 20, 21),  # transient slips, their time and rates
             dissipative=True,

@@ -64,16 +64,23 @@ from drivedyn.elements.framework.contract import (
     MODE_ACC,
     MODE_DYN,
     MODE_VEL,
-    local_arrays,
+    local_arrays_at,
+    local_size,
     tangent_columns,
 )
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_axial, quad_form
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
+from drivedyn.elements.framework.work_arrays import carve
 
 H_ACC = 1e-3  # [s]: sigma_t = k lambda_t + p H_ACC^2 a_t (or v_t) at acceleration level
 NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A
 NAUX_AL = 8
+
+_L123 = local_size.py_func(12, 3)  # the plain functions: nothing compiled at import
+_GH12 = sc.grad_hess_size.py_func(12)
+#: entries of the contacts' work buffer (their last parameter, ``work``)
+WORK_SIZE = _L123 + 105 + 3 * _GH12 + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True, inline="always")
@@ -107,13 +114,17 @@ def _scatter_multipliers(B, Gq, D, nm, C, e):
 
 @njit(cache=True)
 def unilateral_kernel(
-    pA, pB, RmA, mu, kk, pp, cacc,
+    pA, pB, RmA, mu, kk, pp, cacc, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
-    W = (local_arrays(12, 3), np.zeros((12, 3)), np.zeros((3, 12)), np.zeros((3, 3)),
-         sc.grad_hess(12), sc.grad_hess(12), sc.grad_hess(12), np.zeros(12), np.zeros(12),
-         sc.workspace())
+    buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
+    o = _L123
+    W = (local_arrays_at(buf, 0, 12, 3), carve(buf, o, (12, 3)), carve(buf, o + 36, (3, 12)),
+         carve(buf, o + 72, (3, 3)), sc.grad_hess_at(buf, o + 81, 12),
+         sc.grad_hess_at(buf, o + 81 + _GH12, 12), sc.grad_hess_at(buf, o + 81 + 2 * _GH12, 12),
+         carve(buf, o + 81 + 3 * _GH12, 12), carve(buf, o + 93 + 3 * _GH12, 12),
+         sc.workspace_at(buf, o + 105 + 3 * _GH12))
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     L, B, Gq, D, (gn, Hn), (g1, H1), (g2, H2), vl, al, (ws, wv) = W
@@ -374,7 +385,8 @@ class UnilateralContactFamily(Family):
             dofs[e] = ctx.local_dofs([nA, nB], m0, 3)
         g = make_group(
             self.name, specs, unilateral_kernel,
-            (pA, pB, RmA, np.array([float(s.mu) for s in specs]), kk, pp, pp * H_ACC**2),
+            (pA, pB, RmA, np.array([float(s.mu) for s in specs]), kk, pp, pp * H_ACC**2,
+             np.zeros(WORK_SIZE)),
             lnodes, dofs,
             (("normal_force", "N", "normal contact force N = -sigma_n (>= 0)"),
              ("gap", "m", "gap of the point above the plane"),

@@ -250,16 +250,18 @@ def prim_axial(xA, RA, xB, RB, pA, pB, abar, g, H, want, ws, wv):
 
 @njit(cache=True)
 def _hess_distance(RA, RB, pA, pB, n, RAn, RBn, L, H, ws):
-    """Hessian of prim_distance (out of line, see _hess_dot). It allocates its two (3, 12)
-    work arrays, freed before it returns."""
+    """Hessian of prim_distance (out of line, see _hess_dot). Its two (3, 12) work arrays
+    are the workspace ``ws`` (8, 3, 3), whose matrices the curvature terms take afterwards."""
     # Jd = [-I, R_A pA~, I, -R_B pB~]; H = Jd^T (I - n n^T)/L Jd + curvature terms
-    Jd = np.zeros((3, 12))
+    Jd = ws[0:4].reshape((3, 12))
     for i in range(3):
+        for j in range(12):
+            Jd[i, j] = 0.0
         Jd[i, i] = -1.0
         Jd[i, 6 + i] = 1.0
     mat_skew(RA, pA, 1.0, Jd, 0, 3)
     mat_skew(RB, pB, -1.0, Jd, 0, 9)
-    PJ = np.empty((3, 12))
+    PJ = ws[4:8].reshape((3, 12))
     for j in range(12):
         s = n[0] * Jd[0, j] + n[1] * Jd[1, j] + n[2] * Jd[2, j]
         for i in range(3):
