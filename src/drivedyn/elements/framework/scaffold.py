@@ -30,8 +30,9 @@ constants below, read through the helpers); the work arrays are never allocated 
 element loop (small allocations cost more than the maths), and best not at all: a kernel can
 carve every work array (:func:`drivedyn.elements.framework.work_arrays.carve`) from a buffer
 allocated with its group, its last parameter ``work`` (:func:`work_buffer`; the ``*_at``
-helpers below and ``local_arrays_at`` carve the usual sets). The rigid bodies, loads, joints,
-drivers, gear pairs, contacts, beams and flexible washer faces do so: allocating per call
+helpers below and ``local_arrays_at`` carve the usual sets). Every family does so but the
+flexible bodies and their ties (complex-step work arrays; ``tests/elements/test_work_arrays``
+checks that the others allocate nothing when the stepping loop calls them): allocating per call
 (``malloc``, ``free``, numba's wrapper) took 13 % of the Type C vehicle configuration's run
 (measured with ``perf``). The buffer also reaches the kernel without its memory owner (the
 kernel table passes it so), and so do the views carved from it: a view of an array the
