@@ -42,7 +42,7 @@ NLAW = 6  # axes
 # work arrays (views of the group's buffer, see _work)
 NMAT = 14
 NVEC = 12
-_L = local_size(12, 0)
+_L = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
 WORK_SIZE = _L + 2 * 72 + 9 * NMAT + 3 * NVEC + 5 * 6 + 12
 
 

@@ -250,20 +250,27 @@ STATE_OUTPUTS = (
 )
 
 
+# sizes from the plain functions, so that work_size runs as plain Python too (``py_func``): a
+# module or a build that calls a compiled function from Python compiles it there, on the
+# first run's critical path (0.4-0.6 s of a cold import)
+_L12 = local_size.py_func(12, 0)
+_GH12 = sc.grad_hess_size.py_func(12)
+
+
 @njit(cache=True, inline="always")
 def work_offsets(ngh, nvec):
     """Offsets in a contact kernel's work buffer: after ``local_arrays(12, 0)``, ``ngh``
     gradient/Hessian pairs (12), then ``nvec`` vectors (12), then the primitives' workspace
     and a 3 x 3 matrix."""
-    g = local_size(12, 0)
-    v = g + ngh * sc.grad_hess_size(12)
-    return g, v, v + 12 * nvec
+    v = _L12 + ngh * _GH12
+    return _L12, v, v + 12 * nvec
 
 
 @njit(cache=True, inline="always")
 def work_size(ngh: int, nvec: int) -> int:
-    """Entries of a contact kernel's work buffer (:func:`work_offsets`)."""
-    return work_offsets(ngh, nvec)[2] + sc.WORKSPACE_SIZE + 9
+    """Entries of a contact kernel's work buffer (:func:`work_offsets`; the same sum, so
+    that ``work_size.py_func`` needs no compiled function)."""
+    return _L12 + ngh * _GH12 + 12 * nvec + sc.WORKSPACE_SIZE + 9
 
 
 @njit(cache=True, inline="always")

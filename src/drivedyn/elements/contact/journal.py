@@ -205,7 +205,7 @@ class JournalContactFamily(Family):
         )
         return contact_group(self.name, specs, ctx, journal_contact_kernel,
                              (pA, pB, RmA, clear, rpin), states, outputs, lnodes,
-                             work_size(5, 5))
+                             work_size.py_func(5, 5))
 
 
 

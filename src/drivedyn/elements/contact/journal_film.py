@@ -66,7 +66,7 @@ from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
 
 #: work buffer: three gradient/Hessian pairs, four vectors of 12
-_WORK = work_size(3, 4)
+_WORK = work_size.py_func(3, 4)  # the plain function: nothing compiled at import
 
 
 @njit(cache=True, inline="always")

@@ -189,7 +189,8 @@ class PlaneContactFamily(Family):
             CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, plane_contact_kernel,
-                             (pA, pB, RmA, radius), states, outputs, lnodes, work_size(4, 8))
+                             (pA, pB, RmA, radius), states, outputs, lnodes,
+                             work_size.py_func(4, 8))
 
 
 

@@ -281,7 +281,7 @@ class SqueezeFilmFamily(Family):
             ("dissipated_power", "W", "film + drag + metal contact and friction power"),
         )
         return contact_group(self.name, specs, ctx, squeeze_film_kernel, geom, states, outputs,
-                             lnodes, work_size(2, 5))
+                             lnodes, work_size.py_func(2, 5))
 
 
 register(SqueezeFilmFamily())

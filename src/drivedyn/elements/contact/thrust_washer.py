@@ -181,7 +181,8 @@ class ThrustWasherContactFamily(Family):
             CONTACT_POWER,
         )
         return contact_group(self.name, specs, ctx, washer_contact_kernel,
-                             (pA, pB, RmA, rm, area), states, outputs, lnodes, work_size(2, 5))
+                             (pA, pB, RmA, rm, area), states, outputs, lnodes,
+                             work_size.py_func(2, 5))
 
 
 
