@@ -210,9 +210,11 @@ def _skew_into(a, S):
 @njit(cache=True, inline="always")
 def work_size(nd: int, nqm: int, nfm: int) -> int:
     """Entries of the work buffer of a face-contact group: ``nd`` dofs per element, ``nqm``
-    elastic coordinates and ``nfm`` face nodes at most."""
+    elastic coordinates and ``nfm`` face nodes at most. ``local_size(nd, 0)`` is written
+    out (``nd + 3 nd^2``) so that the build takes ``work_size.py_func``: a compiled call
+    from Python compiles on a first run's critical path."""
     ncol = 12 + nqm
-    return (local_size(nd, 0) + nd + 2 * nqm + 24 + 6 * ncol + 81 + 9 * nfm * ncol
+    return (nd + 3 * nd * nd + nd + 2 * nqm + 24 + 6 * ncol + 81 + 9 * nfm * ncol
             + 2 * ncol * ncol + 33)
 
 
@@ -579,7 +581,7 @@ class FlexibleWasherContactFamily(Family):
         dofs = np.array([ctx.local_dofs(list(ln), 0, 0) for ln in lnodes], np.int64)
         g = make_group(self.name, specs, flexible_washer_kernel,
                        (X, Phi, af, nfs, nqs, area, law_table([s.law for s in specs]), fric,
-                        pBa, nBa, np.zeros(work_size(6 * lnodes.shape[1], nqm, nfm))),
+                        pBa, nBa, np.zeros(work_size.py_func(6 * lnodes.shape[1], nqm, nfm))),
                        lnodes, dofs, OUTPUTS, dissipative=True)
         g.naux = NOUT + nfm
         g.extra["fields"] = [{"name": "nodal_pressure", "column": NOUT, "count": int(nfs[e]),
