@@ -188,9 +188,9 @@ class TravelDriverFamily(Family):
 
 
 _L24 = local_size.py_func(24, 1)  # the plain functions: nothing compiled at import
-_GH12, _GH24 = sc.grad_hess_size.py_func(12), sc.grad_hess_size.py_func(24)
+_GH24 = sc.grad_hess_size.py_func(24)
 #: entries of a speed-difference driver group's work buffer (its last parameter, ``work``)
-WORK_SIZE = _L24 + 2 * _GH12 + sc.ANGLE_WORK_SIZE + _GH24 + 48 + sc.WORKSPACE_SIZE
+WORK_SIZE = _L24 + 2 * sc.GRAD_HESS_SIZE_12 + sc.ANGLE_WORK_SIZE + _GH24 + 48 + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True)
@@ -201,11 +201,11 @@ def speed_difference_kernel(
 ):
     # work arrays: views of the group's work buffer (WORK_SIZE; scaffold.work_buffer)
     buf = sc.work_buffer(work, WORK_SIZE)
-    g = _L24 + 2 * _GH12
+    g = _L24 + 2 * sc.GRAD_HESS_SIZE_12
     a = g + sc.ANGLE_WORK_SIZE
     o = a + _GH24
     W = (local_arrays_at(buf, 0, 24, 1), sc.grad_hess_at(buf, _L24, 12),
-         sc.grad_hess_at(buf, _L24 + _GH12, 12), sc.angle_work_at(buf, g),
+         sc.grad_hess_at(buf, _L24 + sc.GRAD_HESS_SIZE_12, 12), sc.angle_work_at(buf, g),
          sc.grad_hess_at(buf, a, 24), carve(buf, o, 24), carve(buf, o + 24, 24),
          sc.workspace_at(buf, o + 48))
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,

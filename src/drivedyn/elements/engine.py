@@ -36,7 +36,7 @@ import drivedyn.elements.framework.scaffold as sc
 import drivedyn.units as U  # noqa: N812
 from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
 from drivedyn.elements.framework.checks import check_param
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.curves import curve_value, pack_curves
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_angle, scalar_force
@@ -64,10 +64,8 @@ def clamped_curve(X, Y, D, start, k, q):
     return curve_value(X, Y, D, start, k, q)
 
 
-_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
-_GH = sc.grad_hess_size.py_func(12)
 #: entries of an engine group's work buffer (its ``work`` parameter)
-WORK_SIZE = _L12 + _GH + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
+WORK_SIZE = LOCAL_SIZE_12 + sc.GRAD_HESS_SIZE_12 + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True)
@@ -77,9 +75,9 @@ def engine_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     buf = sc.work_buffer(work, WORK_SIZE)
-    o = _L12
+    o = LOCAL_SIZE_12
     g, H = sc.grad_hess_at(buf, o, 12)
-    o += _GH
+    o += sc.GRAD_HESS_SIZE_12
     aw = sc.angle_work_at(buf, o)
     o += sc.ANGLE_WORK_SIZE
     W = (local_arrays_at(buf, 0, 12, 0), g, H, aw, carve(buf, o, 12), carve(buf, o + 12, 12),

@@ -42,7 +42,13 @@ from numba import njit
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, two_markers, what_of
 from drivedyn.elements.framework.checks import check_param, check_param_optional
-from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, local_arrays_at, local_size
+from drivedyn.elements.framework.contract import (
+    LOCAL_SIZE_12,
+    MODE_ACC,
+    MODE_DYN,
+    local_arrays_at,
+    local_size,
+)
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import (
     add_scaled,
@@ -84,8 +90,6 @@ COL_ANGLE, COL_POWER, COL_DRIVE, COL_SLIP = 6, 7, 8, 9
 JOINT_AUX_COLS = (0, 1, 2, 3, 4, 5, 6, 7, 10, 11)
 
 
-_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
-_GH12 = sc.grad_hess_size.py_func(12)
 
 
 @njit(cache=True, inline="always")
@@ -94,7 +98,8 @@ def work_size(nm: int) -> int:
     (``local_size(12, nm)`` is ``local_size(12, 0) + 13 nm``, written out so that the build
     takes ``work_size.py_func``: a compiled call from Python compiles on a first run's
     critical path, 0.3 s)."""
-    return _L12 + 13 * nm + 3 * _GH12 + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
+    return (LOCAL_SIZE_12 + 13 * nm + 3 * sc.GRAD_HESS_SIZE_12 + sc.ANGLE_WORK_SIZE + 24
+            + sc.WORKSPACE_SIZE)
 
 
 @njit(cache=True)

@@ -43,7 +43,7 @@ import drivedyn.elements.framework.scaffold as sc
 import drivedyn.units as U  # noqa: N812
 from drivedyn.elements.framework.building import make_group, node_dofs, two_markers, what_of
 from drivedyn.elements.framework.checks import check_param, check_param_optional
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.curves import (
     check_table,
     curve_integral,
@@ -65,19 +65,17 @@ MIN_LENGTH = 1e-9
 
 # --- kernels -----------------------------------------------------------------------------------
 
-_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
-_GH12 = sc.grad_hess_size.py_func(12)
 #: entries of the work buffer of both families (their last parameter, ``work``)
-WORK_SIZE = _L12 + _GH12 + 24 + sc.WORKSPACE_SIZE
+WORK_SIZE = LOCAL_SIZE_12 + sc.GRAD_HESS_SIZE_12 + 24 + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True, inline="always")
 def _work(buf):
     """Local arrays, gradient and Hessian, two 12-vectors and the primitives' workspace, as
     views of ``buf`` (:data:`WORK_SIZE`)."""
-    o = _L12 + _GH12
-    return (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, _L12, 12), carve(buf, o, 12),
-            carve(buf, o + 12, 12), sc.workspace_at(buf, o + 24))
+    o = LOCAL_SIZE_12 + sc.GRAD_HESS_SIZE_12
+    return (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, LOCAL_SIZE_12, 12),
+            carve(buf, o, 12), carve(buf, o + 12, 12), sc.workspace_at(buf, o + 24))
 
 @njit(cache=True, inline="always")
 def _length_and_rate(x, R, nA, nB, pA, pB, C, e, g, H, vl, full, ws, wv):

@@ -22,7 +22,7 @@ from numba import njit
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.framework.building import make_group, node_dofs, two_markers
 from drivedyn.elements.framework.checks import check_param, check_param_optional
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import (
     prim_angle,
@@ -34,10 +34,8 @@ from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.joints import relative_angle
 
-_L12 = local_size.py_func(12, 0)  # the plain functions: nothing compiled at import
-_GH12 = sc.grad_hess_size.py_func(12)
 #: entries of the springs' work buffer (their last parameter, ``work``)
-WORK_SIZE = _L12 + _GH12 + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
+WORK_SIZE = LOCAL_SIZE_12 + sc.GRAD_HESS_SIZE_12 + sc.ANGLE_WORK_SIZE + 24 + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True)
@@ -47,8 +45,9 @@ def scalar_spring_kernel(
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
-    o = _L12 + _GH12
-    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, _L12, 12), sc.angle_work_at(buf, o),
+    o = LOCAL_SIZE_12 + sc.GRAD_HESS_SIZE_12
+    W = (local_arrays_at(buf, 0, 12, 0), sc.grad_hess_at(buf, LOCAL_SIZE_12, 12),
+         sc.angle_work_at(buf, o),
          carve(buf, o + sc.ANGLE_WORK_SIZE, 12), carve(buf, o + sc.ANGLE_WORK_SIZE + 12, 12),
          sc.workspace_at(buf, o + sc.ANGLE_WORK_SIZE + 24))
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,

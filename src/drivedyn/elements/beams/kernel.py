@@ -49,7 +49,7 @@ from drivedyn.elements.beams.se3 import (
     tangent_inv_se3_rate,
 )
 from drivedyn.elements.beams.section import outer_fibre_stresses
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.primitives import mm, mtv, set_skew
 from drivedyn.elements.framework.work_arrays import carve
 
@@ -196,15 +196,15 @@ def _term_scale(rabs, dofs, d, L, eps0, Ks, TiP, TiM, RsA, CA, RsB, CB, a, w):
 _SHAPES = ((6,), (6,), (6,), (6, 6), (6, 6), (3, 3), (3, 3), (6,), (6,), (6,), (6,), (6,),
            (12,), (12,), (6, 6), (6, 6), (6,), (12, 6), (6, 12), (12, 6), (6, 12), (24, 12),
            (3, 3), (3, 3), (3, 3), (3,), (6,))
-_L12 = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
 #: entries of the beams' work buffer (their last parameter, ``work``)
-WORK_SIZE = _L12 + sum(int(np.prod(s)) for s in _SHAPES)
+WORK_SIZE = LOCAL_SIZE_12 + sum(int(np.prod(s)) for s in _SHAPES)
 
 
 @njit(cache=True, inline="always")
 def _work(buf):
-    """The kernel's work arrays as views of ``buf`` (:data:`_SHAPES`, from entry ``_L12``)."""
-    o = _L12
+    """The kernel's work arrays as views of ``buf`` (:data:`_SHAPES`, after the local
+    arrays)."""
+    o = LOCAL_SIZE_12
     d = carve(buf, o, 6)
     etaA = carve(buf, o + 6, 6)
     etaB = carve(buf, o + 12, 6)

@@ -10,7 +10,7 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.beams.se3 import tangent_inv_coeffs
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.curves import curve_integral, curve_value
 from drivedyn.elements.framework.primitives import cross, mm, mtm, mtv, mv, set_skew
 from drivedyn.elements.framework.work_arrays import carve
@@ -42,8 +42,7 @@ NLAW = 6  # axes
 # work arrays (views of the group's buffer, see _work)
 NMAT = 14
 NVEC = 12
-_L = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
-WORK_SIZE = _L + 2 * 72 + 9 * NMAT + 3 * NVEC + 5 * 6 + 12
+WORK_SIZE = LOCAL_SIZE_12 + 2 * 72 + 9 * NMAT + 3 * NVEC + 5 * 6 + 12
 
 
 @njit(cache=True)
@@ -311,7 +310,7 @@ def _matrices(B, Jv, K, Cd, f, kt, cv, vl, Ra, A, Bm, Mab, U, Rrel, Ti, th, t2, 
 @njit(cache=True, inline="always")
 def _work(buf):
     """The work arrays of :func:`bushing_kernel` as views of ``buf`` (:data:`WORK_SIZE`)."""
-    o = _L
+    o = LOCAL_SIZE_12
     B = carve(buf, o, (6, 12))
     Jv = carve(buf, o + 72, (6, 12))
     o += 144

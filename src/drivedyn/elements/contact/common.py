@@ -27,7 +27,7 @@ from drivedyn.elements.contact.impact_laws import (
     normal_force,
 )
 from drivedyn.elements.framework.building import make_group, node_dofs
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import prim_axial
 from drivedyn.elements.framework.work_arrays import carve
@@ -250,27 +250,22 @@ STATE_OUTPUTS = (
 )
 
 
-# sizes from the plain functions, so that work_size runs as plain Python too (``py_func``): a
-# module or a build that calls a compiled function from Python compiles it there, on the
-# first run's critical path (0.4-0.6 s of a cold import)
-_L12 = local_size.py_func(12, 0)
-_GH12 = sc.grad_hess_size.py_func(12)
-
-
 @njit(cache=True, inline="always")
 def work_offsets(ngh, nvec):
     """Offsets in a contact kernel's work buffer: after ``local_arrays(12, 0)``, ``ngh``
     gradient/Hessian pairs (12), then ``nvec`` vectors (12), then the primitives' workspace
     and a 3 x 3 matrix."""
-    v = _L12 + ngh * _GH12
-    return _L12, v, v + 12 * nvec
+    v = LOCAL_SIZE_12 + ngh * sc.GRAD_HESS_SIZE_12
+    return LOCAL_SIZE_12, v, v + 12 * nvec
 
 
 @njit(cache=True, inline="always")
 def work_size(ngh: int, nvec: int) -> int:
     """Entries of a contact kernel's work buffer (:func:`work_offsets`; the same sum, so
-    that ``work_size.py_func`` needs no compiled function)."""
-    return _L12 + ngh * _GH12 + 12 * nvec + sc.WORKSPACE_SIZE + 9
+    that ``work_size.py_func`` needs no compiled function: a module or a build that calls a
+    compiled function from Python compiles it there, on the first run's critical path, 0.4-0.6
+    s of a cold import)."""
+    return LOCAL_SIZE_12 + ngh * sc.GRAD_HESS_SIZE_12 + 12 * nvec + sc.WORKSPACE_SIZE + 9
 
 
 @njit(cache=True, inline="always")

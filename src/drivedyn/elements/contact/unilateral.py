@@ -78,9 +78,8 @@ NSTATE_AL = 4  # active flag, sliding flag, anchor along x_A, anchor along y_A
 NAUX_AL = 8
 
 _L123 = local_size.py_func(12, 3)  # the plain functions: nothing compiled at import
-_GH12 = sc.grad_hess_size.py_func(12)
 #: entries of the contacts' work buffer (their last parameter, ``work``)
-WORK_SIZE = _L123 + 105 + 3 * _GH12 + sc.WORKSPACE_SIZE
+WORK_SIZE = _L123 + 105 + 3 * sc.GRAD_HESS_SIZE_12 + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True, inline="always")
@@ -120,11 +119,12 @@ def unilateral_kernel(
 ):
     buf = sc.work_buffer(work, WORK_SIZE)  # the work arrays are views of the group's buffer
     o = _L123
+    gh = sc.GRAD_HESS_SIZE_12
     W = (local_arrays_at(buf, 0, 12, 3), carve(buf, o, (12, 3)), carve(buf, o + 36, (3, 12)),
          carve(buf, o + 72, (3, 3)), sc.grad_hess_at(buf, o + 81, 12),
-         sc.grad_hess_at(buf, o + 81 + _GH12, 12), sc.grad_hess_at(buf, o + 81 + 2 * _GH12, 12),
-         carve(buf, o + 81 + 3 * _GH12, 12), carve(buf, o + 93 + 3 * _GH12, 12),
-         sc.workspace_at(buf, o + 105 + 3 * _GH12))
+         sc.grad_hess_at(buf, o + 81 + gh, 12), sc.grad_hess_at(buf, o + 81 + 2 * gh, 12),
+         carve(buf, o + 81 + 3 * gh, 12), carve(buf, o + 93 + 3 * gh, 12),
+         sc.workspace_at(buf, o + 105 + 3 * gh))
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     L, B, Gq, D, (gn, Hn), (g1, H1), (g2, H2), vl, al, (ws, wv) = W

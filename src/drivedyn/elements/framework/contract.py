@@ -96,6 +96,11 @@ def local_size(nd: int, nm: int) -> int:
     return nd + nm + 3 * nd * nd + nm * nd
 
 
+#: entries of ``local_arrays(12, 0)`` (a two-node element without multipliers), from the
+#: plain function: a module computing its work size from it compiles nothing at import
+LOCAL_SIZE_12 = local_size.py_func(12, 0)
+
+
 @njit(cache=True, inline="always")
 def local_arrays_at(buf, o, nd, nm):
     """:func:`local_arrays` as views of ``buf`` from entry ``o`` (:func:`local_size` entries;

@@ -240,6 +240,10 @@ def grad_hess_size(n: int) -> int:
     return n + n * n
 
 
+#: entries of ``grad_hess(12)`` (from the plain function: nothing compiled at import)
+GRAD_HESS_SIZE_12 = grad_hess_size.py_func(12)
+
+
 @njit(cache=True, inline="always")
 def grad_hess_at(buf, o, n):
     """:func:`grad_hess` as views of ``buf`` from entry ``o``."""

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
-from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.primitives import cross
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.elements.gears.kinematics import (
@@ -353,9 +353,8 @@ _WSHAPES = (NP, (NP, 12), (NP, 12, 12), (12, 12), (NS, NP), (NS, NP, NP), NS, NS
             (NS, NS), (NS, NS), NP, (NP, NP), (NP, NP), (NS, NP), (NP, 12), NS, NS, NS, NS,
             NS, NS, NS, (16, 3))
 _WO = tuple(int(v) for v in np.cumsum([0] + [int(np.prod(s)) for s in _WSHAPES]))
-_L12 = local_size.py_func(12, 0)  # the plain function: nothing compiled at import
 #: entries of a gear group's work buffer (its last parameter, ``work``)
-WORK_SIZE = _L12 + _WO[-1] + sc.WORKSPACE_SIZE
+WORK_SIZE = LOCAL_SIZE_12 + _WO[-1] + sc.WORKSPACE_SIZE
 
 
 @njit(cache=True, inline="always")
@@ -363,33 +362,33 @@ def _work(work):
     """The gear loop's work arrays, views of the group's work buffer (``work``, a parameter
     of :data:`WORK_SIZE` entries: :func:`~drivedyn.elements.framework.scaffold.work_buffer`)."""
     buf = sc.work_buffer(work, WORK_SIZE)
-    return (local_arrays_at(buf, 0, 12, 0), carve(buf, _L12 + _WO[0], NP),
-            carve(buf, _L12 + _WO[1], (NP, 12)),
-            carve(buf, _L12 + _WO[2], (NP, 12, 12)),
-            carve(buf, _L12 + _WO[3], (12, 12)),
-            carve(buf, _L12 + _WO[4], (NS, NP)),
-            carve(buf, _L12 + _WO[5], (NS, NP, NP)),
-            carve(buf, _L12 + _WO[6], NS),
-            carve(buf, _L12 + _WO[7], NS),
-            carve(buf, _L12 + _WO[8], NP),
-            carve(buf, _L12 + _WO[9], 12),
-            carve(buf, _L12 + _WO[10], NS),
-            carve(buf, _L12 + _WO[11], (NS, NS)),
-            carve(buf, _L12 + _WO[12], (NS, NS)),
-            carve(buf, _L12 + _WO[13], NP),
-            carve(buf, _L12 + _WO[14], (NP, NP)),
-            carve(buf, _L12 + _WO[15], (NP, NP)),
-            carve(buf, _L12 + _WO[16], (NS, NP)),
-            carve(buf, _L12 + _WO[17], (NP, 12)),
-            carve(buf, _L12 + _WO[18], NS),
-            carve(buf, _L12 + _WO[19], NS),
-            carve(buf, _L12 + _WO[20], NS),
-            carve(buf, _L12 + _WO[21], NS),
-            carve(buf, _L12 + _WO[22], NS),
-            carve(buf, _L12 + _WO[23], NS),
-            carve(buf, _L12 + _WO[24], NS),
-            carve(buf, _L12 + _WO[25], (16, 3)),
-            sc.workspace_at(buf, _L12 + _WO[-1]))
+    return (local_arrays_at(buf, 0, 12, 0), carve(buf, LOCAL_SIZE_12 + _WO[0], NP),
+            carve(buf, LOCAL_SIZE_12 + _WO[1], (NP, 12)),
+            carve(buf, LOCAL_SIZE_12 + _WO[2], (NP, 12, 12)),
+            carve(buf, LOCAL_SIZE_12 + _WO[3], (12, 12)),
+            carve(buf, LOCAL_SIZE_12 + _WO[4], (NS, NP)),
+            carve(buf, LOCAL_SIZE_12 + _WO[5], (NS, NP, NP)),
+            carve(buf, LOCAL_SIZE_12 + _WO[6], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[7], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[8], NP),
+            carve(buf, LOCAL_SIZE_12 + _WO[9], 12),
+            carve(buf, LOCAL_SIZE_12 + _WO[10], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[11], (NS, NS)),
+            carve(buf, LOCAL_SIZE_12 + _WO[12], (NS, NS)),
+            carve(buf, LOCAL_SIZE_12 + _WO[13], NP),
+            carve(buf, LOCAL_SIZE_12 + _WO[14], (NP, NP)),
+            carve(buf, LOCAL_SIZE_12 + _WO[15], (NP, NP)),
+            carve(buf, LOCAL_SIZE_12 + _WO[16], (NS, NP)),
+            carve(buf, LOCAL_SIZE_12 + _WO[17], (NP, 12)),
+            carve(buf, LOCAL_SIZE_12 + _WO[18], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[19], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[20], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[21], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[22], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[23], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[24], NS),
+            carve(buf, LOCAL_SIZE_12 + _WO[25], (16, 3)),
+            sc.workspace_at(buf, LOCAL_SIZE_12 + _WO[-1]))
 
 
 @njit(cache=True)
