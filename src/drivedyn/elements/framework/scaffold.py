@@ -4,7 +4,7 @@ A family writes one kernel with the calling convention of
 :mod:`drivedyn.elements.framework.contract` (its parameters, then the common arguments); its
 body is the loop over the elements (the physics)::
 
-    L12 = local_size.py_func(12, 0)
+    L12 = LOCAL_SIZE_12                         # entries of local_arrays(12, 0)
     WORK_SIZE = L12 + 12 + sc.WORKSPACE_SIZE   # the group passes np.zeros(WORK_SIZE)
 
     @njit(cache=True)
