@@ -5,6 +5,7 @@ No multibody knowledge here: :mod:`drivedyn.elements.flexible` turns a
 """
 
 from drivedyn.fe.mesh import SolidMesh, annular_washer, box, read_mesh, tube, write_mesh
+from drivedyn.fe.quadrature import annulus_quadrature
 from drivedyn.fe.reduction import (
     Interface,
     ReducedPart,
@@ -15,5 +16,5 @@ from drivedyn.fe.reduction import (
 from drivedyn.fe.solid import SolidMaterial, SolidModel, principal_stresses, von_mises
 
 __all__ = ["Interface", "ReducedPart", "SolidMaterial", "SolidMesh", "SolidModel",
-           "annular_washer", "box", "craig_bampton", "face_load_patterns", "frequency_check",
-           "principal_stresses", "read_mesh", "tube", "von_mises", "write_mesh"]
+           "annular_washer", "annulus_quadrature", "box", "craig_bampton", "face_load_patterns",
+           "frequency_check", "principal_stresses", "read_mesh", "tube", "von_mises", "write_mesh"]

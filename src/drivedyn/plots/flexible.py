@@ -39,7 +39,7 @@ def pressure_map_figure(res: Any, contact: str, time: float | None = None) -> Fi
     ds = _dataset(res)
     _pick(pressure_contacts(ds), contact, "flexible washer contact")
     t = ds["time"].values
-    P = ds[f"{contact}.nodal_pressure"].values
+    P = ds[f"{contact}.contact_pressure"].values
     F = ds[f"{contact}.normal_force"].values
     k = int(np.argmax(F)) if time is None else int(np.argmin(np.abs(t - time)))
     xy = ds[f"{contact}.face_points"].values[:, :2] * 1e3
@@ -58,7 +58,7 @@ def pressure_map_figure(res: Any, contact: str, time: float | None = None) -> Fi
     a1.set_xlabel("x [mm]")
     a1.set_ylabel("y [mm]")
     a1.set_title(f"{contact}: pressure at t = {t[k]:.3f} s, F = {F[k]:.0f} N", fontsize="small")
-    a2.plot(t, P.max(axis=1) * 1e-6, label="largest nodal pressure")
+    a2.plot(t, P.max(axis=1) * 1e-6, label="largest point pressure")
     a2.plot(t, ds[f"{contact}.pressure"].values * 1e-6, label="mean (F / S)")
     a2.set_xlabel("time [s]")
     a2.set_ylabel("pressure [MPa]")

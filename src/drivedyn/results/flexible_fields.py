@@ -12,8 +12,8 @@ Variables written into a run's Dataset (by :meth:`Recorder.dataset`) for each
 ``P.basis``                     (P.node, 3, mode)  displacement per coordinate, host frame [m]
 ``P.mesh_points``               (P.node, 3)        undeformed nodes, host frame [m]
 ``P.mesh_cells``                (P.cell, 8 or 4)   vertex indices of the linear cells
-``W.nodal_pressure``            (time, W.point)    contact pressure at the face nodes [Pa]
-``W.face_points``               (W.point, 3)       face nodes, washer part frame [m]
+``W.contact_pressure``          (time, W.point)    pressure at the contact points [Pa]
+``W.face_points``               (W.point, 3)       contact points, washer part frame [m]
 ==============================  =================  ==========================================
 
 The host node of a part is named by the attribute ``host`` of ``P.mesh_points``; its

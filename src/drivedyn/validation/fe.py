@@ -318,7 +318,7 @@ def washer_pressure(quick: bool = False, figure_dir: str | None = None) -> list[
     # washer along e_theta; sliding speeds are 1e4 times eps_v, so the friction is mu p);
     # the static modes make the reduced part exact for them
     face = solid.select("z", 0.002)
-    p = ds["contact.nodal_pressure"].values[-1]
+    p = ds["contact.contact_pressure"].values[-1]
     a = solid.face_areas(face)
     X = solid.nodes[face]
     r = np.hypot(X[:, 0], X[:, 1])

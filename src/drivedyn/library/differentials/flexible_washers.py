@@ -2,7 +2,8 @@
 
 A washer is a meshed steel annulus (:func:`drivedyn.fe.annular_washer`), Craig-Bampton
 reduced with its back face as the mounting interface, mounted on the body that carries the
-washer in the rigid model and pressed by the counter face node by node
+washer in the rigid model and pressed by the counter face at the points of a quadrature rule
+of the annulus (``face_quadrature``) or at every face node
 (:class:`~drivedyn.elements.flexible.FlexibleWasherContact`). One builder for every
 differential: the schema section is
 :class:`~drivedyn.library.differentials.schema_sections.FlexibleWashers`.
@@ -64,6 +65,7 @@ def add_flexible_washer(sp: Spec, f: FlexibleWashers, contact: Contact, name: st
         friction: the face friction law, or None.
     """
     from drivedyn.elements.flexible import FlexibleWasherContact
+    from drivedyn.fe import annulus_quadrature
     from drivedyn.model.flexible import add_flexible_body
 
     solid, part = washer_part(f, name, r_int, r_ext)
@@ -72,6 +74,11 @@ def add_flexible_washer(sp: Spec, f: FlexibleWashers, contact: Contact, name: st
                   axis=(0.0, 0.0, normal))
     sp.add_marker(f"f_{name}", body_b, position=(0, 0, zb), axis=(0.0, 0.0, -normal))
     fb = add_flexible_body(sp, f"washer_{name}", part, f"w_{name}")
+    if f.face_quadrature == "nodes":
+        face = {"face": solid.select("z", t)}
+    else:
+        pts, areas = annulus_quadrature(r_int, r_ext, t, *f.face_quadrature)
+        face = {"points": pts, "weights": areas}
     sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
-                                 face=solid.select("z", t), friction=friction,
+                                 **face, friction=friction,
                                  law=contact.washer_law(r_int, r_ext, layer=False)))
