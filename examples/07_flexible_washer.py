@@ -60,7 +60,7 @@ def main() -> dict:
     rm = 2 * (R_EXT**3 - R_INT**3) / (3 * (R_EXT**2 - R_INT**2))
     # the full FE model under the nodal pressures of the last output and their friction
     # (mu p along the circle, the direction the gear face drags the washer: +e_theta)
-    fn = ds["contact.nodal_pressure"].values[-1] * solid.face_areas(face)  # nodal forces [N]
+    fn = ds["contact.contact_pressure"].values[-1] * solid.face_areas(face)  # nodal forces [N]
     X = solid.nodes[face]
     r = np.hypot(X[:, 0], X[:, 1])
     f = np.zeros(3 * solid.n)

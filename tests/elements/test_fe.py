@@ -308,7 +308,7 @@ def washer_run(tmp_path_factory):
 def test_washer_results_hold_pressure_and_stress_fields(washer_run):
     res, _ = washer_run
     ds = res.dataset
-    P = ds["face_contact.nodal_pressure"]
+    P = ds["face_contact.contact_pressure"]
     assert P.dims == ("time", "face_contact.point")
     pts = ds["face_contact.face_points"].values
     assert np.allclose(pts[:, 2], 0.002)

@@ -308,7 +308,7 @@ class SolidModel:
         if miss.size:
             raise ModelError(f"mesh {self.mesh.name!r}: {miss.size} point(s) outside the mesh, "
                              f"first {np.round(pts[miss[0]], 9).tolist()} m")
-        phis = np.array([b.elem.gbasis(b.mapping, refs[:, :, None], k, tind=cells)[0].value
+        phis = np.array([np.asarray(b.elem.gbasis(b.mapping, refs[:, :, None], k, tind=cells)[0])
                          for k in range(b.Nbfun)])               # (nbfun, k, 1)
         rows = np.tile(np.arange(len(pts)), b.Nbfun)
         cols = b.element_dofs[:, cells].ravel()

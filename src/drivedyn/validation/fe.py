@@ -17,6 +17,7 @@ from drivedyn.fe import (
     SolidMaterial,
     SolidModel,
     annular_washer,
+    annulus_quadrature,
     box,
     craig_bampton,
     face_load_patterns,
@@ -263,9 +264,11 @@ def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[Case
     return out
 
 
-def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes: int = 6):
+def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes: int = 6,
+                 quadrature: tuple[int, int] | None = None):
     """A steel washer (r 20..35 mm, 2 mm) mounted by its back face on a carrier fixed to the
-    ground, pressed by a spinning rigid face with the axial force ``load`` [N]."""
+    ground, pressed by a spinning rigid face with the axial force ``load`` [N], at every face
+    node or at the points of ``annulus_quadrature(..., *quadrature)``."""
     ri, re, t = 0.020, 0.035, 0.002
     solid = SolidModel(annular_washer(ri, re, t, 2, 36, 1), STEEL)
     part = craig_bampton(solid, [Interface("back", solid.select("z", 0.0), np.zeros(3))],
@@ -284,8 +287,13 @@ def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes:
     sp.add(Force("load", "gear_g", vector=(0, 0, -load)))
     sp.add_marker("face", "gear", position=(0, 0, -0.01), axis=(0, 0, -1))
     fb = add_flexible_body(sp, "washer", part, "carrier_c")
+    if quadrature is None:
+        where = {"face": solid.select("z", t)}
+    else:
+        pts, areas = annulus_quadrature(ri, re, t, *quadrature, cells=2)
+        where = {"points": pts, "weights": areas}
     sp.add(FlexibleWasherContact(
-        "contact", "carrier_c", "face", body=fb.name, face=solid.select("z", t),
+        "contact", "carrier_c", "face", body=fb.name, **where,
         law=NormalLaw(k_contact, 1.0, law="penalty", damping=2e4),
         friction=FrictionLaw(mu, eps_v=1e-4)))
     return sp, (ri, re, solid, part)

@@ -49,11 +49,14 @@ _EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
 
 @njit(cache=True)
 def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Omd, q, qd, qdd,
-                zero, Qq, G, Hd, Hdd, B, rx, rth, rq):
+                zero, Qq, G, Hd, Hdd, B, rx, rth, rq, qq_given):
     """Generalised inertia, gravity, elastic and damping forces of one body (see the module
     docstring) into ``rx`` (3, global), ``rth`` (3, body) and ``rq`` (nq,). Works in real or
     complex arithmetic (complex steps; ``zero`` is 0 in that arithmetic). Work arrays:
-    ``Qq`` (3, 3, nq), ``G, Hd, Hdd, B`` (3, 3), of the arithmetic of ``q``."""
+    ``Qq`` (3, 3, nq), ``G, Hd, Hdd, B`` (3, 3), of the arithmetic of ``q``. With
+    ``qq_given`` the caller has set ``Qq = Q q`` (the complex steps: ``Q q`` is linear in
+    ``q``, so a step's ``Qq`` is the real one plus ``i h Q[:, :, :, j]``, the same numbers
+    as the sum; it was 9 nq^2 of the about 16 nq^2 multiply-adds of an evaluation)."""
     # alpha = R^T (xdd - g)
     a0 = xdd[0] - g[0]
     a1 = xdd[1] - g[1]
@@ -62,13 +65,14 @@ def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Om
     al1 = R[0, 1] * a0 + R[1, 1] * a1 + R[2, 1] * a2
     al2 = R[0, 2] * a0 + R[1, 2] * a1 + R[2, 2] * a2
     # Qq[b, d, k] = sum_l Q[b, d, k, l] q_l
-    for b in range(3):
-        for d in range(3):
-            for k in range(nq):
-                s = zero
-                for l in range(nq):
-                    s += Q[b, d, k, l] * q[l]
-                Qq[b, d, k] = s
+    if not qq_given:
+        for b in range(3):
+            for d in range(3):
+                for k in range(nq):
+                    s = zero
+                    for l in range(nq):
+                        s += Q[b, d, k, l] * q[l]
+                    Qq[b, d, k] = s
     # G, H(qd), H(qdd)
     for b in range(3):
         for d in range(3):
@@ -258,8 +262,7 @@ def flexible_body_kernel(
         Re = R[n0]
         ffrf_forces(mass[e], S0[e], Phib[e], G0[e], A[e], Q[e], Qa[e], Mqq[e], Kr[e], Dr[e],
                     nq, gvec, Re, al[0:3], vl[3:6], al[3:6], qv, qdv, qddv, 0.0, Qq, G, Hd, Hdd,
-                    Bw,
-                    rx, rth, rq)
+                    Bw, rx, rth, rq, False)
         for i in range(3):
             rqL[i] = rx[i]
             rqL[3 + i] = rth[i]
@@ -314,6 +317,10 @@ def flexible_body_kernel(
                 cq[k] = qv[k]
                 cqd[k] = qdv[k]
                 cqdd[k] = qddv[k]
+            for b in range(3):
+                for d in range(3):
+                    for k in range(nq):
+                        cQq[b, d, k] = Qq[b, d, k]
             ncol = 3 + nq
             for c in range(2 * ncol):
                 pos = c < ncol
@@ -331,11 +338,15 @@ def flexible_body_kernel(
                 else:
                     if pos:
                         cq[j - 3] = qv[j - 3] + 1j * h
+                        for b in range(3):
+                            for d in range(3):
+                                for k in range(nq):
+                                    cQq[b, d, k] = Qq[b, d, k] + 1j * (h * Q[e, b, d, k, j - 3])
                     else:
                         cqd[j - 3] = qdv[j - 3] + 1j * h
                 ffrf_forces(mass[e], S0[e], Phib[e], G0[e], A[e], Q[e], Qa[e], Mqq[e], Kr[e],
                             Dr[e], nq, gvec, cR, cx, cO, cOd, cq, cqd, cqdd, 0j, cQq, cG, cHd,
-                            cHdd, cB, crx, crth, crq)
+                            cHdd, cB, crx, crth, crq, True)
                 col = (3 + j) if j < 3 else _slot(j - 3)
                 T = K if pos else Cd
                 for i in range(3):
@@ -352,6 +363,11 @@ def flexible_body_kernel(
                 else:
                     cq[j - 3] = qv[j - 3]
                     cqd[j - 3] = qdv[j - 3]
+                    if pos:
+                        for b in range(3):
+                            for d in range(3):
+                                for k in range(nq):
+                                    cQq[b, d, k] = Qq[b, d, k]
         sc.scatter(C, L, e, nnode, full)
         # energies: T = 1/2 v^T M v (needs M: build it if not done)
         if not full:

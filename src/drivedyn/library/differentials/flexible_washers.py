@@ -77,7 +77,8 @@ def add_flexible_washer(sp: Spec, f: FlexibleWashers, contact: Contact, name: st
     if f.face_quadrature == "nodes":
         face = {"face": solid.select("z", t)}
     else:
-        pts, areas = annulus_quadrature(r_int, r_ext, t, *f.face_quadrature)
+        pts, areas = annulus_quadrature(r_int, r_ext, t, *f.face_quadrature,
+                                        cells=f.washer_cells[0])
         face = {"points": pts, "weights": areas}
     sp.add(FlexibleWasherContact(name, f"w_{name}", f"f_{name}", body=fb.name,
                                  **face, friction=friction,

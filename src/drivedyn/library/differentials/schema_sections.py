@@ -173,9 +173,11 @@ class FlexibleWashers(Strict):
             raise ValueError(f"washer_cells = {[nr, nt]}: expected [n_r >= 1, n_theta >= 6]")
         if self.face_quadrature != "nodes":
             qr, qt = self.face_quadrature
-            if qr < 1 or qt < 3:
+            if qr < 1 or qt < 3 or nt % qt:
                 raise ValueError(f"face_quadrature = {[qr, qt]}: expected \"nodes\" or "
-                                 "[n_r >= 1 radii, n_theta >= 3 angles]")
+                                 "[n_r >= 1 radii, n_theta >= 3 angles] with n_theta dividing "
+                                 f"washer_cells[1] = {nt} (the points on the mesh's vertex "
+                                 "radii)")
         return self
 
 
