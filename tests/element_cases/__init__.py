@@ -63,7 +63,7 @@ TANGENT_CASES: dict[str, list[Callable[[], Spec]]] = {
     "gear_pair": list(gears.CASES),
     "beam": list(beams.CASES),
     "flexible_body": list(flexible.CASES),
-    "flexible_washer_contact": [flexible.washer_case],
+    "flexible_washer_contact": [flexible.washer_case, flexible.washer_points_case],
     "flexible_interface": [flexible.free_case, flexible.tie_case, flexible.average_tie_case],
     "tyre": list(tyres.CASES),
     "bushing": list(bushings.CASES),

@@ -58,8 +58,9 @@ def small_washer(n_modes: int = 4):
                                                   np.zeros(3))], n_modes, "washer", cache=False)
 
 
-def washer_case() -> Spec:
-    """A spinning rigid face pressed on a flexible washer carried by another body."""
+def washer_case(quadrature: bool = False) -> Spec:
+    """A spinning rigid face pressed on a flexible washer carried by another body, at the
+    face nodes or at the points of a quadrature of the face (2 radii, 6 angles)."""
     from drivedyn.elements.contact import FrictionLaw, NormalLaw
     from drivedyn.elements.flexible import FlexibleWasherContact
 
@@ -73,8 +74,15 @@ def washer_case() -> Spec:
     spec.add_marker("face", "gear", position=(0.0, 0.0, -0.15), axis=(0.0, 0.0, -1.0))
     fb = add_flexible_body(spec, "washer", part, "mount", damping=0.01,
                            q0=0.01 * np.cos(np.arange(part.nq)))
+    if quadrature:
+        from drivedyn.fe import annulus_quadrature
+
+        pts, areas = annulus_quadrature(0.5, 1.0, 0.2, 2, 6)
+        where = {"points": pts, "weights": areas}
+    else:
+        where = {"face": solid.select("z", 0.2)}
     spec.add(FlexibleWasherContact(
-        "contact", "mount", "face", body=fb.name, face=solid.select("z", 0.2),
+        "contact", "mount", "face", body=fb.name, **where,
         law=NormalLaw(30.0, 1.5, law="hunt-crossley", restitution=0.7, damping=0.5),
         friction=FrictionLaw(0.3, eps_v=0.5)))
     return spec
@@ -122,3 +130,8 @@ def average_tie_case() -> Spec:
     spec.add_marker("anchor", "ground", position=(1.5, 0.3, 0.0))
     spec.add(SpringDamper("tether", "anchor", "tip", 3.0, 0.2, 0.3))
     return spec
+
+
+def washer_points_case() -> Spec:
+    """:func:`washer_case` with the contact at the points of a face quadrature."""
+    return washer_case(quadrature=True)
