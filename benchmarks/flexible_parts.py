@@ -2,9 +2,10 @@
 
 Runs ``benchmarks/torsen_c_bench.py`` (the four locking modes on the seed 003 bench
 protocol) in a fresh process for each configuration, so that every peak memory figure is its
-own: the rigid model, five flexible washers (``flexible.washers``), and flexible washers with
-the flexible case (``flexible.case``). Then times the Craig-Bampton reduction of the parts
-cold (empty cache) and warm (loaded from the disk cache).
+own: the rigid model, five flexible washers (``flexible.washers``: contact at the points of
+the face quadrature, the default, and at every face node, ``face_quadrature = "nodes"``), and
+flexible washers with the flexible case (``flexible.case``). Then times the Craig-Bampton
+reduction of the parts cold (empty cache) and warm (loaded from the disk cache).
 
 Prints one line per configuration (total wall time of both bench runs, build included,
 steps, Newton iterations, LU factorizations, peak RSS, the TDR of the four modes and their
@@ -29,6 +30,8 @@ HERE = Path(__file__).parent
 CONFIGS = {
     "rigid": [],
     "flexible washers": ["flexible.washers=true"],
+    "flexible washers, face nodes": ["flexible.washers=true",
+                                     'flexible.face_quadrature="nodes"'],
     "flexible washers + case": ["flexible.washers=true", "flexible.case=true"],
 }
 

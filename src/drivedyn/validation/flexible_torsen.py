@@ -2,8 +2,8 @@
 shipped contact law (the elastic washer law of ``[contact.elastic_washers]``).
 
 A flexible washer mounted on a rigid body is nearly as stiff as the rigid washer's law, so
-the bench TDRs must agree with the rigid model's (2 %; the faceted mesh lowers the friction
-radius by about 0.2 %). The Type C's flexible case is not a small change: its end plate
+the bench TDRs must agree with the rigid model's (2 %; measured within 0.03 % with the
+contact at the face quadrature, 0.16-0.28 % at the faceted mesh's nodes). The Type C's flexible case is not a small change: its end plate
 dishes under the coast load and, against the rigid coupling face and a face law of a few
 tenths of a micrometre, the pressure on the case washer moves to its outer edge. That effect
 is checked through its mechanism: the flexible TDR against the rigid one corrected, in the
@@ -21,7 +21,9 @@ from drivedyn.validation.base import CaseResult, compare, register_case
 #: flexible against rigid bench TDR (relative)
 FLEX_TOL = 0.02
 #: flexible (case included) against the rigid TDR corrected for the run's friction radii:
-#: the correction is exact when the radii are the only difference (measured <= 8e-5)
+#: the correction is exact when the radii are the only difference (measured: 1.9e-4 to
+#: 7.0e-4 with the case flexible, the same with the washers' contact at their nodes or at the
+#: face quadrature; 1e-5 to 4e-5 with the washers alone)
 RADIUS_TOL = 1e-3
 
 
@@ -120,12 +122,12 @@ def torsen_c_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     stress at its gear end against pure torsion under its output torque (0.1 %), the washer
     pressure maps and the case stress history.
 
-    The flexible case raises mode 4 by 3.9 % and mode 2 by 1.2 % (docs/flexible.md): the
+    The flexible case raises mode 4 by 4.1 % and mode 2 by 1.4 % (docs/flexible.md): the
     end plate dishes under the coupling's coast load and the pressure on the case washer
     moves to its outer edge (friction radius +20 %); mesh-converged (case cells 1 or 2
     across, 24 or 36 around: mode 4 within 0.5 %). The second check states that this, and
-    nothing else, is the difference (measured within 8e-5). Seen to fail: the flexible case's
-    mode 4 against the rigid TDR without the radius correction is 3.9 % off; the friction
+    nothing else, is the difference (measured within 7e-4). Seen to fail: the flexible case's
+    mode 4 against the rigid TDR without the radius correction is 4.1 % off; the friction
     of the flexible contacts left out lowers a TDR by 8-10 % (Type B, below)."""
     from drivedyn.analysis.vehicle import level_windows, run_vehicle
     from drivedyn.config import read_library_file
@@ -196,9 +198,10 @@ def torsen_b_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     """TORSEN Type B with its three washers meshed and flexible (the seeds' flexible Type B)
     and the shipped washer law: bench TDR of the four modes against the rigid model (2 %).
 
-    The washers sit on rigid bodies (the housing, the left side gear), so only the faceted
-    mesh (friction radius about 0.2 % low) and the washers' own compliance may move the TDR;
-    measured -0.06 to -0.07 %. Seen to fail: the friction left out of the flexible washer
+    The washers sit on rigid bodies (the housing, the left side gear), so only the contact's
+    sampling of the face (at the faceted mesh's nodes the friction radius is about 0.2 %
+    low; the default face quadrature integrates the annulus) and the washers' own compliance
+    may move the TDR; measured -0.01 % (-0.06 to -0.07 % at the nodes). Seen to fail: the friction left out of the flexible washer
     contacts gives modes 1 and 2 at 1.498 (-8.2 % and -10.4 %); the right washer mounted
     with its face away from the gear (normal reversed) stops the run at its first steps
     (a failed check)."""
