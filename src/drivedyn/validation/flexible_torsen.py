@@ -3,11 +3,12 @@ shipped contact law (the elastic washer law of ``[contact.elastic_washers]``).
 
 A flexible washer mounted on a rigid body is nearly as stiff as the rigid washer's law, so
 the bench TDRs must agree with the rigid model's (2 %; measured within 0.03 % with the
-contact at the face quadrature, 0.16-0.28 % at the faceted mesh's nodes). The Type C's flexible case is not a small change: its end plate
-dishes under the coast load and, against the rigid coupling face and a face law of a few
-tenths of a micrometre, the pressure on the case washer moves to its outer edge. That effect
-is checked through its mechanism: the flexible TDR against the rigid one corrected, in the
-analytic model, for the friction radii the flexible run shows.
+contact at the face quadrature, 0.16-0.28 % at the faceted mesh's nodes). The Type C's
+flexible case is not a small change: its end plate dishes under the coast load and, against
+the rigid coupling face and a face law of a few tenths of a micrometre, the pressure on the
+case washer moves to its outer edge. That effect is checked through its mechanism: the
+flexible TDR against the rigid one corrected, in the analytic model, for the friction radii
+the flexible run shows.
 """
 
 from __future__ import annotations
@@ -201,10 +202,10 @@ def torsen_b_flexible(quick: bool = False, figure_dir: str | None = None) -> lis
     The washers sit on rigid bodies (the housing, the left side gear), so only the contact's
     sampling of the face (at the faceted mesh's nodes the friction radius is about 0.2 %
     low; the default face quadrature integrates the annulus) and the washers' own compliance
-    may move the TDR; measured -0.01 % (-0.06 to -0.07 % at the nodes). Seen to fail: the friction left out of the flexible washer
-    contacts gives modes 1 and 2 at 1.498 (-8.2 % and -10.4 %); the right washer mounted
-    with its face away from the gear (normal reversed) stops the run at its first steps
-    (a failed check)."""
+    may move the TDR; measured -0.01 % (-0.06 to -0.07 % at the nodes). Seen to fail: the
+    friction left out of the flexible washer contacts gives modes 1 and 2 at 1.498 (-8.2 %
+    and -10.4 %); the right washer mounted with its face away from the gear (normal
+    reversed) stops the run at its first steps (a failed check)."""
     from drivedyn.config import read_library_file
     from drivedyn.validation.common import finish_case
 
