@@ -355,6 +355,8 @@ BAD_PARTS = [
     ("parts.0.mount=\"carrier_mont\"", "unknown marker 'carrier_mont'.*carrier_mount"),
     ("washer_contacts.0.part=\"washr\"", "unknown part 'washr'"),
     ("parts.0.mesh.r_int=\"40 mm\"", "r_int"),
+    ("washer_contacts.0.quadrature=[2, 5]", "quadrature = .2, 5.*dividing the mesh's 36 cells"),
+    ("washer_contacts.0.face={axis=\"x\", value=0.0}", "quadrature.*annular_washer"),
 ]
 
 
@@ -364,13 +366,41 @@ def test_bad_part_definitions_exit_2_naming_the_key(override, message):
 
     from drivedyn.cli import main
 
-    r = CliRunner().invoke(main, ["run", "flexible-washer", "--set", override, "--t-end",
-                                  "0.001"])
+    extra = ["--set", "washer_contacts.0.quadrature=[2, 12]"] if "face=" in override else []
+    r = CliRunner().invoke(main, ["run", "flexible-washer", "--set", override, *extra,
+                                  "--t-end", "0.001"])
     assert r.exit_code == 2, r.output
     assert "Traceback" not in r.output
     import re
 
     assert re.search(message, r.output, re.S), r.output
+
+
+def test_model_file_washer_contact_at_a_face_quadrature():
+    """``quadrature = [2, 12]`` in ``[[washer_contacts]]``: the contact at 2 x 2 x 12 points
+    of the annulus (the mesh has 2 cells across, 36 around), with its pressure field there;
+    the face force and torque as at the nodes (the friction torque 0.25 % higher: the nodes of
+    the 36-gon mesh sit inside the circle). Fails with the points of one radial interval
+    (the Gauss radii not per cell: 24 points)."""
+    from drivedyn.config.loader import load_model
+    from drivedyn.solver import simulate
+
+    out = {}
+    for q in (None, [2, 12]):
+        over = [] if q is None else [f"washer_contacts.0.quadrature={q}"]
+        model = load_model("flexible-washer", over)
+        kw = model.meta["scenario"].simulate_kwargs()
+        kw["output_dt"] = 1e-3
+        res = simulate(model, 0.02, **kw)
+        assert res.success
+        ds = res.dataset
+        out[q is None] = (ds["face_contact.contact_pressure"].shape[1],
+                          float(ds["face_contact.normal_force"].values[-1]),
+                          float(ds["face_contact.friction_torque"].values[-1]))
+    (n_q, F_q, M_q), (n_n, F_n, M_n) = out[False], out[True]
+    assert (n_q, n_n) == (48, 5 * 72)  # 5 rings of 72 nodes (27-node hexahedra)
+    assert F_q == pytest.approx(F_n, rel=1e-3)
+    assert abs(M_q / M_n - 1) < 5e-3
 
 
 # --- the TORSEN Type C with flexible parts -----------------------------------------------------

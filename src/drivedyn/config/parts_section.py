@@ -15,6 +15,9 @@ from drivedyn.config.elements_section import parameter_value
 from drivedyn.errors import ModelError, did_you_mean
 from drivedyn.model.spec import Spec
 
+#: cells (across, around, through) of an annular_washer mesh without ``cells``
+CELLS_ANNULAR_WASHER = (2, 36, 1)
+
 
 def _solid_material(mf: Any, name: str, where: str):
     from drivedyn.fe import SolidMaterial
@@ -36,7 +39,7 @@ def _mesh(m: Any, where: str, base_dir: Path):
     c = m.cells
     try:
         if m.shape == "annular_washer":
-            return annular_washer(m.r_int, m.r_ext, m.thickness, *(c or (2, 36, 1)))
+            return annular_washer(m.r_int, m.r_ext, m.thickness, *(c or CELLS_ANNULAR_WASHER))
         if m.shape == "tube":
             return tube(m.r_int, m.r_ext, m.length, m.flanges, *(c or (1, 24, 8)))
         if m.shape == "box":
@@ -103,13 +106,37 @@ def add_washer_contacts(spec: Spec, mf: Any, parts: dict[str, Any]) -> None:
         mount = next(p.mount for p in mf.parts if p.name == w.part)
         # the face is given in the part's mesh frame; interface 0 is the part frame origin
         face = select(solid, w.face, f"{where}.face")
+        where_points = {"face": face}
+        if w.quadrature is not None:
+            where_points = _quadrature_points(mf, w, where)
         fields = {f.name: f for f in dataclasses.fields(FlexibleWasherContact)}
         law = parameter_value(FlexibleWasherContact, fields["law"].type, "law", w.law,
                               f"{where}.law")
         fric = parameter_value(FlexibleWasherContact, fields["friction"].type, "friction",
                                w.friction, f"{where}.friction")
         try:
-            spec.add(FlexibleWasherContact(w.name, mount, w.marker, body=w.part, face=face,
+            spec.add(FlexibleWasherContact(w.name, mount, w.marker, body=w.part, **where_points,
                                            law=law, friction=fric))
         except (ModelError, TypeError) as exc:
             raise ModelError(f"{where}: {exc}") from None
+
+
+def _quadrature_points(mf: Any, w: Any, where: str) -> dict[str, Any]:
+    """``points`` and ``weights`` of the face quadrature of contact ``w`` (its part an
+    annular washer, its face a z plane of it)."""
+    from drivedyn.fe import annulus_quadrature
+
+    m = next(p.mesh for p in mf.parts if p.name == w.part)
+    f = w.face
+    if m.shape != "annular_washer" or f.axis != "z" or f.value is None:
+        raise ModelError(f"{where}.quadrature: expected a part meshed as an annular_washer and "
+                         f"a face on a z plane (face = {{ axis = \"z\", value = ... }}), got "
+                         f"mesh shape {m.shape!r} and face axis {f.axis!r}")
+    n_r, n_theta = w.quadrature
+    cells_r, cells_theta, _ = m.cells or CELLS_ANNULAR_WASHER
+    if n_r < 1 or n_theta < 3 or cells_theta % n_theta:
+        raise ModelError(f"{where}.quadrature = {[n_r, n_theta]}: expected n_r >= 1 radii per "
+                         f"cell and n_theta >= 3 angles dividing the mesh's {cells_theta} cells "
+                         "around (the points on its vertex radii)")
+    pts, areas = annulus_quadrature(m.r_int, m.r_ext, f.value, n_r, n_theta, cells=cells_r)
+    return {"points": pts, "weights": areas}

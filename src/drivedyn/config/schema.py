@@ -287,7 +287,11 @@ class PartFile(Strict):
 
 class WasherContactFile(Strict):
     """A rigid face (``marker``: origin on the face, z towards the part) pressed on the
-    ``face`` nodes of the flexible ``part``; ``law`` and ``friction`` as for contacts."""
+    ``face`` nodes of the flexible ``part``; ``law`` and ``friction`` as for contacts. With
+    ``quadrature = [n_r, n_theta]`` the contact is evaluated at the points of a face
+    quadrature instead (:func:`drivedyn.fe.annulus_quadrature`: ``n_r`` Gauss radii per
+    radial cell, ``n_theta`` angles dividing the cells around): for a part meshed as an
+    ``annular_washer`` and a face on one of its z planes."""
 
     name: str
     part: str
@@ -295,6 +299,7 @@ class WasherContactFile(Strict):
     face: SelectionFile
     law: dict[str, Any]
     friction: dict[str, Any] | None = None
+    quadrature: tuple[int, int] | None = None
 
 
 class GenericElementFile(BaseModel):

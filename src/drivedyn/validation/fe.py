@@ -308,7 +308,7 @@ def washer_pressure(quick: bool = False, figure_dir: str | None = None) -> list[
     check, not a reading of its partial results.
 
     The same bench with the contact at the points of a face quadrature (2 Gauss radii in
-    each of the 2 cells across, 12 angles: 48 points against 216 face nodes): its friction
+    each of the 2 cells across, 12 angles: 48 points against 360 face nodes): its friction
     torque against mu F r_m within 1e-4, where the nodes' sum is 0.25 % low (the 36-gon mesh's
     mid-side nodes sit inside the circle).
 
