@@ -252,6 +252,36 @@ def test_auto_lu_keeps_sparse_for_a_banded_matrix_and_goes_dense_when_it_fills()
         assert np.allclose(A @ lin.solve(b), b, rtol=1e-12, atol=1e-12)
 
 
+def test_auto_lu_decides_at_its_first_factorisation_only(monkeypatch) -> None:
+    """On one pattern, a later matrix whose pivots leave the diagonal fills more than the
+    first (here 25 % of the matrix against 17 %, with DENSE_FILL set between them): the
+    sparse LU is kept, and it solves exactly. The solver of a run does not follow the
+    pivots the run meets. Fails with the fill tested at every factorisation (the second
+    goes dense)."""
+    import scipy.sparse as sps
+
+    from drivedyn.solver import linear
+
+    monkeypatch.setattr(linear, "DENSE_FILL", 0.2)
+    n = 200
+    A1 = (sps.random(n, n, density=0.02, random_state=4) + sps.diags(np.full(n, 100.0))).tocsc()
+    A1.sort_indices()
+    A2 = A1.copy()
+    A2.setdiag(1e-6)   # the same pattern, pivots off the diagonal
+    A2 = A2.tocsc()
+    A2.sort_indices()
+    assert np.array_equal(A1.indices, A2.indices)
+    lin = linear.AutoLU()
+    lin.factor(A1)
+    assert isinstance(lin.active, linear.SparseLU) and lin.active.fill < 0.2 * n * n
+    lin.factor(A2)
+    assert isinstance(lin.active, linear.SparseLU) and lin.active.fill > 0.2 * n * n
+    b = np.random.default_rng(5).standard_normal(n)
+    x = lin.solve(b)   # backward stable (A2 is ill-conditioned: the solve's residual)
+    d = A2.toarray()
+    assert np.abs(d @ x - b).max() < 1e-12 * (np.abs(d).max() * np.abs(x).max())
+
+
 class _StalledSolver(DenseLU):
     """A dense LU whose corrections are zero (in the Python oracle, which solves through
     ``solve``): Newton stalls with the residual where the predictor left it (the situation

@@ -404,14 +404,21 @@ DENSE_FILL_MAX = 1500
 
 
 class AutoLU(LinearSolver):
-    """:class:`SparseLU`, switching for good to the dense LU after a factorisation whose
-    factors fill more than :data:`DENSE_FILL` of the dense matrix (the factors' pattern
-    depends on the model's pattern and the pivots only, so in practice the first
-    factorisation decides, the same in every run of a model)."""
+    """:class:`SparseLU`, or the dense LU for good when the factors of the first
+    factorisation fill more than :data:`DENSE_FILL` of the dense matrix. The first
+    factorisation decides, once: the model's initial matrix, the same in every run of a
+    model. A later factorisation with pivot search (after kept pivots were refused) fills
+    according to the values it meets, and the step at which that happens, hence the solver
+    of the rest of the run, would follow the round-off of the run; so they do not switch.
+    Measured on the flexible TORSEN benches, which switched at such a factorisation (4th to
+    29th; fill 38-57 %): with the sparse LU kept, the Type C's flexible washers' sides took
+    1.53-1.57 and 1.90-1.95 s against 1.87-1.97 and 2.17 s dense, the Type B's 1.22 and
+    1.09-1.12 s against 1.25 and 1.21-1.22 s, TDRs within 5e-6."""
 
     def __init__(self) -> None:
         self.sparse: SparseLU | None = SparseLU()
         self.dense: DenseLU | None = None
+        self._decided = False
 
     @property
     def active(self) -> LinearSolver:
@@ -427,6 +434,9 @@ class AutoLU(LinearSolver):
             self.dense.factor_csc(data, indices, indptr, n)
             return
         self.sparse.factor_csc(data, indices, indptr, n)
+        if self._decided:
+            return
+        self._decided = True
         fill = self.sparse.fill
         if n <= DENSE_FILL_MAX and fill > DENSE_FILL * n * n:
             self.dense = DenseLU()
