@@ -25,9 +25,10 @@ with the inertia invariants (computed once from the mesh, all in the host frame)
     P_de = Phi_d^T Ms U_e = A_ed + Q_de q     (nq,)
 
 where ``A_bd = X_b^T Ms Phi_d`` (nq,) and ``Q_bd = Phi_b^T Ms Phi_d`` (nq, nq). The mass
-matrix is assembled in closed form; the velocity and position derivatives of the rest (the
-stiffness and gyroscopic matrices) by complex steps of the same residual function, exact to
-round-off. The residual costs about ``12 nq^2`` multiply-adds.
+matrix is assembled in closed form, and so are the position and velocity derivatives of the
+rest (the stiffness and gyroscopic matrices, :mod:`~drivedyn.elements.flexible.tangent`;
+complex steps of the residual, its test oracle, cost three times more). The residual
+costs about ``12 nq^2`` multiply-adds.
 
 Elastic coordinates live in *coordinate nodes*: engine nodes whose three translation slots
 hold three coordinates ``q`` (their rotation slots and the unused translation slots of the
@@ -41,6 +42,7 @@ import numpy as np
 from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
+from drivedyn.elements.flexible.tangent import ffrf_tangent
 from drivedyn.elements.framework.contract import local_arrays
 
 # Levi-Civita pairs (a, b, c) with e_abc = +1
@@ -49,14 +51,12 @@ _EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
 
 @njit(cache=True)
 def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Omd, q, qd, qdd,
-                zero, Qq, G, Hd, Hdd, B, rx, rth, rq, qq_given):
+                zero, Qq, G, Hd, Hdd, B, rx, rth, rq):
     """Generalised inertia, gravity, elastic and damping forces of one body (see the module
     docstring) into ``rx`` (3, global), ``rth`` (3, body) and ``rq`` (nq,). Works in real or
-    complex arithmetic (complex steps; ``zero`` is 0 in that arithmetic). Work arrays:
-    ``Qq`` (3, 3, nq), ``G, Hd, Hdd, B`` (3, 3), of the arithmetic of ``q``. With
-    ``qq_given`` the caller has set ``Qq = Q q`` (the complex steps: ``Q q`` is linear in
-    ``q``, so a step's ``Qq`` is the real one plus ``i h Q[:, :, :, j]``, the same numbers
-    as the sum; it was 9 nq^2 of the about 16 nq^2 multiply-adds of an evaluation)."""
+    complex arithmetic (the tangent's test takes complex steps of it; ``zero`` is 0 in that
+    arithmetic). Work arrays:
+    ``Qq`` (3, 3, nq), ``G, Hd, Hdd, B`` (3, 3), of the arithmetic of ``q``."""
     # alpha = R^T (xdd - g)
     a0 = xdd[0] - g[0]
     a1 = xdd[1] - g[1]
@@ -65,14 +65,13 @@ def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Om
     al1 = R[0, 1] * a0 + R[1, 1] * a1 + R[2, 1] * a2
     al2 = R[0, 2] * a0 + R[1, 2] * a1 + R[2, 2] * a2
     # Qq[b, d, k] = sum_l Q[b, d, k, l] q_l
-    if not qq_given:
-        for b in range(3):
-            for d in range(3):
-                for k in range(nq):
-                    s = zero
-                    for l in range(nq):
-                        s += Q[b, d, k, l] * q[l]
-                    Qq[b, d, k] = s
+    for b in range(3):
+        for d in range(3):
+            for k in range(nq):
+                s = zero
+                for l in range(nq):
+                    s += Q[b, d, k, l] * q[l]
+                Qq[b, d, k] = s
     # G, H(qd), H(qdd)
     for b in range(3):
         for d in range(3):
@@ -232,22 +231,16 @@ def flexible_body_kernel(
     nm = 6 + nqm
     z = np.zeros
     W = (local_arrays(nd, 0), z(nd), z(nd), z((nm, nm)), z(3), z(3), z(nqm), z(nqm), z(nqm),
-         z(nqm), z((3, 3, nqm)), z((3, 3)), z((3, 3)), z((3, 3)), z((3, 3)),
-         z((3, 3), np.complex128), z(3, np.complex128), z(3, np.complex128),
-         z(3, np.complex128), z(nqm, np.complex128), z(nqm, np.complex128),
-         z(nqm, np.complex128), z((3, 3, nqm), np.complex128), z((3, 3), np.complex128),
-         z((3, 3), np.complex128), z((3, 3), np.complex128), z((3, 3), np.complex128),
-         z(3, np.complex128), z(3, np.complex128), z(nqm, np.complex128))
+         z(nqm), z((3, 3, nqm)), z((3, 3)), z((3, 3)), z((3, 3)), z((3, 3)), z((nm, nm)),
+         z((nm, nm)), z((8, 3)), z((7, 3, 3)))
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
-    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, cR, cx, cO, cOd, cq, cqd, cqdd,
-     cQq, cG, cHd, cHdd, cB, crx, crth, crq) = W
+    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, Kx, Cx, v3, m3) = W
     full = sc.full_pass(want, mode)
     rqL, _, M, Cd, K, _ = L
     nnode = C[sc.LNODES].shape[1]
     gnd = x.shape[0] - 1
     nd = 6 * nnode
-    h = 1e-30
     for e in range(sc.count(C)):
         nq = nqs[e]
         n0 = sc.node(C, e, 0)
@@ -262,7 +255,7 @@ def flexible_body_kernel(
         Re = R[n0]
         ffrf_forces(mass[e], S0[e], Phib[e], G0[e], A[e], Q[e], Qa[e], Mqq[e], Kr[e], Dr[e],
                     nq, gvec, Re, al[0:3], vl[3:6], al[3:6], qv, qdv, qddv, 0.0, Qq, G, Hd, Hdd,
-                    Bw, rx, rth, rq, False)
+                    Bw, rx, rth, rq)
         for i in range(3):
             rqL[i] = rx[i]
             rqL[3 + i] = rth[i]
@@ -306,68 +299,16 @@ def flexible_body_kernel(
                     if 3 * (j - 1) + t >= nq:
                         M[6 * j + t, 6 * j + t] = hm
                         K[6 * j + t, 6 * j + t] = hk
-            # complex steps: copies of the real inputs
-            for i in range(3):
-                cx[i] = al[i]
-                cO[i] = vl[3 + i]
-                cOd[i] = al[3 + i]
-                for j in range(3):
-                    cR[i, j] = Re[i, j]
-            for k in range(nq):
-                cq[k] = qv[k]
-                cqd[k] = qdv[k]
-                cqdd[k] = qddv[k]
-            for b in range(3):
-                for d in range(3):
-                    for k in range(nq):
-                        cQq[b, d, k] = Qq[b, d, k]
-            ncol = 3 + nq
-            for c in range(2 * ncol):
-                pos = c < ncol
-                j = c if pos else c - ncol
-                # perturb
-                if j < 3:
-                    if pos:  # right rotation R exp(i h e_j~)
-                        for a in range(3):
-                            b1 = (j + 1) % 3
-                            b2 = (j + 2) % 3
-                            cR[a, b1] = Re[a, b1] + 1j * h * Re[a, b2]
-                            cR[a, b2] = Re[a, b2] - 1j * h * Re[a, b1]
-                    else:
-                        cO[j] = vl[3 + j] + 1j * h
-                else:
-                    if pos:
-                        cq[j - 3] = qv[j - 3] + 1j * h
-                        for b in range(3):
-                            for d in range(3):
-                                for k in range(nq):
-                                    cQq[b, d, k] = Qq[b, d, k] + 1j * (h * Q[e, b, d, k, j - 3])
-                    else:
-                        cqd[j - 3] = qdv[j - 3] + 1j * h
-                ffrf_forces(mass[e], S0[e], Phib[e], G0[e], A[e], Q[e], Qa[e], Mqq[e], Kr[e],
-                            Dr[e], nq, gvec, cR, cx, cO, cOd, cq, cqd, cqdd, 0j, cQq, cG, cHd,
-                            cHdd, cB, crx, crth, crq, True)
-                col = (3 + j) if j < 3 else _slot(j - 3)
-                T = K if pos else Cd
-                for i in range(3):
-                    T[i, col] = crx[i].imag / h
-                    T[3 + i, col] = crth[i].imag / h
-                for k in range(nq):
-                    T[_slot(k), col] = crq[k].imag / h
-                # restore
-                if j < 3:
-                    for a in range(3):
-                        for b in range(3):
-                            cR[a, b] = Re[a, b]
-                    cO[j] = vl[3 + j]
-                else:
-                    cq[j - 3] = qv[j - 3]
-                    cqd[j - 3] = qdv[j - 3]
-                    if pos:
-                        for b in range(3):
-                            for d in range(3):
-                                for k in range(nq):
-                                    cQq[b, d, k] = Qq[b, d, k]
+            # stiffness and gyroscopic matrices in closed form (the state of this
+            # element's ffrf_forces call above)
+            ffrf_tangent(mass[e], S0[e], Phib[e], A[e], Q[e], Qa[e], Kr[e], Dr[e], nq, gvec,
+                         Re, al[0:3], vl[3:6], qv, qdv, qddv, Qq, G, Hd, Bw, Kx, Cx, v3, m3)
+            for i in range(6 + nq):
+                ii = i if i < 6 else _slot(i - 6)
+                for j in range(3, 6 + nq):
+                    jj = j if j < 6 else _slot(j - 6)
+                    K[ii, jj] = Kx[i, j]
+                    Cd[ii, jj] = Cx[i, j]
         sc.scatter(C, L, e, nnode, full)
         # energies: T = 1/2 v^T M v (needs M: build it if not done)
         if not full:
