@@ -31,7 +31,7 @@ element loop (small allocations cost more than the maths), and best not at all: 
 carve every work array (:func:`drivedyn.elements.framework.work_arrays.carve`) from a buffer
 allocated with its group, its last parameter ``work`` (:func:`work_buffer`; the ``*_at``
 helpers below and ``local_arrays_at`` carve the usual sets). Every family does so but the
-flexible bodies and their ties (complex-step work arrays; ``tests/elements/test_work_arrays``
+flexible bodies and their ties (their own work arrays; ``tests/elements/test_work_arrays``
 checks that the others allocate nothing when the stepping loop calls them): allocating per call
 (``malloc``, ``free``, numba's wrapper) took 13 % of the Type C vehicle configuration's run
 (measured with ``perf``). The buffer also reaches the kernel without its memory owner (the
