@@ -25,16 +25,26 @@ from numba import njit
 SMALL_ANGLE = 1e-4  # below this angle [rad] Taylor series are exact to double precision
 
 
-@njit(cache=True)
-def skew(v: np.ndarray) -> np.ndarray:
-    """Skew-symmetric matrix ``S`` of ``v`` (3,) so that ``S @ w == cross(v, w)``."""
-    S = np.zeros((3, 3))
+@njit(cache=True, inline="always")
+def skew_into(v: np.ndarray, S: np.ndarray) -> None:
+    """Write the skew-symmetric matrix of ``v`` (3,) into ``S`` (3, 3): ``S @ w ==
+    cross(v, w)`` (no allocation: element kernels' work arrays)."""
+    S[0, 0] = 0.0
+    S[1, 1] = 0.0
+    S[2, 2] = 0.0
     S[0, 1] = -v[2]
     S[0, 2] = v[1]
     S[1, 0] = v[2]
     S[1, 2] = -v[0]
     S[2, 0] = -v[1]
     S[2, 1] = v[0]
+
+
+@njit(cache=True)
+def skew(v: np.ndarray) -> np.ndarray:
+    """Skew-symmetric matrix ``S`` of ``v`` (3,) so that ``S @ w == cross(v, w)``."""
+    S = np.empty((3, 3))
+    skew_into(v, S)
     return S
 
 

@@ -58,13 +58,14 @@ from drivedyn.elements.contact.common import check_laws, coerce_laws
 from drivedyn.elements.contact.friction import FrictionLaw
 from drivedyn.elements.contact.impact_laws import NormalLaw, law_table
 from drivedyn.elements.flexible.family import flexible_body_named, invariants
-from drivedyn.elements.flexible.washer_point import node_force, node_force_jacobian, skew_into
+from drivedyn.elements.flexible.washer_point import node_force, node_force_jacobian
 from drivedyn.elements.framework.building import make_group, what_of
 from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
 from drivedyn.errors import ModelError
+from drivedyn.rotations import skew_into
 
 OUTPUTS = (
     ("normal_force", "N", "axial contact force, sum over the contact points"),

@@ -131,16 +131,3 @@ def node_force_jacobian(r, rd, xB, RB, vB, wB, pB, nB, af, law, fric, dP):
         dP[0, c0] = dF * ng[0] + F * dn0 - dg * st[0] - g * dst0
         dP[1, c0] = dF * ng[1] + F * dn1 - dg * st[1] - g * dst1
         dP[2, c0] = dF * ng[2] + F * dn2 - dg * st[2] - g * dst2
-
-
-@njit(cache=True, inline="always")
-def skew_into(a, S):
-    S[0, 0] = 0.0
-    S[1, 1] = 0.0
-    S[2, 2] = 0.0
-    S[0, 1] = -a[2]
-    S[0, 2] = a[1]
-    S[1, 0] = a[2]
-    S[1, 2] = -a[0]
-    S[2, 0] = -a[1]
-    S[2, 1] = a[0]
