@@ -431,6 +431,8 @@ def test_torsen_c_flexible_switches_build_the_parts():
     ("flexible.case_wall=[\"90 mm\", \"85 mm\"]", "inner < outer < flange radius"),
     ("flexible.washer_cells=[1, 4]", "n_theta >= 6"),
     ("flexible.washer_modes=-1", "washer_modes"),
+    ("flexible.face_quadrature=[2, 5]", "n_theta dividing washer_cells[1] = 24"),
+    ("flexible.face_quadrature=\"corners\"", "face_quadrature"),
 ])
 def test_torsen_c_flexible_refusals(override, message):
     from click.testing import CliRunner
