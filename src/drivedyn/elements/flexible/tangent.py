@@ -84,8 +84,8 @@ def ffrf_tangent(mass, S0, Phib, A, Q, Qa, Kr, Dr, nq, g, R, xdd, Om, q, qd, qdd
     of its last call (``Qq, G, Hd, B`` of that call, the same ``R, xdd, Om, q, qd, qdd``):
     ``Kx`` (6 + nq, 6 + nq) with respect to ``[x, theta, q]`` (right rotation of the frame)
     and ``Cx`` with respect to ``[v, Omega, qd]``; rows ``[rx, rth, rq]``. The columns of x
-    and v are zero (the forces do not depend on them). Work arrays: ``v3`` (9, 3),
-    ``m3`` (8, 3, 3)."""
+    and v are zero (the forces do not depend on them). Work arrays: ``v3`` (8, 3),
+    ``m3`` (7, 3, 3)."""
     al, S, Pd, f, dal, dS, dPd, z3 = v3[0], v3[1], v3[2], v3[3], v3[4], v3[5], v3[6], v3[7]
     W, dB, dW, dG, dHd, dHdd, Z = m3[0], m3[1], m3[2], m3[3], m3[4], m3[5], m3[6]
     for i in range(6 + nq):
