@@ -291,7 +291,7 @@ class PythonLoop:
 
 
 def python_loop(loop: PythonLoop, model, st: State, rec, stats, progress,
-                debug: bool) -> tuple[bool, str]:
+                debug: bool, trace=None) -> tuple[bool, str]:
     """simulate's stepping loop in Python, one :meth:`ReferenceStepper.step` per attempt;
     returns (success, message)."""
     stepper, touts, ctl, cs, energy = loop.stepper, loop.touts, loop.ctl, loop.cs, loop.energy
@@ -306,9 +306,9 @@ def python_loop(loop: PythonLoop, model, st: State, rec, stats, progress,
             pt = stepper._prev_t
             err, ierr = step_error(ctl, stepper.trial.a, st.a, stepper._prev_a, stepper.hdq,
                                    h_try, st.t - pt if pt is not None and st.t > pt else 0.0)
+            out.error, out.worst_eq = float(err), int(ierr)
             if err > 1.0:
                 out.status = StepStatus.ERROR_TOO_LARGE
-                out.worst_eq = int(ierr)
                 out.residual = float(err)
         if out.ok:
             trial = stepper.trial
@@ -329,6 +329,8 @@ def python_loop(loop: PythonLoop, model, st: State, rec, stats, progress,
                 stepper.invalidate()  # rows given back
             if debug:
                 sim._log_attempt(model, st.t, h_try, out)
+            if trace is not None:
+                trace(st.t, h_try, out)
             if progress is not None:
                 progress(st.t, h_try, stats.steps)
             continue
@@ -338,6 +340,8 @@ def python_loop(loop: PythonLoop, model, st: State, rec, stats, progress,
             continue
         if debug:
             sim._log_attempt(model, st.t, h_try, out)
+        if trace is not None:
+            trace(st.t, h_try, out)
         stats.rejected += 1
         stepper.invalidate()
         if reject_step(cs, ctl, st.t, h_try, err, out.status is StepStatus.ERROR_TOO_LARGE):

@@ -22,6 +22,7 @@ from same_runs import assert_identical, run_both
 
 import drivedyn as dd
 from drivedyn.solver import step_loop
+from drivedyn.solver.settings import StepStatus
 
 
 def _run_both(monkeypatch, run):
@@ -178,6 +179,41 @@ def test_debug_logging_runs_step_by_step_with_the_same_lines(monkeypatch, caplog
     assert logs[0] == logs[1]
     assert marks[0] == marks[1] and len(marks[0]) == fast.stats.steps
     assert_identical(slow, fast)
+
+
+def test_trace_reports_every_attempt_as_the_python_loop_does(monkeypatch) -> None:
+    """``simulate(trace=...)`` is called after every attempt with the oracle's outcomes (the
+    seeds' bouncing ball, adaptive steps: rejections at the impacts): an accepted step
+    carries its error estimate (at most 1, the tolerance) and the dof where it is largest,
+    a step rejected for its error an estimate above 1 at the ball's height; the calls count
+    the run's steps and rejections, and tracing changes nothing in the run. It fails with
+    the accepted steps' estimate left out of ``StepLoop.outcome`` (error 0, no dof), or with
+    the failing attempt reported twice."""
+    from drivedyn.library import bouncing_ball as bb
+
+    model = bb.bouncing_ball_model()
+    kw = dict(integrator=dd.GeneralizedAlpha(0.8), output_dt=2e-3,
+              step=dd.AdaptiveStep(h0=1e-4, h_min=1e-9, h_max=2e-3, rtol=1e-4, atol=1e-7))
+    traces = []
+
+    def run():
+        traces.append([])
+        return dd.simulate(model, 0.5, **kw,
+                           trace=lambda t, h, out: traces[-1].append((t, h, out)))
+
+    slow, fast, _ = _run_both(monkeypatch, run)
+    assert_identical(slow, fast)
+    assert [(t, h, o.status, o.error, o.worst_eq) for t, h, o in traces[0]] == \
+        [(t, h, o.status, o.error, o.worst_eq) for t, h, o in traces[1]]
+    ok = [o for _, _, o in traces[1] if o.ok]
+    too_large = [o for _, _, o in traces[1] if o.status is StepStatus.ERROR_TOO_LARGE]
+    assert len(ok) == fast.stats.steps and len(traces[1]) - len(ok) == fast.stats.rejected
+    assert too_large and all(o.error > 1.0 for o in too_large)
+    assert {model.eq_labels[o.worst_eq] for o in too_large} == {"node ball: uz"}
+    # in free flight the pseudo-accelerations are constant: an estimate of exactly 0
+    assert all(0.0 <= o.error <= 1.0 and 0 <= o.worst_eq < model.nd for o in ok)
+    assert max(o.error for o in ok) > 0.5
+    assert_identical(dd.simulate(model, 0.5, **kw), fast)
 
 
 @pytest.mark.parametrize(("batching", "times"), [

@@ -136,7 +136,13 @@ class StepStatus(enum.Enum):
 @dataclass
 class StepOutcome:
     """A step's result as a value: status, Newton statistics and, on failure, the worst
-    equation (index into ``Model.eq_labels``) with its scaled residual."""
+    equation (index into ``Model.eq_labels``) with its scaled residual.
+
+    ``error`` is the weighted local error estimate of an adaptive step (1: the tolerance;
+    0 for fixed steps) and ``worst_eq`` the dof where it is largest, for an accepted step
+    and for one rejected for its error (``residual`` then holds the estimate too); for a
+    step Newton did not converge, ``worst_eq`` is the equation with the largest scaled
+    residual."""
 
     status: StepStatus
     iterations: int = 0

@@ -29,6 +29,7 @@ from drivedyn.solver.settings import (
     FixedStep,
     GeneralizedAlpha,
     Newton,
+    StepOutcome,
 )
 from drivedyn.solver.simulation import Simulation, _set_up
 
@@ -102,6 +103,7 @@ def simulate(
     progress: Callable[[float, float, int], None] | None = None,
     initialize: bool = True,
     variables: Sequence[str] | None = None,
+    trace: Callable[[float, float, StepOutcome], None] | None = None,
 ) -> Results:
     """Integrate ``model`` from ``state`` (default: its initial state) to ``t_end`` [s].
 
@@ -124,6 +126,9 @@ def simulate(
         variables: glob patterns of the sensors to keep (default all), e.g.
             ``["crank.*", "*.torque"]``; energy terms are always kept. Only those are stored
             during the run (the memory of a long run with dense outputs follows them).
+        trace: called as ``trace(t, h, outcome)`` after every step attempt (see
+            :class:`~drivedyn.solver.simulation.Simulation`): where the steps go, which dof
+            sets the step size, why steps are rejected (``benchmarks/step_trace.py``).
 
     Returns:
         :class:`Results`; on failure ``success`` is False and it holds all outputs recorded
@@ -144,7 +149,8 @@ def simulate(
     newton = newton or Newton()
     step = step or FixedStep()
     sim = Simulation(model, state=state, integrator=integrator, newton=newton, step=step,
-                     linear_solver=linear_solver, initialize=initialize, variables=variables)
+                     linear_solver=linear_solver, initialize=initialize, variables=variables,
+                     trace=trace)
     t0 = sim.time
     touts = _output_times(t0, t_end, step, output_dt, output_times)
     if touts.size and abs(touts[0] - t0) <= 1e-12 * max(1.0, abs(t0)):

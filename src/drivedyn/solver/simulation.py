@@ -84,6 +84,12 @@ class Simulation:
         variables: glob patterns of the sensors to record (default all).
         record: record outputs at the output times of each :meth:`advance` (False: keep
             only the current state, for a co-simulation that reads it after each call).
+        trace: called as ``trace(t, h, outcome)`` after every step attempt, accepted or
+            rejected (``t`` [s]: the end of an accepted step, the start of a rejected one;
+            ``h`` [s]: the step tried; ``outcome``: its :class:`StepOutcome`, with the error
+            estimate and the dof that set it). The stepping loop then returns to Python
+            after every attempt, which costs wall time, not results
+            (``benchmarks/step_trace.py`` uses it).
 
     Raises:
         InitializationError: the initial state cannot be made consistent, or violates a
@@ -94,7 +100,8 @@ class Simulation:
                  integrator: GeneralizedAlpha | None = None, newton: Newton | None = None,
                  step: FixedStep | AdaptiveStep | None = None,
                  linear_solver: LinearSolver | None = None, initialize: bool = True,
-                 variables: Sequence[str] | None = None, record: bool = True) -> None:
+                 variables: Sequence[str] | None = None, record: bool = True,
+                 trace: Callable[[float, float, StepOutcome], None] | None = None) -> None:
         self.model = model
         self.integrator = integrator or GeneralizedAlpha()
         self.newton = newton or Newton()
@@ -122,8 +129,10 @@ class Simulation:
         self.recorder = Recorder(model, energy, self.variables) if record else None
         ctl, cs = control_arrays(self.step, stepper.beta, st.t, model.nn)
         self._debug = log.isEnabledFor(logging.DEBUG)
+        self._trace = trace
         rec = self.recorder
-        self._loop = StepLoop.create(stepper, st, np.zeros(0), ctl, cs, energy, self._debug,
+        self._loop = StepLoop.create(stepper, st, np.zeros(0), ctl, cs, energy,
+                                     self._debug or trace is not None,
                                      rec is not None and rec.extendable,
                                      None if rec is None else rec.selection.arrays)
         pool = model.meta.get("tf_pool")
@@ -212,7 +221,8 @@ class Simulation:
         loop.retarget(touts, float(t_end))
         try:
             self.success, self.message = _run_loop(loop, self.model, st, self.recorder,
-                                                   self._counts, progress, self._debug)
+                                                   self._counts, progress, self._debug,
+                                                   self._trace)
         except KeyboardInterrupt:
             # Ctrl-C: stop cleanly with what was computed (the caller writes partial results)
             loop.flush(self.recorder)  # the outputs the loop stored before it returned
@@ -262,8 +272,9 @@ def _log_attempt(model: Model, t: float, h: float, out: StepOutcome) -> None:
     """DEBUG log line of a step attempt (``t``: end of an accepted step, start of a
     rejected one)."""
     if out.ok:
-        log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d",
-                  t, h, out.iterations, out.factorizations)
+        log.debug("t = %.9g s  h = %.3g s  Newton iterations %d  factorizations %d  "
+                  "error %.3g (%s)", t, h, out.iterations, out.factorizations, out.error,
+                  model.eq_labels[out.worst_eq] if out.worst_eq >= 0 else "-")
     else:
         log.debug("t = %.9g s  h = %.3g s  rejected: %s (iterations %d, worst %s, %.3g)",
                   t, h, out.status.value, out.iterations,
@@ -271,12 +282,13 @@ def _log_attempt(model: Model, t: float, h: float, out: StepOutcome) -> None:
 
 
 def _run_loop(loop: StepLoop, model: Model, st: State, rec: Recorder | None, stats: RunStats,
-              progress, debug: bool) -> tuple[bool, str]:
+              progress, debug: bool, trace=None) -> tuple[bool, str]:
     """The compiled stepping loop (:mod:`~drivedyn.solver.step_loop`), back in Python after
-    a batch of output times (and after every attempt when ``debug``); returns (success,
-    message). ``progress`` is called at each return after an accepted step (the last output
-    time of a batch; after every accepted step when ``debug``). A return at an output time
-    that is the loop's end time ends the call (no further call to find the end)."""
+    a batch of output times (and after every attempt when ``debug`` or ``trace``); returns
+    (success, message). ``progress`` is called at each return after an accepted step (the
+    last output time of a batch; after every accepted step when ``debug``), ``trace`` after
+    every attempt. A return at an output time that is the loop's end time ends the call (no
+    further call to find the end)."""
     while True:
         code = loop.run()
         flushed = loop.flush(rec)
@@ -285,14 +297,16 @@ def _run_loop(loop: StepLoop, model: Model, st: State, rec: Recorder | None, sta
                 progress(st.t, loop.pieces()[0], stats.steps + loop.steps)
             return True, ""
         h_try, accepted, _, _ = loop.pieces()
-        if debug and code != RUN_FAILED:
-            _log_attempt(model, st.t, h_try, loop.outcome())
+        if debug or trace is not None:
+            out = loop.outcome()
+            if debug:
+                _log_attempt(model, st.t, h_try, out)
+            if trace is not None:
+                trace(st.t, h_try, out)
         if code == RUN_OUTPUT and not loop.buffered and rec is not None:
             rec.record(st, h_try)
         if code == RUN_FAILED:
             out = loop.outcome()
-            if debug:
-                _log_attempt(model, st.t, h_try, out)
             message = _failure_message(model, st.t, h_try, out)
             log.error(message)
             return False, message

@@ -497,10 +497,14 @@ class StepLoop:
         from drivedyn.solver.settings import StepOutcome, StepStatus
 
         code, it, nfac = int(self.lo[LO_CODE]), int(self.lo[LO_IT]), int(self.lo[LO_NFAC])
+        err, ierr = float(self.ls[LS_ERR]), int(self.lo[LO_IERR])
         if code == ERROR_TOO_LARGE:
-            return StepOutcome(StepStatus.ERROR_TOO_LARGE, it, nfac,
-                               worst_eq=int(self.lo[LO_IERR]), residual=float(self.ls[LS_ERR]))
-        return self.stepper.outcome_of(code, it, nfac)
+            return StepOutcome(StepStatus.ERROR_TOO_LARGE, it, nfac, error=err,
+                               worst_eq=ierr, residual=err)
+        out = self.stepper.outcome_of(code, it, nfac)
+        if out.ok:  # the error estimate of the accepted step and the dof that set it
+            out.error, out.worst_eq = err, ierr
+        return out
 
     @property
     def steps(self) -> int:
