@@ -38,13 +38,11 @@ import json
 import time
 
 import numpy as np
+from _common import library_run
 from numba import njit
 
 from drivedyn.config import read_library_file
 from drivedyn.elements.framework.contract import MODE_DYN
-from drivedyn.library.differentials import of
-from drivedyn.library.differentials.scenarios import bench_spec
-from drivedyn.model.compile import compile_model
 from drivedyn.solver.kernel_calls import KernelTable, call_groups
 from drivedyn.solver.lapack import dense_factor_csc, dense_solve, workspace
 from drivedyn.solver.linear import DenseLU, default_linear_solver
@@ -111,37 +109,15 @@ def main() -> None:
                     metavar="KEY=VALUE", help="model-file override (repeatable)")
     args = ap.parse_args()
     p = read_library_file(args.model, args.overrides)[0]
-    if args.model == "vehicle-4wd":
-        from drivedyn.library.vehicles.vehicle_4wd import build_spec
-
-        sp = build_spec(p, {n: read_library_file(n)[0] for n in ("torsen-c", "torsen-b")})[0]
-        model = compile_model(sp)
-        settings = p.solver.settings(h_max=p.run.h_max)
-        t_probe, t_end, output_dt, what = 2.0 * args.t_end / 3.0, args.t_end, 0.01, "launch"
-        args.n = min(args.n, 2000)
-    elif args.model == "vehicle-rwd":
-        import drivedyn.analysis.vehicle_rwd as V  # noqa: N812
-        from drivedyn.config.loader import read_vehicle_differentials, resolve_path
-        from drivedyn.library.vehicles.vehicle_rwd import build_spec as rwd_spec
-
-        base = resolve_path("vehicle-rwd").parent
-        p = V.configure(p, args.config)
-        torsen = read_vehicle_differentials(p, read_library_file(args.model)[2], base)
-        sp, lay = rwd_spec(p, torsen, base)
-        model = compile_model(sp)
-        state0 = V.static_start(p, torsen, base, model, lay)
-        settings = dict(p.solver.settings(h_max=p.run.h_max), state=state0)
-        t_probe, t_end, output_dt = 2.0 * args.t_end / 3.0, args.t_end, V.OUTPUT_DT
-        what = f"split-mu launch, {args.config} rear"
-        args.n = min(args.n, 1000)
+    model, settings, t_end, output_dt, what = library_run(
+        args.model, args.overrides, args.side, args.config, args.t_end)
+    if args.model.startswith("vehicle-"):
+        t_probe = 2.0 * args.t_end / 3.0
+        args.n = min(args.n, 2000 if args.model == "vehicle-4wd" else 1000)
     else:
-        model = compile_model(bench_spec(of(p), p, args.side)[0])
-        settings = p.solver.settings()
         # the middle of the first mode's window: contacts closed, gears loaded, planets
         # sliding
-        t_probe, t_end, output_dt = 0.5 * sum(p.bench.window_drive), p.bench.t_end, \
-            p.solver.output_dt
-        what = f"bench, {args.side} side"
+        t_probe = 0.5 * sum(p.bench.window_drive)
     # compile or load every kernel; one output (outputs 1 us apart would force steps that
     # small, where the 4WD start fails: see the note in benchmarks/README.md)
     simulate(model, 1e-3, output_dt=1e-3, **settings)
