@@ -186,9 +186,8 @@ def test_trace_reports_every_attempt_as_the_python_loop_does(monkeypatch) -> Non
     seeds' bouncing ball, adaptive steps: rejections at the impacts): an accepted step
     carries its error estimate (at most 1, the tolerance) and the dof where it is largest,
     a step rejected for its error an estimate above 1 at the ball's height; the calls count
-    the run's steps and rejections, and tracing changes nothing in the run. It fails with
-    the accepted steps' estimate left out of ``StepLoop.outcome`` (error 0, no dof), or with
-    the failing attempt reported twice."""
+    the run's steps and rejections, and tracing changes nothing in the run. It failed with
+    the accepted steps' estimate left out of ``StepLoop.outcome`` (error 0, no dof; seen)."""
     from drivedyn.library import bouncing_ball as bb
 
     model = bb.bouncing_ball_model()
