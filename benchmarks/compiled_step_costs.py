@@ -108,7 +108,6 @@ def main() -> None:
     ap.add_argument("--set", dest="overrides", action="append", default=[],
                     metavar="KEY=VALUE", help="model-file override (repeatable)")
     args = ap.parse_args()
-    p = read_library_file(args.model, args.overrides)[0]
     model, settings, t_end, output_dt, what = library_run(
         args.model, args.overrides, args.side, args.config, args.t_end)
     if args.model.startswith("vehicle-"):
@@ -117,7 +116,8 @@ def main() -> None:
     else:
         # the middle of the first mode's window: contacts closed, gears loaded, planets
         # sliding
-        t_probe = 0.5 * sum(p.bench.window_drive)
+        bench = read_library_file(args.model, args.overrides)[0].bench
+        t_probe = 0.5 * sum(bench.window_drive)
     # compile or load every kernel; one output (outputs 1 us apart would force steps that
     # small, where the 4WD start fails: see the note in benchmarks/README.md)
     simulate(model, 1e-3, output_dt=1e-3, **settings)
