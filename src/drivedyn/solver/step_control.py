@@ -57,6 +57,9 @@ EXPONENT_RELAX = 0.97
 # envelope, 5 with it, and the run took half the wall); crests further apart still meet a
 # rejection each (tests/internals/test_step_control.py).
 ENVELOPE_DECAY = 0.9
+# A new step size costs a factorisation of the iteration matrix: the step grows only when
+# the estimate asks for at least GROWTH_MIN times the current size.
+GROWTH_MIN = 1.25
 
 (CT_ADAPTIVE, CT_HMIN, CT_HMAX, CT_RTOL, CT_ATOL, CT_MAXREJ, CT_EPS_T, CT_TEND, CT_ERRC,
  CT_ATOL_ROT, CT_NNODE) = range(11)
@@ -202,9 +205,7 @@ def accept_step(cs, ctl, t, h_try, err, iterations, touts):
         fac = min(2.0, max(0.2, fac))
         if iterations > 6:
             fac = min(fac, 1.0)
-        # hysteresis: a new step size costs a factorisation, so keep h unless the
-        # estimate asks for at least 25 % more
-        if fac < 1.25:
+        if fac < GROWTH_MIN:
             fac = 1.0
         if h_try >= 0.99 * h:  # not a step shortened to land on an output time
             h = min(ctl[CT_HMAX], max(h_min, h_try * fac))
