@@ -425,7 +425,7 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     # the refactorisation is accepted (0) for these values
     assert gp_refactor(n, indptr, indices, data2, lin._q, lin.diag_pivot_thresh, lin._Lp,
                        lin._Lio, lin._Lx, lin._Up, lin._Ux, lin._pinv, lin._prow, lin._Rp,
-                       lin._Ri, lin._x) == 0
+                       lin._Ri, lin._x, lin._tail) == 0
     lin._compact()
     fresh = SparseLU()
     fresh.factor_csc(data2, indices, indptr, n)
@@ -433,8 +433,9 @@ def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:
     # compacts in place, so entries past them may be those of an earlier factorisation)
     lz, uz = lin._f[0][-1], lin._f[3][-1]
     used = (None, lz, lz, None, uz, uz, None, None)
-    for a, f, k in zip(lin._f, fresh._f, used, strict=True):
+    for a, f, k in zip(lin._f[:-1], fresh._f[:-1], used, strict=True):
         assert np.array_equal(a[:k], f[:k])
+    assert lin.tail == 0  # (the tail's refactorisation: test_sparse_lu_dense_tail_...)
     # shrink the first pivot: the kept pivot order is refused, a new one is searched
     col = lin._q[0]  # the column of the first elimination step
     rows = indices[indptr[col]:indptr[col + 1]]
@@ -709,3 +710,79 @@ def test_lu_paths_from_python_take_the_dense_path_for_no_sparse_factors() -> Non
     csc = sp.csc_matrix(A)
     assert lu_factor(csc.data, csc.indices, csc.indptr, linear, None, True,
                      True) == FACTOR_SINGULAR
+
+
+def _chain_and_hub(nc: int = 300, nh: int = 60, seed: int = 3) -> np.ndarray:
+    """A banded chain of ``nc`` unknowns (bandwidth 3), every fifth one coupled to six of a
+    dense hub of ``nh``: the factors' fill gathers in the hub's last columns, as in a
+    vehicle's (sub-systems on one frame)."""
+    rng = np.random.default_rng(seed)
+    n = nc + nh
+    A = np.zeros((n, n))
+    for i in range(nc):
+        lo, hi = max(0, i - 3), min(nc, i + 4)
+        A[i, lo:hi] = rng.normal(size=hi - lo)
+        A[i, i] += 10.0
+    A[nc:, nc:] = rng.normal(size=(nh, nh)) + nh * np.eye(nh)
+    for r in range(0, nc, 5):
+        for h in rng.choice(nh, 6, replace=False):
+            A[r, nc + h] = rng.normal()
+            A[nc + h, r] = rng.normal()
+    return A
+
+
+def test_sparse_lu_dense_tail_solves_and_refactorises_as_afresh(monkeypatch) -> None:
+    """The last columns of a matrix whose fill gathers there are factorised as one dense
+    block by LAPACK (sparse_lu's tail): the chain-and-hub matrix takes a tail (of at most
+    half the columns), solves to round-off, and agrees with the factors without a tail; a
+    refactorisation with new values gives the factors of a fresh factorisation bit for bit
+    (the tail's block included); the sparse loop's operations fall by the tail's share and
+    ``fill`` counts the block. Fails with the Schur complement left without the sparse
+    columns' update (``_tail_factor`` skipping the L columns: the residual is of order 1),
+    with the tail's rows of U left out of the back substitution, or with a refactorisation
+    that refactorises the tail from stale values."""
+    import scipy.sparse as sps
+
+    import drivedyn.solver.linear as linear
+    from drivedyn.solver.linear import SparseLU
+
+    A = _chain_and_hub()
+    n = A.shape[0]
+    c = sps.csc_matrix(A)
+    data, indices, indptr = c.data.copy(), c.indices.astype(np.int64), c.indptr.astype(np.int64)
+    b = np.linspace(-1.0, 2.0, n)
+
+    def solved(lin, d):
+        x = lin.solve(b)
+        M = sps.csc_matrix((d, indices, indptr), shape=(n, n)).toarray()
+        return x, np.max(np.abs(M @ x - b) / (np.abs(M) @ np.abs(x) + np.abs(b)))
+
+    lin = SparseLU()
+    lin.factor_csc(data, indices, indptr, n)
+    assert 32 <= lin.tail <= n // 2
+    x, res = solved(lin, data)
+    assert res < 1e-14
+    with monkeypatch.context() as mp:
+        mp.setattr(linear, "tail_size", lambda Lp, Up, Ui: 0)
+        plain = SparseLU()
+        plain.factor_csc(data, indices, indptr, n)
+    assert plain.tail == 0 and plain.order == lin.order
+    x0, _ = solved(plain, data)
+    assert np.max(np.abs(x - x0)) < 1e-12 * np.max(np.abs(x0))
+    assert lin.refactor_ops < 0.8 * plain.refactor_ops
+    assert lin.fill == lin._lnz + lin._unz + lin.tail ** 2
+    # new values on the same pattern: refactorised with the kept pivots, as afresh
+    data2 = data * (1.0 + 0.01 * np.sin(np.arange(data.size)))
+    lin.factor_csc(data2, indices, indptr, n)
+    assert lin.fresh == 1
+    _, res2 = solved(lin, data2)
+    assert res2 < 1e-14
+    fresh = SparseLU()
+    fresh.factor_csc(data2, indices, indptr, n)
+    assert fresh.tail == lin.tail
+    lz, uz = lin._f[0][-1], lin._f[3][-1]
+    used = (None, lz, lz, None, uz, uz, None, None)
+    for a, f, k in zip(lin._f[:-1], fresh._f[:-1], used, strict=True):
+        assert np.array_equal(a[:k], f[:k])
+    for k in (0, 1, 4):  # the block's factors, LAPACK's pivots, n0 (not the scratch)
+        assert np.array_equal(lin._tail[k], fresh._tail[k])

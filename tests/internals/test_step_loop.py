@@ -71,13 +71,21 @@ def test_torsen_c_bench_is_the_same_step_for_step(monkeypatch, batching, calls) 
     assert np.any(fast.dataset["energy.dissipated"].values > 0)
 
 
-def test_sparse_lu_factorised_between_calls_is_the_same(monkeypatch) -> None:
+@pytest.mark.parametrize("tail", [False, True])
+def test_sparse_lu_factorised_between_calls_is_the_same(monkeypatch, tail: bool) -> None:
     """With the sparse LU the loop refactorises with the last pivots itself
     (``refactor_in_place``) and returns for a factorisation with pivot search (the first,
     and those whose kept pivots are refused), resuming after it; the oracle factorises
     every time in Python (``SparseLU.factor_csc``): the same factors, so the same run. With
-    every factorisation returned to Python (``I_REFACTOR`` ignored) the call counts fail."""
+    every factorisation returned to Python (``I_REFACTOR`` ignored) the call counts fail.
+    ``tail``: the last third of the columns as the dense tail (``sparse_lu``; the bench's
+    own factors are too small for one), refactorised in the loop by ``_tail_factor``."""
+    import drivedyn.solver.linear as linear
     from drivedyn.solver.linear import SparseLU
+
+    def tails(mp) -> None:
+        if tail:
+            mp.setattr(linear, "tail_size", lambda Lp, Up, Ui: (Lp.shape[0] - 1) // 3)
 
     p, model = _torsen_c_bench("rear")
     solvers = []
@@ -98,8 +106,10 @@ def test_sparse_lu_factorised_between_calls_is_the_same(monkeypatch) -> None:
         return solvers[-1].fresh - before_loop[-1]
 
     _batches(monkeypatch, "none")
+    tails(monkeypatch)
     monkeypatch.setattr(step_loop.StepLoop, "create", classmethod(counted))
     slow, fast, ncalls = _run_both(monkeypatch, run)
+    assert solvers[-1].tail == (solvers[-1]._n // 3 if tail else 0)
     assert slow.success and slow.stats.rejected > 0
     # one call per output interval (the return at the last one ends the run), and one more
     # per factorisation with pivot search done in between
@@ -108,6 +118,7 @@ def test_sparse_lu_factorised_between_calls_is_the_same(monkeypatch) -> None:
     assert_identical(slow, fast)
     monkeypatch.undo()
     _batches(monkeypatch, "largest")
+    tails(monkeypatch)
     monkeypatch.setattr(step_loop.StepLoop, "create", classmethod(counted))
     slow, fast, ncalls = _run_both(monkeypatch, run)
     # one call per factorisation with pivot search and one at the end, and at most one for

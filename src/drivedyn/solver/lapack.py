@@ -50,6 +50,15 @@ def dense_factor_csc(data, indices, indptr, lu, piv, ib):
     for j in range(n):
         for k in range(indptr[j], indptr[j + 1]):
             lu[indices[k], j] += data[k]
+    return dense_factor(lu, piv, ib)
+
+
+@njit(cache=True)
+def dense_factor(lu, piv, ib):
+    """LU with partial pivoting of the n x n matrix ``lu`` (column-major) in place, pivots
+    into ``piv`` (n,); returns 0, or -1 if the matrix is singular or the factors are not
+    finite."""
+    n = lu.shape[1]
     if n == 0:
         return 0
     ib[0] = n

@@ -8,7 +8,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from drivedyn.solver import lapack
-from drivedyn.solver.sparse_lu import compact_factors, gp_factor, gp_refactor, sparse_lu_solve
+from drivedyn.solver.sparse_lu import (
+    compact_factors,
+    gp_factor,
+    gp_refactor,
+    sparse_lu_solve,
+    tail_arrays,
+    tail_size,
+)
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -246,6 +253,8 @@ class SparseLU(LinearSolver):
         self._x, self._xi = np.zeros(n), np.zeros(2 * n, np.int64)
         self._pstack, self._mark = np.zeros(n, np.int64), np.zeros(n, np.int64)
         self._z = np.empty(n)
+        self._tail = tail_arrays(n, 0)
+        self._tail_chosen = False
         self._n = n
 
     def factor_csc(self, data: np.ndarray, indices: np.ndarray, indptr: np.ndarray,
@@ -257,7 +266,7 @@ class SparseLU(LinearSolver):
         if self._f is not None and gp_refactor(
                 n, indptr, indices, data, self._q, self.refactor_thresh, self._Lp,
                 self._Lio, self._Lx, self._Up, self._Ux, self._pinv, self._prow, self._Rp,
-                self._Ri, self._x) == 0:
+                self._Ri, self._x, self._tail) == 0:
             self._compact()
             return
         if self._f is not None and not self._chosen_again:
@@ -266,6 +275,13 @@ class SparseLU(LinearSolver):
             self._chosen_again = True
             self._order(data, indices, indptr, n)
         self._factor_fresh(data, indices, indptr, n)
+        if not self._tail_chosen:
+            # the dense tail, from the first factors of the order in use
+            self._tail_chosen = True
+            m = tail_size(self._Lp, self._Up, self._Ui)
+            if m:
+                self._tail = tail_arrays(n, m)
+                self._factor_fresh(data, indices, indptr, n)
         self.fresh += 1
         self._compact()
 
@@ -277,7 +293,8 @@ class SparseLU(LinearSolver):
             status, lnz, unz = gp_factor(
                 n, indptr, indices, data, self._q, self.diag_pivot_thresh, self._Lp,
                 self._Li, self._Lio, self._Lx, self._Up, self._Ui, self._Ux, self._pinv,
-                self._prow, self._Rp, self._Ri, self._x, self._xi, self._pstack, self._mark)
+                self._prow, self._Rp, self._Ri, self._x, self._xi, self._pstack, self._mark,
+                self._tail)
             if status != -2:
                 break
             cl, cu = 2 * self._Li.size, 2 * self._Ui.size
@@ -292,8 +309,9 @@ class SparseLU(LinearSolver):
 
     @property
     def fill(self) -> int:
-        """Entries of the factors' pattern (L and U, zeros of these values included)."""
-        return self._lnz + self._unz
+        """Entries of the factors' pattern (L and U, zeros of these values included, and the
+        dense tail's block)."""
+        return self._lnz + self._unz + self.tail ** 2
 
     @property
     def refactor_ops(self) -> int:
@@ -304,8 +322,15 @@ class SparseLU(LinearSolver):
         entries need not mean fewer operations: the RWD vehicle's factors hold 63 500
         entries with COLAMD and 55 500 with the minimum degree of A^T A, for 1.34 and 1.09
         million operations; those of A^T + A 119 700 entries and 6.4 million."""
-        below = np.diff(self._Lp) - 1  # entries of each column of L below its diagonal
-        return int(below[self._Ui[:self._unz]].sum() - below.sum())
+        # entries of each column of L below its diagonal (a tail column has none)
+        below = np.maximum(np.diff(self._Lp) - 1, 0)
+        n0 = int(self._tail[4][0])
+        return int(below[self._Ui[:self._unz]].sum() - below[:n0].sum())
+
+    @property
+    def tail(self) -> int:
+        """Columns of the dense tail (:mod:`~drivedyn.solver.sparse_lu`); 0: none."""
+        return self._n - int(self._tail[4][0]) if self._n > 0 else 0
 
     def _compact(self) -> None:
         """``_f``: the factors without exact zeros, for the solves (a chain of 200 gears has
@@ -321,7 +346,7 @@ class SparseLU(LinearSolver):
         # code (sparse_lu.refactor_in_place) compacts into them in place, with another count
         # of zeros
         self._f = (self._cLp, self._cLi, self._cLx, self._cUp, self._cUi, self._cUx,
-                   self._pinv, self._qinv)
+                   self._pinv, self._qinv, self._tail)
 
     def refactor_arrays(self) -> tuple:
         """The arrays of a refactorisation in compiled code
@@ -338,7 +363,7 @@ class SparseLU(LinearSolver):
 
     def compiled_calls(self, indices: np.ndarray, indptr: np.ndarray) -> list[tuple]:
         i, f = np.zeros(1, np.int64), np.zeros(1)
-        args = (i, i, f, i, i, f, i, i, f, f, f)  # the factors as _compact keeps them
+        args = (i, i, f, i, i, f, i, i, tail_arrays(1, 0), f, f, f)  # as _compact keeps them
         return [(sparse_lu_solve, tuple(sparse_lu_solve.typeof_pyval(a) for a in args))]
 
 

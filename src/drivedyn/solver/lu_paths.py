@@ -3,7 +3,7 @@ factors.
 
 The stepping loop (:func:`~drivedyn.solver.step_loop.run_steps`) receives the dense LU's
 workspace ``linear = (lu, piv, ib, tr, ...)`` (:func:`~drivedyn.solver.lapack.workspace`) and
-the sparse LU's factors ``sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, refactor)``
+the sparse LU's factors ``sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, z, refactor)``
 (:meth:`~drivedyn.solver.linear.SparseLU.refactor_arrays`). A model factorised by the dense LU
 alone (:class:`~drivedyn.solver.linear.DenseLU`) passes ``sparse=None``: numba then compiles
 the dense path only, without the sparse solve and the refactorisation in place (the loop's
@@ -41,8 +41,8 @@ def _solve_either(linear, sparse, dense, delta):
     if dense:
         dense_solve(lu, piv, delta, ib, tr)
     else:
-        Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, _ = sparse
-        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, delta, z, delta)
+        Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, z, _ = sparse
+        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, delta, z, delta)
 
 
 def _factor_dense(data, indices, indptr, linear, sparse, external, refactor):

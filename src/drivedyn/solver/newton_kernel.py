@@ -340,7 +340,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                   indices, indptr, red)      # System's arrays, the time functions, CSC
                                              # pattern, the rows set aside (redundancy)
         linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
-        sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, z, refactor)   # SparseLU's
+        sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, z, refactor)  # SparseLU's
                                              # factors and its refactor_arrays(), or None
                                              # for a dense LU only (lu_paths)
 

@@ -55,6 +55,7 @@ from drivedyn.solver.newton_kernel import (
 )
 from drivedyn.solver.redundancy import RESTORE_FACTOR
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
+from drivedyn.solver.sparse_lu import tail_arrays
 from drivedyn.solver.system import System
 
 
@@ -126,7 +127,7 @@ class Stepper:
         i0, f0 = np.zeros(0, np.int64), np.zeros(0)
         p0 = np.zeros(1, np.int64)
         self._no_sparse = None if isinstance(self.lin, DenseLU) else (
-            p0, i0, f0, p0, i0, f0, i0, i0, f0,
+            p0, i0, f0, p0, i0, f0, i0, i0, tail_arrays(0, 0), f0,
             (i0, np.zeros(1), p0, i0, i0, f0, p0, i0, f0, i0, p0, i0, f0))
         if self._solvers() is None:
             raise TypeError(f"linear_solver must be a DenseLU, SparseLU or AutoLU (got "
