@@ -233,9 +233,16 @@ class Steering(Strict):
 
 
 class Run(Strict):
+    """The run: ``t_end`` [s], the step size's cap ``h_max`` [s], the analysis ``window``
+    [s]; ``wind_up``: the run begins with the driveline wound up by the engine's first torque
+    (its plays closed, its shafts twisted, as an idling engine in gear leaves it;
+    :mod:`~drivedyn.library.vehicles.vehicle_rwd.wind_up`), false: with the plays open, as
+    the parked vehicle's static equilibrium leaves them."""
+
     t_end: PositiveTime = 3.0
     h_max: PositiveTime = 2e-3
     window: tuple[Time, Time] = (0.8, 3.0)
+    wind_up: bool = True
 
     @model_validator(mode="after")
     def _window(self) -> Run:

@@ -13,6 +13,7 @@ import numpy as np
 from drivedyn.library.vehicles.vehicle_rwd.configurations import CONFIGS
 from drivedyn.library.vehicles.vehicle_rwd.model import Layout, build_spec
 from drivedyn.library.vehicles.vehicle_rwd.schema import WHEELS, VehicleRWDFile
+from drivedyn.library.vehicles.vehicle_rwd.wind_up import wind_up
 from drivedyn.model.compile import compile_model
 from drivedyn.rotations import exp_so3
 from drivedyn.solver.statics import solve_static
@@ -42,7 +43,9 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
     propeller shaft's slip yoke (turned about its axis to square its joint with the pinion)
     and the half-shafts and plungers (turned
     about their inner joint so that the shaft reaches its wheel's static centre; the plunger
-    slides). Velocities stay the model's own (the vehicle's speed, the wheels' spins)."""
+    slides). Velocities stay the model's own (the vehicle's speed, the wheels' spins).
+    With ``run.wind_up`` the driveline is then wound up by the engine's first torque
+    (:func:`~.wind_up.wind_up`: its plays closed, its shafts twisted)."""
 
     q = p.model_copy(update={"engine": p.engine.model_copy(update={"throttle": 0.0,
                                                                    "idle_throttle": 0.0})})
@@ -115,4 +118,6 @@ def static_start(p: VehicleRWDFile, torsen: dict, base_dir: str | Path, model: A
         c, s_ = np.cos(th), np.sin(th)
         K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
         st.R[wh] = (np.eye(3) + s_ * K + (1.0 - c) * K @ K) @ st.R[wh]
+    if p.run.wind_up:
+        st = wind_up(model, st, lay, p.solver.settings(h_max=p.run.h_max))
     return st
