@@ -75,9 +75,9 @@ def _solves(lu, piv, b, ib, tr, n):
 
 
 @njit
-def _sparse_solves(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x, n):
+def _sparse_solves(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, b, z, x, n):
     for _ in range(n):
-        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, b, z, x)
+        sparse_lu_solve(Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, b, z, x)
 
 
 def _sparse_factorisations(lin, data, indices, indptr, n):

@@ -46,8 +46,10 @@ def main() -> None:
     ap.add_argument("--no-profile", action="store_true")
     ap.add_argument("--speed", type=float, default=0.0,
                     help="initial vehicle speed [m/s] (body.speed; 0: launch from rest)")
+    ap.add_argument("--set", dest="overrides", action="append", default=[],
+                    metavar="KEY=VALUE", help="model-file override (repeatable)")
     a = ap.parse_args()
-    p, _, _ = read_library_file("vehicle-4wd", [f"body.speed={a.speed}"])
+    p, _, _ = read_library_file("vehicle-4wd", [f"body.speed={a.speed}", *a.overrides])
     p = V.configure(p, a.config)
     tc, _, _ = read_library_file("torsen-c")
     tb, _, _ = read_library_file("torsen-b")

@@ -267,3 +267,26 @@ def test_engine_braking_biases_at_the_coast_tdr(torsen_params):
     assert s.wheels["fr"].torque < s.wheels["fl"].torque < 0  # braking: negative
     failed = [c for c in V.checks(s) if not c[3]]
     assert not failed, failed
+
+
+@pytest.mark.parametrize("vehicle", ["vehicle-4wd", "vehicle-rwd"])
+def test_mesh_stiffness_variation_is_the_vehicles_switch(vehicle):
+    """``differentials.mesh_stiffness_variation`` of a vehicle file sets the TORSENs' meshes
+    to a stiffness varying over the mesh cycle (true) or at its mean (false); None keeps
+    their files' (varying); the final drives keep their own (``final_drive``). Mutation: a
+    builder that passes the TORSEN parameters as read (``with_mesh_variation`` dropped) ->
+    the false case still has varying meshes."""
+    from drivedyn.config.loader import read_vehicle_differentials, resolve_path
+    from drivedyn.library import vehicles
+
+    counts = {}
+    p0, _, source = read_library_file(vehicle)
+    torsen = read_vehicle_differentials(p0, source, resolve_path(vehicle).parent)
+    for var in (None, True, False):
+        p = p0.model_copy(update={"differentials": p0.differentials.model_copy(
+            update={"mesh_stiffness_variation": var})})
+        spec = vehicles.get(vehicle).build_spec(p, torsen)[0]
+        counts[var] = sum(e.stiffness_variation for e in spec.elements
+                          if type(e).__name__ == "GearPair")
+    assert counts[False] == 0
+    assert counts[True] == counts[None] >= 20

@@ -48,6 +48,16 @@ def dashboard_of(params: Any) -> Dashboard:
     return differential_dashboard(of(params), params)
 
 
+def with_mesh_variation(params: Any, variation: bool | None) -> Any:
+    """``params`` (a TORSEN's validated parameters) with its meshes' stiffness varying over
+    the mesh cycle (``variation`` True) or at its mean (False); None: as they are. A
+    vehicle's switch (``differentials.mesh_stiffness_variation``)."""
+    if variation is None or variation == params.gears.stiffness_variation:
+        return params
+    return params.model_copy(update={"gears": params.gears.model_copy(
+        update={"stiffness_variation": variation})})
+
+
 def configuration(params: Any, side: str | None = None) -> str:
     """Which configuration of the differential a run of ``params`` is: ``"bench, torque on
     the rear output (modes 1, 2)"`` (``side``, or the scenario's loaded output) or

@@ -46,6 +46,7 @@ from drivedyn.elements import (
 from drivedyn.elements.framework.visuals import box, link
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
+from drivedyn.library.differentials import with_mesh_variation
 from drivedyn.library.vehicles.bevel_differential import (
     build_bevel,
     check_bevel,
@@ -187,7 +188,7 @@ def _differential(p: Vehicle4WDFile, pos: str, torsen: dict, omega: float
     if kind in ("open", "locked", "clutch"):
         return build_bevel(p.differentials.bevel, kind, omega), "housing", "a", "b", None
     diff = get_differential(kind)
-    params = torsen[kind]
+    params = with_mesh_variation(torsen[kind], p.differentials.mesh_stiffness_variation)
     spec, _ = diff.build(params, (omega, omega, omega), 1.0)
     first, second = (o.body for o in diff.outputs)
     z1 = spec.bodies[first].position[2]

@@ -203,7 +203,9 @@ class BevelDifferential(Strict):
 class Differentials(Strict):
     """The type at each position, and where the TORSEN parameters come from (a shipped model
     name or a path to a ``torsen_c`` / ``torsen_b`` model file; its calibrated friction
-    included)."""
+    included). ``mesh_stiffness_variation``: the TORSENs' meshes with their stiffness
+    varying over the mesh cycle (true) or at its mean (false) in this vehicle; None: as
+    their files say (``gears.stiffness_variation``)."""
 
     central: DiffType = "torsen-c"
     front: DiffType = "torsen-b"
@@ -211,6 +213,7 @@ class Differentials(Strict):
     torsen_c: str = "torsen-c"
     torsen_b: str = "torsen-b"
     bevel: BevelDifferential = Field(default_factory=BevelDifferential)
+    mesh_stiffness_variation: bool | None = None
 
 
 class Load(Strict):

@@ -85,6 +85,7 @@ from drivedyn.elements import (
 from drivedyn.elements.framework.visuals import box, cylinder, link
 from drivedyn.errors import ModelError
 from drivedyn.library.differentials import get as get_differential
+from drivedyn.library.differentials import with_mesh_variation
 from drivedyn.library.vehicles.bevel_differential import build_bevel
 from drivedyn.library.vehicles.chassis import add_ladder_frame
 from drivedyn.library.vehicles.chassis.schema import CarriedBody, LadderFrameFile
@@ -186,7 +187,7 @@ def _differential(p: VehicleRWDFile, torsen: dict, omega: float = 0.0
     if kind in ("open", "locked", "clutch"):
         return build_bevel(p.differentials.bevel, kind, omega), "housing", "a", "b", None
     diff = get_differential(kind)
-    params = torsen[kind]
+    params = with_mesh_variation(torsen[kind], p.differentials.mesh_stiffness_variation)
     spec, _ = diff.build(params, (omega, omega, omega), 1.0)
     first, second = (o.body for o in diff.outputs)
     lo, hi = ((first, second) if spec.bodies[first].position[2] <= spec.bodies[second].position[2]

@@ -205,9 +205,15 @@ class Carrier(Strict):
 
 
 class Differentials(Strict):
+    """The rear differential: ``rear`` (a TORSEN by its file ``torsen_b``, or the ``bevel``
+    differential open, locked or with a clutch). ``mesh_stiffness_variation``: the TORSEN's
+    meshes with their stiffness varying over the mesh cycle (true) or at its mean (false)
+    in this vehicle; None: as its file says (``gears.stiffness_variation``)."""
+
     rear: RearType = "torsen-b"
     torsen_b: str = "torsen-b"
     bevel: BevelDifferential = Field(default_factory=BevelDifferential)
+    mesh_stiffness_variation: bool | None = None
 
 
 class Steering(Strict):
