@@ -321,7 +321,9 @@ class SparseLU(LinearSolver):
         for the vehicles' factors (measured). Fewer
         entries need not mean fewer operations: the RWD vehicle's factors hold 63 500
         entries with COLAMD and 55 500 with the minimum degree of A^T A, for 1.34 and 1.09
-        million operations; those of A^T + A 119 700 entries and 6.4 million."""
+        million operations; those of A^T + A 119 700 entries and 6.4 million. With a dense
+        tail (:attr:`tail`), those of the sparse loop only: the tail's block adds its
+        ``m^3 / 3`` in LAPACK."""
         # entries of each column of L below its diagonal (a tail column has none)
         below = np.maximum(np.diff(self._Lp) - 1, 0)
         n0 = int(self._tail[4][0])

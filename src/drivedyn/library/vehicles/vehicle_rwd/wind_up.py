@@ -18,9 +18,10 @@ start (throttle and engine speed of the initial state) and held. Its own element
 vehicle's (gears, washers, pockets, joints, the propeller shaft's compliance), so the
 settled state is the vehicle model's. After :data:`T_SETTLE` the run's state takes the
 driveline's positions; its velocities stay the run's own (the rigid rolling of the static
-start). Measured on the TORSEN B launch (3 s, docs/benchmark-log.md): the first 0.1 s in 226
-steps instead of 1629, the run in 3985 steps instead of 5393; the rear wheel torques over
-1.5-3 s within 0.05 % of the start with the plays open, the speed at 3 s 0.46 % lower.
+start). Measured on the TORSEN B launch (5 s, docs/vehicle_rwd.md): the first 0.1 s in 226
+steps instead of 1629, the run in 7277 steps instead of 8704; over 1.5-3 s the rear wheel
+torques 0.3 % lower and their ratio within 2e-4 of the start with the plays open, the speed
+at 3 s 0.5 % lower (the launch begins from another state).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from drivedyn.elements import Torque, TorsionalSpringDamper
+from drivedyn.elements import EngineTorque, Torque, TorsionalSpringDamper
 from drivedyn.elements.controllers import SpeedController
 from drivedyn.elements.drivers import JointDriver, SpeedDifferenceDriver, TravelDriver
 from drivedyn.elements.tyre import TyreContact
@@ -83,7 +84,7 @@ def engine_torque_at(el: Any, model: Any, st: Any, t: float) -> float:
     speed = el.ratio * float((wb - wa) @ Ra[:, 2])
     u = el.throttle_function
     throttle = float(u(t)) if callable(u) else float(u)
-    return el.ratio * el.torque(max(speed, 0.0), throttle)
+    return el.ratio * el.torque(speed, throttle)
 
 
 def wind_up(model: Any, st: Any, lay: Any, settings: dict) -> Any:
@@ -124,13 +125,12 @@ def wind_up(model: Any, st: Any, lay: Any, settings: dict) -> Any:
 
     for el in spec.elements:
         markers = el.markers()
-        kind = type(el).__name__
         if (not markers or not any(on_driveline(m) for m in markers)
                 or isinstance(el, ACTIVE)):
             continue
         for m in markers:
             add_marker(m)
-        if kind == "EngineTorque":  # its torque at the run's start, held
+        if isinstance(el, EngineTorque):  # its torque at the run's start, held
             T = engine_torque_at(el, model, st, st.t)
             sub.add(Torque(f"{el.name}_held", el.marker_b, vector=(0.0, 0.0, T),
                            frame="marker"))
