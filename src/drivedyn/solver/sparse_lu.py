@@ -232,6 +232,25 @@ def gp_factor(n, Ap, Ai, Ax, q, tol, Lp, Li, Lio, Lx, Up, Ui, Ux, pinv, prow, Rp
     return 0, lnz, unz
 
 
+@njit(cache=True, inline="always")
+def _reduce_column(col, Ap, Ai, Ax, r_lo, r_hi, Ri, pinv, stop, Lp, Lio, Lx, x):
+    """Column ``col`` of A scattered into ``x`` and reduced by the columns of L before
+    ``stop`` on its reach ``Ri[r_lo:r_hi]`` (topological order): the left-looking update
+    of :func:`gp_refactor` (``stop`` = the column's own step) and of :func:`_tail_factor`
+    (``stop`` = n0)."""
+    for p in range(np.uint64(Ap[col]), np.uint64(Ap[col + U1])):
+        x[np.uint64(Ai[p])] += Ax[p]
+    for r in range(r_lo, r_hi):
+        j = np.uint64(Ri[r])
+        J = pinv[j]
+        if J >= stop:
+            continue
+        xj = x[j]
+        uJ = np.uint64(J)
+        for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
+            x[np.uint64(Lio[p])] -= Lx[p] * xj
+
+
 @njit(cache=True)
 def _tail_factor(n, n0, q, Ap, Ai, Ax, Lp, Lio, Lx, Up, Ux, pinv, Rp, Ri, x, S, ipiv, ib):
     """The tail's columns (``k >= n0``): each column of A reduced by the sparse columns on
@@ -241,19 +260,8 @@ def _tail_factor(n, n0, q, Ap, Ai, Ax, Lp, Lio, Lx, Up, Ux, pinv, Rp, Ri, x, S, 
     entry and exit."""
     S[:, :] = 0.0
     for k in range(n0, n):
-        col = np.uint64(q[k])
-        for p in range(np.uint64(Ap[col]), np.uint64(Ap[col + U1])):
-            x[np.uint64(Ai[p])] += Ax[p]
         r_lo, r_hi = np.uint64(Rp[k]), np.uint64(Rp[k + 1])
-        for r in range(r_lo, r_hi):
-            j = np.uint64(Ri[r])
-            J = pinv[j]
-            if J >= n0:
-                continue
-            xj = x[j]
-            uJ = np.uint64(J)
-            for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
-                x[np.uint64(Lio[p])] -= Lx[p] * xj
+        _reduce_column(np.uint64(q[k]), Ap, Ai, Ax, r_lo, r_hi, Ri, pinv, n0, Lp, Lio, Lx, x)
         u = np.uint64(Up[k])
         for r in range(r_lo, r_hi):
             i = np.uint64(Ri[r])
@@ -277,19 +285,8 @@ def gp_refactor(n, Ap, Ai, Ax, q, tol, Lp, Lio, Lx, Up, Ux, pinv, prow, Rp, Ri, 
     afresh."""
     n0 = tail[4][0]
     for k in range(n0):
-        col = np.uint64(q[k])
-        for p in range(np.uint64(Ap[col]), np.uint64(Ap[col + U1])):
-            x[np.uint64(Ai[p])] += Ax[p]
         r_lo, r_hi = np.uint64(Rp[k]), np.uint64(Rp[k + 1])
-        for r in range(r_lo, r_hi):
-            j = np.uint64(Ri[r])
-            J = pinv[j]
-            if J >= k:
-                continue
-            xj = x[j]
-            uJ = np.uint64(J)
-            for p in range(np.uint64(Lp[uJ]) + U1, np.uint64(Lp[uJ + U1])):
-                x[np.uint64(Lio[p])] -= Lx[p] * xj
+        _reduce_column(np.uint64(q[k]), Ap, Ai, Ax, r_lo, r_hi, Ri, pinv, k, Lp, Lio, Lx, x)
         u = np.uint64(Up[k])
         amax = 0.0
         for r in range(r_lo, r_hi):
