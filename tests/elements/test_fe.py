@@ -326,6 +326,39 @@ def test_washer_results_hold_pressure_and_stress_fields(washer_run):
     assert 0.5 * mean_p < float(ds["washer.max_von_mises"].values[-1]) < 2.0 * mean_p
 
 
+def test_stress_fields_are_computed_when_read_and_survive_pickling():
+    """A part's stress fields are deferred (a TDR run reads none of them) and give, when
+    read, the stresses of the recorded elastic coordinates, also after a pickle round trip
+    (a forked bench side returns its results pickled). Fails if a field is computed from
+    another's values (e.g. ``principal_max`` given the von Mises array), if a field is
+    computed eagerly, or if the deferred value does not survive pickling."""
+    import pickle
+
+    from drivedyn.config.loader import load_model
+    from drivedyn.fe.solid import principal_stresses, von_mises
+    from drivedyn.results.flexible_fields import Deferred
+    from drivedyn.solver import simulate
+
+    model = load_model("flexible-washer", ["solver.t_end=0.01"])
+    res = simulate(model, 0.01, output_dt=2e-3)
+    data_vars = res._contents[0]
+    d = data_vars["washer.von_mises"][1]
+    assert isinstance(d, Deferred) and d.source._fields is None
+    again = pickle.loads(pickle.dumps(res))
+    part = next(g.extra["parts"][0] for g in model.groups if "parts" in g.extra)
+    q = res.values("washer.q")
+    S = np.einsum("nck,tk->tnc", part.stress, q)
+    pr = principal_stresses(S)
+    for r in (res, again):
+        np.testing.assert_array_equal(r.values("washer.von_mises"), von_mises(S))
+        np.testing.assert_array_equal(r.values("washer.principal_max"), pr[..., 0])
+        np.testing.assert_array_equal(r.values("washer.principal_min"), pr[..., 2])
+        np.testing.assert_array_equal(r.values("washer.max_von_mises"),
+                                      von_mises(S).max(axis=1))
+    assert float(res.values("washer.max_von_mises")[-1]) > 0.0
+    np.testing.assert_array_equal(again.dataset["washer.von_mises"].values, von_mises(S))
+
+
 def test_plot_and_vtu_export(washer_run, tmp_path):
     from click.testing import CliRunner
 

@@ -44,23 +44,65 @@ def stress_of(part: Any, q: np.ndarray) -> np.ndarray:
     return np.einsum("nck,k->nc", part.stress, np.asarray(q, float))
 
 
+class PartStresses:
+    """The nodal stress fields of a part over a run, computed on first use: a TDR run reads
+    none of them, and they were most of the post-processing of the flexible benches (0.19 s of
+    a Type C bench side with five washers). Picklable (a forked bench side returns its
+    results to the parent): it holds the arrays, not a function.
+
+    Attributes:
+        stress: (n, 6, nq) nodal stresses of the basis [Pa per unit coordinate].
+        q: (nt, nq) elastic coordinates at the output times.
+    """
+
+    def __init__(self, stress: np.ndarray, q: np.ndarray) -> None:
+        self.stress = stress
+        self.q = q
+        self._fields: dict[str, np.ndarray] | None = None
+
+    def field(self, key: str) -> np.ndarray:
+        """``von_mises``, ``principal_max``, ``principal_min`` (nt, n) or ``max_von_mises``
+        (nt,) [Pa]."""
+        if self._fields is None:
+            nt, n = self.q.shape[0], self.stress.shape[0]
+            vm = np.empty((nt, n))
+            pmax = np.empty((nt, n))
+            pmin = np.empty((nt, n))
+            # by chunks of outputs: the stress tensors of every node at every output would
+            # not fit
+            for k0 in range(0, nt, CHUNK):
+                S = np.einsum("nck,tk->tnc", self.stress, self.q[k0:k0 + CHUNK])
+                vm[k0:k0 + CHUNK] = von_mises(S)
+                pr = principal_stresses(S)
+                pmax[k0:k0 + CHUNK] = pr[..., 0]
+                pmin[k0:k0 + CHUNK] = pr[..., 2]
+            self._fields = {"von_mises": vm, "principal_max": pmax, "principal_min": pmin,
+                            "max_von_mises": vm.max(axis=1)}
+        return self._fields[key]
+
+
+class Deferred:
+    """A variable's values computed on first use (``np.asarray(d)``): one field of a
+    :class:`PartStresses`. :class:`~drivedyn.results.results.Results` resolves it when a
+    variable is read or the dataset is built."""
+
+    def __init__(self, source: PartStresses, key: str) -> None:
+        self.source = source
+        self.key = key
+
+    def __array__(self, dtype=None, copy=None) -> np.ndarray:
+        a = self.source.field(self.key)
+        return a if dtype is None else a.astype(dtype)
+
+
 def part_variables(name: str, part: Any, mount: dict, host: str, A: np.ndarray,
                    q_col: int) -> dict[str, tuple]:
     """Dataset variables ``name -> (dims, values, units, description)`` of a flexible part
-    from its recorded aux rows ``A`` (nt, naux)."""
-    nq = part.nq
-    q = A[:, q_col:q_col + nq]
-    nt, n = q.shape[0], part.n
-    vm = np.empty((nt, n))
-    pmax = np.empty((nt, n))
-    pmin = np.empty((nt, n))
-    # by chunks of outputs: the stress tensors of every node at every output would not fit
-    for k0 in range(0, nt, CHUNK):
-        S = np.einsum("nck,tk->tnc", part.stress, q[k0:k0 + CHUNK])
-        vm[k0:k0 + CHUNK] = von_mises(S)
-        pr = principal_stresses(S)
-        pmax[k0:k0 + CHUNK] = pr[..., 0]
-        pmin[k0:k0 + CHUNK] = pr[..., 2]
+    from its recorded aux rows ``A`` (nt, naux); the stress fields are :class:`Deferred`."""
+    q = A[:, q_col:q_col + part.nq]
+    stresses = PartStresses(part.stress, q)
+    vm, pmax, pmin, vmax = (Deferred(stresses, k) for k in
+                            ("von_mises", "principal_max", "principal_min", "max_von_mises"))
     nd, cd = f"{name}.node", f"{name}.cell"
     return {
         f"{name}.q": (("time", f"{name}.mode"), q, "1",
@@ -68,7 +110,7 @@ def part_variables(name: str, part: Any, mount: dict, host: str, A: np.ndarray,
         f"{name}.von_mises": (("time", nd), vm, "Pa", "nodal von Mises stress"),
         f"{name}.principal_max": (("time", nd), pmax, "Pa", "largest principal stress"),
         f"{name}.principal_min": (("time", nd), pmin, "Pa", "smallest principal stress"),
-        f"{name}.max_von_mises": (("time",), vm.max(axis=1), "Pa",
+        f"{name}.max_von_mises": (("time",), vmax, "Pa",
                                   "largest nodal von Mises stress of the part"),
         f"{name}.basis": ((nd, "xyz", f"{name}.mode"), mount["Phi"], "m",
                           "nodal displacement of each elastic coordinate, host frame "

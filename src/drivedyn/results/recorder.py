@@ -341,8 +341,10 @@ class Recorder:
         contents of :meth:`contents`."""
         import xarray as xr
 
+        from drivedyn.results.results import resolved
+
         data_vars, coords, attrs = self.contents(attrs, variables)
-        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+        return xr.Dataset(resolved(data_vars), coords=coords, attrs=attrs)
 
     def contents(self, attrs: dict | None = None, variables: list[str] | None = None,
                  ) -> tuple[dict, dict, dict]:

@@ -12,6 +12,13 @@ from typing import Any
 import numpy as np
 
 
+def resolved(data_vars: dict[str, tuple]) -> dict[str, tuple]:
+    """``data_vars`` of :meth:`Recorder.contents <drivedyn.results.recorder.Recorder.contents>`
+    with every value an array: the deferred ones
+    (:class:`~drivedyn.results.flexible_fields.Deferred`) computed."""
+    return {k: (v[0], np.asarray(v[1]), *v[2:]) for k, v in data_vars.items()}
+
+
 @dataclass
 class RunStats:
     """Counters of a run (filled by the solver, kept with the results)."""
@@ -70,7 +77,7 @@ class Results:
             import xarray as xr
 
             data_vars, coords, attrs = self._contents
-            self._dataset = xr.Dataset(data_vars, coords=coords, attrs=attrs)
+            self._dataset = xr.Dataset(resolved(data_vars), coords=coords, attrs=attrs)
             self._contents = None
         return self._dataset
 
