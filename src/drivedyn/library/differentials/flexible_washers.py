@@ -33,7 +33,8 @@ def washer_part(f: FlexibleWashers, name: str, r_int: float, r_ext: float) -> tu
                         name, float(r_int), float(r_ext))
 
 
-@functools.lru_cache(maxsize=32)
+# ten parts: the washers of both differentials (five and three); about 8 MB each
+@functools.lru_cache(maxsize=10)
 def _washer_part(thickness: float, modes: int, cells: tuple[int, int], friction: int,
                  youngs: float, poisson: float, density: float, name: str, r_int: float,
                  r_ext: float) -> tuple[Any, Any]:
