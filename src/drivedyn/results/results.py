@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import tempfile
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -86,12 +87,17 @@ class Results:
         """The dataset's attributes (run status, statistics, provenance)."""
         return self._contents[2] if self._dataset is None else self._dataset.attrs
 
-    def variables(self) -> list[tuple[str, dict, np.ndarray]]:
-        """``(name, attributes, values)`` of every variable that is not a coordinate."""
+    def variables(self, select: Callable[[str, dict], bool] | None = None,
+                  ) -> list[tuple[str, dict, np.ndarray]]:
+        """``(name, attributes, values)`` of every variable that is not a coordinate, or of
+        those for which ``select(name, attributes)`` is true: the values of the others are
+        not computed (a flexible part's stress fields are computed when read,
+        :mod:`drivedyn.results.flexible_fields`)."""
         if self._dataset is None:
-            return [(k, v[2], np.asarray(v[1])) for k, v in self._contents[0].items()]
+            return [(k, v[2], np.asarray(v[1])) for k, v in self._contents[0].items()
+                    if select is None or select(k, v[2])]
         return [(str(k), v.attrs, v.values) for k, v in self._dataset.variables.items()
-                if k not in self._dataset.coords]
+                if k not in self._dataset.coords and (select is None or select(str(k), v.attrs))]
 
     def __getitem__(self, name: str) -> Any:
         return self.dataset[name]
