@@ -6,13 +6,11 @@ sampled at points ``i`` with areas ``A_i`` (sum ``S``): either its surface nodes
 tributary areas (the consistent load of a unit pressure), or the points and weights of a
 quadrature rule of the face, where the displacement basis ``Phi_i`` is the mesh's shape
 functions' interpolation. A rule integrates the face's smooth pressure with far fewer points
-than the nodes: on the Type C's washers, 48 points (2 Gauss radii in each of the 2 cells
-across, 12 angles; :func:`drivedyn.fe.annulus_quadrature`) against the 240 nodes of the face
-(24 cells around) took the bench about half the time (``benchmarks/flexible_parts.py``:
-4.1 s against 8.0 s), and its four TDRs lie within 0.012 % of the node sums extrapolated to a
-fine mesh, where the node sums on that mesh lie 0.14-0.25 % below (the mesh's mid-side nodes
-sit inside the circle; the rule integrates over the annulus). Below, "node" is a contact
-point.
+than the nodes: on the Type C's washers, 24 points (2 Gauss radii in each of the 2 cells
+across, 6 angles; :func:`drivedyn.fe.annulus_quadrature`) against the 240 nodes of the face
+(24 cells around); its four TDRs lie within 0.012 % of the node sums extrapolated to a fine
+mesh, where the node sums on that mesh lie 0.14-0.25 % below (the mesh's mid-side nodes sit
+inside the circle; the rule integrates over the annulus). Below, "node" is a contact point.
 
 The counter face is the plane through the origin of ``marker_b`` with normal ``n = z_B``
 pointing from the plane towards the washer. Per node, with ``r_i = x + R (X_i + Phi_i q)``::
