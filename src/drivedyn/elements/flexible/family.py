@@ -18,7 +18,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from drivedyn.elements.flexible.kernel import flexible_body_kernel
+from drivedyn.elements.flexible.kernel import flexible_body_kernel, work_size
 from drivedyn.elements.framework.building import make_group, what_of
 from drivedyn.elements.framework.checks import check_param
 from drivedyn.elements.framework.group import Group
@@ -156,7 +156,8 @@ class FlexibleBodyFamily(Family):
             mounts.append({"node": int(node), "X": inv["X"], "Phi": inv["Phi"]})
         params = tuple(np.ascontiguousarray(np.asarray(arrays[k], float)) for k in
                        ("mass", "S0", "Phib", "G0", "A", "Q", "Qa", "Mqq", "Kr", "Dr"))
-        params = (*params, nqs, hold, np.asarray(ctx.gravity, float))
+        params = (*params, nqs, hold, np.asarray(ctx.gravity, float),
+                  np.zeros(work_size.py_func(6 * nnode, nqm)))
         dofs = np.array([ctx.local_dofs(list(ln), 0, 0) for ln in lnodes], np.int64)
         g = make_group(self.name, specs, flexible_body_kernel, params, lnodes, dofs, OUTPUTS,
                        dissipative=True)

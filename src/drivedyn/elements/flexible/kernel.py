@@ -43,7 +43,8 @@ from numba import njit
 
 import drivedyn.elements.framework.scaffold as sc
 from drivedyn.elements.flexible.tangent import ffrf_tangent
-from drivedyn.elements.framework.contract import local_arrays
+from drivedyn.elements.framework.contract import local_arrays_at, local_size
+from drivedyn.elements.framework.work_arrays import carve
 
 # Levi-Civita pairs (a, b, c) with e_abc = +1
 _EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
@@ -219,20 +220,60 @@ def _force_scales(rabs, dofs, Mx, al, Kr, qv, mass, gvec, nq):
             rabs[gi] += s
 
 
+@njit(cache=True, inline="always")
+def work_size(nd: int, nqm: int) -> int:
+    """Entries of the work buffer of a flexible-body group: ``nd`` dofs per element, ``nqm``
+    elastic coordinates at most. ``local_size(nd, 0)`` is written out (``nd + 3 nd^2``) so
+    that the build takes ``work_size.py_func`` (a compiled call from Python compiles on a
+    first run's critical path)."""
+    nm = 6 + nqm
+    return (nd + 3 * nd * nd) + 2 * nd + 3 * nm * nm + 6 + 4 * nqm + 9 * nqm + 36 + 24 + 63
+
+
+@njit(cache=True, inline="always")
+def _work(buf, nd, nqm):
+    """The kernel's work arrays as views of ``buf`` (:func:`work_size` entries)."""
+    nm = 6 + nqm
+    o = local_size(nd, 0)
+    vl = carve(buf, o, nd)
+    al = carve(buf, o + nd, nd)
+    o += 2 * nd
+    Mx = carve(buf, o, (nm, nm))
+    Kx = carve(buf, o + nm * nm, (nm, nm))
+    Cx = carve(buf, o + 2 * nm * nm, (nm, nm))
+    o += 3 * nm * nm
+    rx = carve(buf, o, 3)
+    rth = carve(buf, o + 3, 3)
+    o += 6
+    rq = carve(buf, o, nqm)
+    qv = carve(buf, o + nqm, nqm)
+    qdv = carve(buf, o + 2 * nqm, nqm)
+    qddv = carve(buf, o + 3 * nqm, nqm)
+    o += 4 * nqm
+    Qq = carve(buf, o, (3, 3, nqm))
+    o += 9 * nqm
+    G = carve(buf, o, (3, 3))
+    Hd = carve(buf, o + 9, (3, 3))
+    Hdd = carve(buf, o + 18, (3, 3))
+    Bw = carve(buf, o + 27, (3, 3))
+    o += 36
+    v3 = carve(buf, o, (8, 3))
+    m3 = carve(buf, o + 24, (7, 3, 3))
+    return (local_arrays_at(buf, 0, nd, 0), vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd,
+            Hdd, Bw, Kx, Cx, v3, m3)
+
+
 @njit(cache=True)
 def flexible_body_kernel(
-    mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec,
+    mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nqs, hold, gvec, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
     nnode = lnodes.shape[1]
     nd = 6 * nnode
     nqm = Kr.shape[1]
-    nm = 6 + nqm
-    z = np.zeros
-    W = (local_arrays(nd, 0), z(nd), z(nd), z((nm, nm)), z(3), z(3), z(nqm), z(nqm), z(nqm),
-         z(nqm), z((3, 3, nqm)), z((3, 3)), z((3, 3)), z((3, 3)), z((3, 3)), z((nm, nm)),
-         z((nm, nm)), z((8, 3)), z((7, 3, 3)))
+    # the work arrays: views of the group's buffer (no allocation per call)
+    W = _work(sc.work_buffer(work, work_size(nd, nqm)), nd, nqm)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
     (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, Kx, Cx, v3, m3) = W
