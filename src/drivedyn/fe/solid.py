@@ -30,9 +30,13 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from drivedyn.errors import ModelError
+from drivedyn.fe.disk_cache import cached
 from drivedyn.fe.mesh import HEX, SolidMesh
 
 VOIGT = ("xx", "yy", "zz", "yz", "xz", "xy")
+#: scikit-fem's vertex order of a hexahedron (``MeshHex1``) from the VTK order of
+#: :class:`SolidMesh` cells, as ``skfem.io.meshio.from_meshio`` reorders them
+HEX_TO_SKFEM = (0, 4, 3, 1, 7, 5, 2, 6)
 
 
 @dataclass(frozen=True)
@@ -100,15 +104,17 @@ class SolidModel:
     """
 
     def __init__(self, mesh: SolidMesh, material: SolidMaterial) -> None:
-        import meshio
-        from skfem import Basis, ElementHex2, ElementTetP2, ElementVector
-        from skfem.io.meshio import from_meshio
+        from skfem import Basis, ElementHex2, ElementTetP2, ElementVector, MeshHex1, MeshTet1
 
         self.mesh = mesh
         self.material = material
-        cell_type = "hexahedron" if mesh.kind == HEX else "tetra"
-        self._skmesh = from_meshio(meshio.Mesh(mesh.points, [(cell_type, mesh.cells)]))
-        el = ElementHex2() if mesh.kind == HEX else ElementTetP2()
+        # the scikit-fem mesh of the vertices, built as its meshio reader builds it (without
+        # importing meshio: 0.04 s of a flexible model's build)
+        hexa = mesh.kind == HEX
+        cells = mesh.cells[:, HEX_TO_SKFEM] if hexa else mesh.cells
+        self._skmesh = (MeshHex1 if hexa else MeshTet1)(np.ascontiguousarray(mesh.points.T),
+                                                         np.ascontiguousarray(cells.T))
+        el = ElementHex2() if hexa else ElementTetP2()
         self._sbasis = Basis(self._skmesh, el, intorder=4)
         self._element = ElementVector(el)
         self.nodes = np.ascontiguousarray(self._sbasis.doflocs.T)
@@ -234,7 +240,13 @@ class SolidModel:
 
     def face_areas(self, nodes: np.ndarray) -> np.ndarray:
         """Tributary area [m^2] of each of ``nodes`` on the boundary faces whose nodes all
-        belong to ``nodes``: the consistent load of a unit pressure, sum = face area."""
+        belong to ``nodes``: the consistent load of a unit pressure, sum = face area.
+        Kept in the cache folder (:mod:`drivedyn.fe.disk_cache`)."""
+        nodes = np.asarray(nodes, np.int64).ravel()
+        return cached("face_areas", (self.mesh.digest(), nodes.tobytes()),
+                      lambda: {"areas": self._face_areas(nodes)})["areas"]
+
+    def _face_areas(self, nodes: np.ndarray) -> np.ndarray:
         from skfem import FacetBasis, LinearForm, asm
 
         sel = np.zeros(self.n, bool)
@@ -265,10 +277,22 @@ class SolidModel:
         cell within ``tol``; scikit-fem's own point finder misses points on the boundary
         faces (an annular washer's contact face: one to 25 of 48 points, measured).
 
+        Kept in the cache folder (:mod:`drivedyn.fe.disk_cache`).
+
         Raises:
             ModelError: a point outside the mesh (named, with its coordinates).
         """
-        pts = np.asarray(points, float).reshape(-1, 3)
+        pts = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 3))
+
+        def compute() -> dict[str, np.ndarray]:
+            P = self._interpolation(pts, tol)
+            return {"data": P.data, "indices": P.indices, "indptr": P.indptr}
+
+        z = cached("interpolation", (self.mesh.digest(), pts.tobytes(), repr(float(tol))),
+                   compute)
+        return sp.csr_matrix((z["data"], z["indices"], z["indptr"]), shape=(len(pts), self.n))
+
+    def _interpolation(self, pts: np.ndarray, tol: float) -> sp.csr_matrix:
         b = self._sbasis
         mesh = self._skmesh
         verts = mesh.p[:, mesh.t]                               # (3, nvert, ncell)

@@ -1,0 +1,78 @@
+"""A part's geometric data kept on disk (:mod:`drivedyn.fe.disk_cache`): what comes back from
+the cache is what was computed, a damaged entry is computed again, and the scikit-fem mesh
+built without meshio is the one its meshio reader builds."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from drivedyn import settings
+from drivedyn.fe import SolidMaterial, SolidModel, annular_washer, annulus_quadrature, box
+from drivedyn.fe.mesh import SolidMesh
+
+
+@pytest.fixture
+def cache(tmp_path):
+    """An empty cache folder for the test (the settings restored after it)."""
+    before = settings.current()
+    settings.configure(cache_dir=tmp_path)
+    yield tmp_path / "fe"
+    settings._current = before
+
+
+def _tets() -> SolidMesh:
+    m = box(0.1, 0.02, 0.02, 3, 1, 1)
+    kuhn = ((0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6))
+    cells = np.concatenate([m.cells[:, list(k)] for k in kuhn])
+    p = m.points[cells]
+    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+    cells[vol < 0] = cells[vol < 0][:, [0, 2, 1, 3]]
+    return SolidMesh(m.points, cells, "tet", "tets")
+
+
+@pytest.mark.parametrize("mesh", [annular_washer(0.02, 0.03, 0.002, 2, 12, 1), _tets()],
+                         ids=["hexahedra", "tetrahedra"])
+def test_the_scikit_fem_mesh_is_the_one_of_its_meshio_reader(mesh):
+    """Vertices and cells (vertex order included) equal those of
+    ``skfem.io.meshio.from_meshio``. Fails with the hexahedra's vertices in VTK order
+    (``HEX_TO_SKFEM`` the identity)."""
+    import meshio
+    from skfem.io.meshio import from_meshio
+
+    cell_type = "hexahedron" if mesh.kind == "hex" else "tetra"
+    ref = from_meshio(meshio.Mesh(mesh.points, [(cell_type, mesh.cells)]))
+    sk = SolidModel(mesh, SolidMaterial())._skmesh
+    assert type(sk) is type(ref)
+    np.testing.assert_array_equal(sk.p, ref.p)
+    np.testing.assert_array_equal(sk.t, ref.t)
+
+
+def test_face_areas_and_point_values_come_back_from_the_cache(cache, monkeypatch):
+    """The second call reads the entry the first wrote (the computation is then not run: it
+    raises here) and gives the same arrays bit for bit; other points are another entry; a
+    damaged entry is computed again. Fails if the entry's key leaves out the points (the
+    second set of points would get the first's values) or if a damaged entry is read."""
+    solid = SolidModel(annular_washer(0.02, 0.03, 0.002, 2, 12, 1), SolidMaterial())
+    face = solid.select("z", 0.002)
+    pts, _ = annulus_quadrature(0.02, 0.03, 0.002, 2, 6, cells=2)
+    areas = solid.face_areas(face)
+    P = solid.interpolation(pts)
+    assert len(list(cache.glob("*.npz"))) == 2
+
+    def refused(*args):
+        raise AssertionError("computed again")
+
+    with monkeypatch.context() as m:
+        m.setattr(SolidModel, "_face_areas", refused)
+        m.setattr(SolidModel, "_interpolation", refused)
+        np.testing.assert_array_equal(solid.face_areas(face), areas)
+        again = solid.interpolation(pts)
+        assert again.shape == P.shape
+        np.testing.assert_array_equal(again.toarray(), P.toarray())
+    other = solid.interpolation(pts[:5] * [1.0, 1.0, 0.5])
+    assert not np.array_equal(other.toarray(), P[:5].toarray())
+    np.testing.assert_allclose(other.sum(axis=1), 1.0, rtol=1e-12)   # a partition of unity
+    for f in cache.glob("face_areas-*.npz"):
+        f.write_bytes(b"not an npz file")
+    np.testing.assert_array_equal(solid.face_areas(face), areas)
