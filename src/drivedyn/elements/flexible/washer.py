@@ -292,17 +292,22 @@ def flexible_washer_kernel(
                     Jr[d, 12 + k] = sp_
                     Jd[d, 12 + k] = sw
             # dp/dpos (3, ncol) and dp/dvel (3, ncol), stacked for the element's product
+            # (the face's columns 0-5 have J_r = J_d = 0, the host's translation 6-8 J_r = I
+            # and J_d = 0: written directly)
             j = 3 * ns
             for d in range(3):
-                for cc in range(ncol):
+                for cc in range(6):
+                    Dps[j + d, cc] = dP[d, 6 + cc]
+                    Dvs[j + d, cc] = dP[d, 12 + cc]
+                for cc in range(3):
+                    Dps[j + d, 6 + cc] = dP[d, cc]
+                    Dvs[j + d, 6 + cc] = dP[d, 3 + cc]
+                for cc in range(9, ncol):
                     sp_ = 0.0
                     sv = 0.0
                     for m in range(3):
                         sp_ += dP[d, m] * Jr[m, cc] + dP[d, 3 + m] * Jd[m, cc]
                         sv += dP[d, 3 + m] * Jr[m, cc]
-                    if cc < 6:
-                        sp_ += dP[d, 6 + cc]
-                        sv += dP[d, 12 + cc]
                     Dps[j + d, cc] = sp_
                     Dvs[j + d, cc] = sv
             # rows: washer -J_r^T (.), face J_B^T (.) with J_B = [I, -RB rho~] on B cols
@@ -345,13 +350,15 @@ def flexible_washer_kernel(
                     K[9 + f, col] += s_
                     K[col, 9 + f] -= (Phi[e, i, 0, k] * S1[0, f] + Phi[e, i, 1, k] * S1[1, f]
                                       + Phi[e, i, 2, k] * S1[2, f])
-                # face rows: -b~ RB^T (J_r dpos - dxB)
-                for cc in range(ncol):
+                # face rows: -b~ RB^T (J_r dpos - dxB) (J_r: 0 on the face's columns, I on
+                # the host's translation)
+                for g_ in range(3):
+                    K[3 + f, g_] += Tb[f, g_]
+                    K[3 + f, 6 + g_] -= Tb[f, g_]
+                for cc in range(9, ncol):
                     col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
-                    s_ = 0.0
-                    for d in range(3):
-                        s_ += Tb[f, d] * (Jr[d, cc] - (1.0 if cc == d else 0.0))
-                    K[3 + f, col] -= s_
+                    K[3 + f, col] -= Tb[f, 0] * Jr[0, cc] + Tb[f, 1] * Jr[1, cc] \
+                        + Tb[f, 2] * Jr[2, cc]
         if full and ns > 0:
             # sum over the nodes in contact of W^T Dp and W^T Dv, as one product each
             np.dot(Ws[:3 * ns].T, Dps[:3 * ns], Kc)
