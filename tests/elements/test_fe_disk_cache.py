@@ -58,7 +58,8 @@ def test_face_areas_and_point_values_come_back_from_the_cache(cache, monkeypatch
     pts, _ = annulus_quadrature(0.02, 0.03, 0.002, 2, 6, cells=2)
     areas = solid.face_areas(face)
     P = solid.interpolation(pts)
-    assert len(list(cache.glob("*.npz"))) == 2
+    assert len(list(cache.glob("face_areas-*.npz")) + list(cache.glob("interpolation-*.npz"))) \
+        == 2
 
     def refused(*args):
         raise AssertionError("computed again")
@@ -76,3 +77,26 @@ def test_face_areas_and_point_values_come_back_from_the_cache(cache, monkeypatch
     for f in cache.glob("face_areas-*.npz"):
         f.write_bytes(b"not an npz file")
     np.testing.assert_array_equal(solid.face_areas(face), areas)
+
+
+def test_a_mesh_seen_before_builds_no_scikit_fem_object(cache):
+    """The nodes of a mesh seen before come from the cache folder, equal bit for bit, and the
+    scikit-fem mesh and bases are not built until used; a mesh that fails the orientation
+    check is not cached, so it fails again. Fails if the nodes are cached before the check
+    (the second construction of the inverted mesh would pass) or if the bases are built in
+    the constructor."""
+    from drivedyn.errors import ModelError
+
+    mesh = annular_washer(0.02, 0.03, 0.002, 2, 12, 1)
+    first = SolidModel(mesh, SolidMaterial())
+    second = SolidModel(mesh, SolidMaterial())
+    np.testing.assert_array_equal(second.nodes, first.nodes)
+    assert not {"_skmesh", "_sbasis", "_vbasis"} & set(second.__dict__)
+    face = first.select("z", 0.002)
+    np.testing.assert_array_equal(second.face_areas(face), first.face_areas(face))
+    cells = mesh.cells.copy()
+    cells[1] = cells[1][[4, 5, 6, 7, 0, 1, 2, 3]]          # one cell turned inside out
+    bad = SolidMesh(mesh.points, cells, "hex")
+    for _ in range(2):
+        with pytest.raises(ModelError, match="inverted or degenerate"):
+            SolidModel(bad, SolidMaterial())

@@ -104,29 +104,52 @@ class SolidModel:
     """
 
     def __init__(self, mesh: SolidMesh, material: SolidMaterial) -> None:
-        from skfem import Basis, ElementHex2, ElementTetP2, ElementVector, MeshHex1, MeshTet1
-
         self.mesh = mesh
         self.material = material
-        # the scikit-fem mesh of the vertices, built as its meshio reader builds it (without
-        # importing meshio: 0.04 s of a flexible model's build)
-        hexa = mesh.kind == HEX
-        cells = mesh.cells[:, HEX_TO_SKFEM] if hexa else mesh.cells
-        self._skmesh = (MeshHex1 if hexa else MeshTet1)(np.ascontiguousarray(mesh.points.T),
-                                                         np.ascontiguousarray(cells.T))
-        el = ElementHex2() if hexa else ElementTetP2()
-        self._sbasis = Basis(self._skmesh, el, intorder=4)
-        self._element = ElementVector(el)
-        self.nodes = np.ascontiguousarray(self._sbasis.doflocs.T)
-        # scikit-fem integrates with |det J|: a cell inverted relative to the others, or a
-        # collapsed one, would pass silently, so the signs are checked here
+        # the nodes of a mesh seen before come from the cache folder, and the scikit-fem
+        # mesh and bases are then built on first use: a flexible washer loaded from the
+        # reduction cache needs none of them (0.1 s of the Type C's five washers with the
+        # scikit-fem import, before a bench forks its second side). A mesh is cached only
+        # once it has passed the orientation check of ``_checked_nodes``.
+        self.nodes = cached("nodes", (mesh.digest(),),
+                            lambda: {"nodes": self._checked_nodes()})["nodes"]
+
+    @cached_property
+    def _skmesh(self):
+        """The scikit-fem mesh of the vertices, built as its meshio reader builds it (without
+        importing meshio)."""
+        from skfem import MeshHex1, MeshTet1
+
+        hexa = self.mesh.kind == HEX
+        cells = self.mesh.cells[:, HEX_TO_SKFEM] if hexa else self.mesh.cells
+        return (MeshHex1 if hexa else MeshTet1)(np.ascontiguousarray(self.mesh.points.T),
+                                                 np.ascontiguousarray(cells.T))
+
+    @cached_property
+    def _element(self):
+        from skfem import ElementHex2, ElementTetP2, ElementVector
+
+        return ElementVector(ElementHex2() if self.mesh.kind == HEX else ElementTetP2())
+
+    @cached_property
+    def _sbasis(self):
+        """Scalar basis of the quadratic element."""
+        from skfem import Basis
+
+        return Basis(self._skmesh, self._element.elem, intorder=4)
+
+    def _checked_nodes(self) -> np.ndarray:
+        """The element nodes (n, 3) [m], after checking the cells' orientation: scikit-fem
+        integrates with |det J|, so a cell inverted relative to the others, or a collapsed
+        one, would pass silently."""
         det = self._sbasis.mapping.detDF(self._sbasis.quadrature[0])
         ref = np.sign(np.sum(np.sign(det[:, 0]))) or 1.0  # the majority orientation
         bad = np.flatnonzero(np.any(det * ref <= 1e-12 * np.abs(det).max(), axis=1))
         if bad.size:
-            raise ModelError(f"mesh {mesh.name!r}: {bad.size} inverted or degenerate cell(s) "
-                             f"(Jacobian of the wrong sign or zero), first cell {int(bad[0])}; "
-                             "check the vertex order")
+            raise ModelError(f"mesh {self.mesh.name!r}: {bad.size} inverted or degenerate "
+                             f"cell(s) (Jacobian of the wrong sign or zero), first cell "
+                             f"{int(bad[0])}; check the vertex order")
+        return np.ascontiguousarray(self._sbasis.doflocs.T)
 
     @cached_property
     def _vbasis(self):
