@@ -87,13 +87,15 @@ def work_size(nd: int, nqm: int, nfm: int) -> int:
     from Python compiles on a first run's critical path."""
     ncol = 12 + nqm
     return (nd + 3 * nd * nd + nd + 2 * nqm + 24 + 6 * ncol + 81 + 9 * nfm * ncol
-            + 2 * ncol * ncol + 33)
+            + 2 * ncol * ncol + 33 + 6 * ncol)
 
 
 @njit(cache=True, inline="always")
 def _work(buf, nd, nqm, nfm, ncol):
     """The kernel's work arrays as views of ``buf`` (:func:`work_size` entries), the node
-    stacks and the element's matrices for ``ncol`` columns (at most ``12 + nqm``)."""
+    stacks and the element's matrices for ``ncol`` columns (at most ``12 + nqm``): the
+    virtual work's rows but the translations' (``ncol - 6``) and the sums of the nodes'
+    rows ``Sp``, ``Sv`` (3, ncol), the translations' products."""
     o = local_size(nd, 0)
     vl = carve(buf, o, nd)
     qv = carve(buf, o + nd, nqm)
@@ -112,20 +114,22 @@ def _work(buf, nd, nqm, nfm, ncol):
     S3 = carve(buf, o + 72, (3, 3))
     o += 81
     n = 3 * nfm * (12 + nqm)
-    Ws = carve(buf, o, (3 * nfm, ncol))
+    Ws = carve(buf, o, (3 * nfm, ncol - 6))
     Dps = carve(buf, o + n, (3 * nfm, ncol))
     Dvs = carve(buf, o + 2 * n, (3 * nfm, ncol))
     o += 3 * n
-    Kc = carve(buf, o, (ncol, ncol))
-    Cc = carve(buf, o + (12 + nqm) ** 2, (ncol, ncol))
+    Kc = carve(buf, o, (ncol - 6, ncol))
+    Cc = carve(buf, o + (12 + nqm) ** 2, (ncol - 6, ncol))
     o += 2 * (12 + nqm) ** 2
     Dq = carve(buf, o, (3, 3))
     Tr = carve(buf, o + 9, (3, 3))
     Tb = carve(buf, o + 18, (3, 3))
     ng = carve(buf, o + 27, 3)
     xo = carve(buf, o + 30, 3)
+    Sp = carve(buf, o + 33, (3, ncol))
+    Sv = carve(buf, o + 33 + 3 * (12 + nqm), (3, ncol))
     return (local_arrays_at(buf, 0, nd, 0), vl, qv, qdv, *v3, Jr, Jd, dP, S1, S2, S3, Ws, Dps,
-            Dvs, Kc, Cc, Dq, Tr, Tb, ng, xo)
+            Dvs, Kc, Cc, Dq, Tr, Tb, ng, xo, Sp, Sv)
 
 
 @njit(cache=True)
@@ -150,7 +154,12 @@ def flexible_washer_kernel(
         nf = nfs[e]
         ncol = 12 + nq
         (L, vl, qv, qdv, u, ud, r, rd, p, a, b, rho, Jr, Jd, dP, S1, S2, S3, Ws, Dps, Dvs, Kc,
-         Cc, Dq, Tr, Tb, ng, xo) = _work(buf, nd, nqm, nfm, ncol)
+         Cc, Dq, Tr, Tb, ng, xo, Sp, Sv) = _work(buf, nd, nqm, nfm, ncol)
+        if full:
+            for d in range(3):
+                for cc in range(ncol):
+                    Sp[d, cc] = 0.0
+                    Sv[d, cc] = 0.0
         rq, _, _, Cd, K, _ = L
         ns = 0  # nodes in contact stacked in Ws, Dps, Dvs (the matrix pass)
         sc.velocities(C, e, nd, vl)
@@ -310,6 +319,9 @@ def flexible_washer_kernel(
                         sv += dP[d, 3 + m] * Jr[m, cc]
                     Dps[j + d, cc] = sp_
                     Dvs[j + d, cc] = sv
+                for cc in range(ncol):
+                    Sp[d, cc] += Dps[j + d, cc]
+                    Sv[d, cc] += Dvs[j + d, cc]
             # rows: washer -J_r^T (.), face J_B^T (.) with J_B = [I, -RB rho~] on B cols
             skew_into(a, S1)     # a~
             skew_into(b, S2)     # b~
@@ -321,13 +333,14 @@ def flexible_washer_kernel(
                     Tb[f, d] = S2[f, 0] * RB[d, 0] + S2[f, 1] * RB[d, 1] + S2[f, 2] * RB[d, 2]
             # the node's rows of the virtual work, W^T (3, ncol): xB I, theta_B rho~ RB^T,
             # the washer's -J_r (its xh columns are I); the element's matrices are
-            # sum W^T Dp and sum W^T Dv over the nodes, one product after the loop
+            # sum W^T Dp and sum W^T Dv over the nodes, one product after the loop. The
+            # translations' rows (I and -I) are the sums Sp, Sv: Ws holds the others,
+            # theta_B and the washer's rotation and elastic coordinates (ncol - 6)
             for d in range(3):
                 for f in range(3):
-                    Ws[j + d, f] = 1.0 if f == d else 0.0
-                    Ws[j + d, 3 + f] = Tr[f, d]
-                for cc in range(6, ncol):
-                    Ws[j + d, cc] = -Jr[d, cc]
+                    Ws[j + d, f] = Tr[f, d]
+                for cc in range(9, ncol):
+                    Ws[j + d, cc - 6] = -Jr[d, cc]
             ns += 1
             # geometric terms (p held): washer: d[u x a] = -a~ Phi dq + u~ a~ dth_h;
             # d[Phi^T a] = Phi^T a~ dth_h; face: d[rho x b] = -b~ RB^T (dr - dxB)
@@ -363,8 +376,17 @@ def flexible_washer_kernel(
             # sum over the nodes in contact of W^T Dp and W^T Dv, as one product each
             np.dot(Ws[:3 * ns].T, Dps[:3 * ns], Kc)
             np.dot(Ws[:3 * ns].T, Dvs[:3 * ns], Cc)
-            for rr in range(ncol):
-                row = rr if rr < 12 else 12 + 6 * ((rr - 12) // 3) + ((rr - 12) % 3)
+            for cc in range(ncol):
+                col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
+                for d in range(3):
+                    K[d, col] += Sp[d, cc]
+                    Cd[d, col] += Sv[d, cc]
+                    K[6 + d, col] -= Sp[d, cc]
+                    Cd[6 + d, col] -= Sv[d, cc]
+            for rr in range(ncol - 6):
+                # Ws's columns: theta_B (rows 3-5), then rows 9...
+                rf = 3 + rr if rr < 3 else 6 + rr
+                row = rf if rf < 12 else 12 + 6 * ((rf - 12) // 3) + ((rf - 12) % 3)
                 for cc in range(ncol):
                     col = cc if cc < 12 else 12 + 6 * ((cc - 12) // 3) + ((cc - 12) % 3)
                     K[row, col] += Kc[rr, cc]
