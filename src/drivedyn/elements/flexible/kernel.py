@@ -46,9 +46,6 @@ from drivedyn.elements.flexible.tangent import ffrf_tangent
 from drivedyn.elements.framework.contract import local_arrays_at, local_size
 from drivedyn.elements.framework.work_arrays import carve
 
-# Levi-Civita pairs (a, b, c) with e_abc = +1
-_EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
-
 
 @njit(cache=True)
 def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Omd, q, qd, qdd,
@@ -125,16 +122,24 @@ def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Om
     f2 = mass * al2 + B[2, 0] * s0 + B[2, 1] * s1 + B[2, 2] * s2 + 2.0 * (o0 * pd1 - o1 * pd0) + pa2
     for i in range(3):
         rx[i] = R[i, 0] * f0 + R[i, 1] * f1 + R[i, 2] * f2
-    # 2 Om~ (rows c, columns d)
-    W = ((zero * o0, -2.0 * o2, 2.0 * o1), (2.0 * o2, zero * o0, -2.0 * o0),
-         (-2.0 * o1, 2.0 * o0, zero * o0))
-    sa = (s1 * al2 - s2 * al1, s2 * al0 - s0 * al2, s0 * al1 - s1 * al0)
-    for (a, b, c) in _EPS:
+    # 2 Om~ = W (rows c, columns d): sum_d W_cd Hd_bd = 2 (Om x Hd[b, :])_c. Written with
+    # array indices: a tuple indexed by a loop variable, and a loop over a tuple of index
+    # triples, cost the tangent half of its time (tangent.py)
+    sa0 = s1 * al2 - s2 * al1
+    sa1 = s2 * al0 - s0 * al2
+    sa2 = s0 * al1 - s1 * al0
+    for a in range(3):  # (a, b, c) cyclic: e_abc = +1
+        b = (a + 1) % 3
+        c = (a + 2) % 3
         # e_abc X_bc - e_acb X_cb with X_bc = sum_d B_cd G_bd + W_cd Hd_bd, plus Hdd
-        t = sa[a] + Hdd[b, c] - Hdd[c, b]
+        t = (sa0 if a == 0 else (sa1 if a == 1 else sa2)) + Hdd[b, c] - Hdd[c, b]
+        t += 2.0 * (Om[a] * Hd[b, b] - Om[b] * Hd[b, a] - Om[c] * Hd[c, a] + Om[a] * Hd[c, c])
         for d in range(3):
-            t += B[c, d] * G[b, d] + W[c][d] * Hd[b, d] - B[b, d] * G[c, d] - W[b][d] * Hd[c, d]
+            t += B[c, d] * G[b, d] - B[b, d] * G[c, d]
         rth[a] = t
+    w01 = -2.0 * o2
+    w02 = 2.0 * o1
+    w12 = -2.0 * o0
     # generalised elastic forces
     for k in range(nq):
         t = Phib[0, k] * al0 + Phib[1, k] * al1 + Phib[2, k] * al2
@@ -143,7 +148,7 @@ def ffrf_forces(mass, S0, Phib, G0, A, Q, Qa, Mqq, Kr, Dr, nq, g, R, xdd, Om, Om
                 t += B[d, e] * (A[e, d, k] + Qq[d, e, k])
         # 2 sum_de Om~_de Q_de qd = sum over pairs d<e of W_de (Q_de - Q_ed) qd
         for l in range(nq):
-            t += (W[0][1] * Qa[0, k, l] + W[0][2] * Qa[1, k, l] + W[1][2] * Qa[2, k, l]) * qd[l]
+            t += (w01 * Qa[0, k, l] + w02 * Qa[1, k, l] + w12 * Qa[2, k, l]) * qd[l]
             t += Mqq[k, l] * qdd[l] + Kr[k, l] * q[l] + Dr[k, l] * qd[l]
         rq[k] = t
 
@@ -182,7 +187,9 @@ def ffrf_mass(mass, S0, Phib, A, Qq, Mqq, nq, R, q, G, Mx):
                 t += R[i, j] * Phib[j, k]
             Mx[i, 6 + k] = t
             Mx[6 + k, i] = t
-        for (a, b, c) in _EPS:
+        for a in range(3):
+            b = (a + 1) % 3
+            c = (a + 2) % 3
             h = A[b, c, k] + Qq[c, b, k] - A[c, b, k] - Qq[b, c, k]
             Mx[3 + a, 6 + k] = h
             Mx[6 + k, 3 + a] = h

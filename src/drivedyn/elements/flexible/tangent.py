@@ -18,26 +18,26 @@ coordinate ``q_j`` (``dS = Phib_j``, ``dG``, ``dHd``, ``dHdd``, ``dP`` from ``A`
 the angular velocity ``Omega_j`` (``dB = e_j Omega^T + Omega e_j^T - 2 Omega_j I``,
 ``dW = 2 e_j~``) and an elastic velocity ``qd_j`` (``dPd = Phib_j``, ``dHd``). The same
 matrices as complex steps of the residual to round-off (``tests/elements/test_ffrf_tangent.py``)
-in a third of their time: 5.8 us against 19.2 us for nq = 7 (20 complex evaluations); the
-Type C bench's five flexible washers' matrix pass went from 74 to 42 us
-(``benchmarks/compiled_step_costs.py``).
+in a seventh of their time: 2.8 us against 19.2 us for nq = 7 (20 complex evaluations; 5.8
+us while the Levi-Civita triples were a loop over a global tuple of tuples, which numba
+compiles to a slow generic iteration); the Type C bench's five flexible washers' matrix
+pass went from 74 to 42 us, then 26 us (``benchmarks/compiled_step_costs.py``).
 """
 
 from __future__ import annotations
 
 from numba import njit
 
-# Levi-Civita pairs (a, b, c) with e_abc = +1
-_EPS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))
-
 
 @njit(cache=True, inline="always")
 def _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, dS, dPd, dB,
-            dW, dG, dHd, dHdd, rot, T, col):
+            dW, dG, dHd, dHdd, rot, T, col, spin):
     """Column ``col`` of ``T`` (6 + nq rows: rx, rth, rq) along a direction given by the
     changes of the intermediate quantities; ``rot`` the axis of a right rotation of the
-    frame (-1: none). The rq terms of a direction's own coordinates (``B dP``, ``Kr``,
-    ``Dr``, ``W Qa dqd``) are the caller's."""
+    frame (-1: none); ``spin``: the direction changes ``B`` and ``W`` (an angular velocity:
+    the only columns whose rq rows have the ``dB (A + Qq)`` and ``dW Qa qd`` terms). The rq
+    terms of a direction's own coordinates (``B dP``, ``Kr``, ``Dr``, ``W Qa dqd``) are the
+    caller's."""
     df0 = mass * dal[0]
     df1 = mass * dal[1]
     df2 = mass * dal[2]
@@ -57,7 +57,9 @@ def _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, dS
             df1 += f[0]
     for i in range(3):
         T[i, col] = R[i, 0] * df0 + R[i, 1] * df1 + R[i, 2] * df2
-    for (a, b, c) in _EPS:
+    for a in range(3):  # (a, b, c) cyclic (a loop over a global tuple cost 2.8 of 5.8 us)
+        b = (a + 1) % 3
+        c = (a + 2) % 3
         t = (dS[b] * al[c] - dS[c] * al[b] + S[b] * dal[c] - S[c] * dal[b]
              + dHdd[b, c] - dHdd[c, b])
         for d in range(3):
@@ -67,10 +69,10 @@ def _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, dS
         T[3 + a, col] = t
     for k in range(nq):
         t = Phib[0, k] * dal[0] + Phib[1, k] * dal[1] + Phib[2, k] * dal[2]
-        for d in range(3):
-            for e in range(3):
-                t += dB[d, e] * (A[e, d, k] + Qq[d, e, k])
-        if dW[0, 1] != 0.0 or dW[0, 2] != 0.0 or dW[1, 2] != 0.0:
+        if spin:
+            for d in range(3):
+                for e in range(3):
+                    t += dB[d, e] * (A[e, d, k] + Qq[d, e, k])
             for m in range(nq):
                 t += (dW[0, 1] * Qa[0, k, m] + dW[0, 2] * Qa[1, k, m]
                       + dW[1, 2] * Qa[2, k, m]) * qd[m]
@@ -132,7 +134,7 @@ def ffrf_tangent(mass, S0, Phib, A, Q, Qa, Kr, Dr, nq, g, R, xdd, Om, q, qd, qdd
         dal[1] = 0.0 if j == 1 else (al[2] if j == 0 else -al[0])
         dal[2] = 0.0 if j == 2 else (al[0] if j == 1 else -al[1])
         _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, z3, z3, Z,
-                Z, Z, Z, Z, j, Kx, 3 + j)
+                Z, Z, Z, Z, j, Kx, 3 + j, False)
     for i in range(3):
         dal[i] = 0.0
     # elastic coordinate q_j
@@ -151,7 +153,7 @@ def ffrf_tangent(mass, S0, Phib, A, Q, Qa, Kr, Dr, nq, g, R, xdd, Om, q, qd, qdd
                 dHd[b, d] = sh
                 dHdd[b, d] = sa
         _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, dS, z3, Z,
-                Z, dG, dHd, dHdd, -1, Kx, 6 + j)
+                Z, dG, dHd, dHdd, -1, Kx, 6 + j, False)
         for k in range(nq):
             t = Kr[k, j]
             for d in range(3):
@@ -170,7 +172,7 @@ def ffrf_tangent(mass, S0, Phib, A, Q, Qa, Kr, Dr, nq, g, R, xdd, Om, q, qd, qdd
         dW[b2, b1] = 2.0
         dW[b1, b2] = -2.0
         _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, z3, z3, dB,
-                dW, Z, Z, Z, -1, Cx, 3 + j)
+                dW, Z, Z, Z, -1, Cx, 3 + j, True)
     # elastic velocity qd_j
     for j in range(nq):
         for b in range(3):
@@ -178,7 +180,7 @@ def ffrf_tangent(mass, S0, Phib, A, Q, Qa, Kr, Dr, nq, g, R, xdd, Om, q, qd, qdd
             for d in range(3):
                 dHd[b, d] = A[b, d, j] + Qq[d, b, j]
         _column(mass, Phib, A, Qq, Qa, nq, R, al, S, Pd, f, B, W, G, Hd, qd, dal, z3, dPd, Z,
-                Z, Z, dHd, Z, -1, Cx, 6 + j)
+                Z, Z, dHd, Z, -1, Cx, 6 + j, False)
         for k in range(nq):
             Cx[6 + k, 6 + j] += (W[0, 1] * Qa[0, k, j] + W[0, 2] * Qa[1, k, j]
                                  + W[1, 2] * Qa[2, k, j] + Dr[k, j])
