@@ -78,12 +78,19 @@ def main(default_model: str, description: str) -> None:
           f"windows {tuple(bn.window_drive)} / {tuple(bn.window_coast)} s "
           f"(warm-up {t_warm:.2f} s)", flush=True)
 
+    # one BLAS thread, as `drivedyn tdr` runs its sides (analysis.tdr._bench_runs): with
+    # two, OpenBLAS sums the larger products (the flexible case's contacts) in another
+    # order, and the comparison below saw that round-off instead of what it checks (that
+    # the forked side gives the runs' TDRs)
+    from threadpoolctl import threadpool_limits
+
     t0 = time.perf_counter()
     runs, figures = {}, []
-    for side in diff.sides:
-        run, fig = run_side(p, side)
-        runs[side] = run
-        figures.append(fig)
+    with threadpool_limits(limits=1, user_api="blas"):
+        for side in diff.sides:
+            run, fig = run_side(p, side)
+            runs[side] = run
+            figures.append(fig)
     total = time.perf_counter() - t0
     rss = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)
 
