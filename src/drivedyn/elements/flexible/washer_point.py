@@ -7,17 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-
-@njit(cache=True, inline="always")
-def power(x, n):
-    """``x**n`` of a contact law's exponent ``n``: Hertz's 1.5 as ``x sqrt(x)`` and 1 as ``x``
-    (a ``pow`` call costs 9 ns, a square root 2 ns; a washer's contact points take one or
-    two per point and evaluation)."""
-    if n == 1.5:
-        return x * np.sqrt(x)
-    if n == 1.0:
-        return x
-    return x**n
+from drivedyn.elements.contact.impact_laws import power
 
 
 @njit(cache=True, inline="always")
