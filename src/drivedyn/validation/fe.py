@@ -265,10 +265,12 @@ def ffrf_energy(quick: bool = False, figure_dir: str | None = None) -> list[Case
 
 
 def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes: int = 6,
-                 quadrature: tuple[int, int] | None = None):
+                 quadrature: tuple[int, int] | None = None, tilt: float = 0.0):
     """A steel washer (r 20..35 mm, 2 mm) mounted by its back face on a carrier fixed to the
     ground, pressed by a spinning rigid face with the axial force ``load`` [N], at every face
-    node or at the points of ``annulus_quadrature(..., *quadrature)``."""
+    node or at the points of ``annulus_quadrature(..., *quadrature)``; the face tilted by
+    ``tilt`` [rad] about the gear's x axis (the pressure then varies around the washer, and
+    turns with the gear)."""
     ri, re, t = 0.020, 0.035, 0.002
     solid = SolidModel(annular_washer(ri, re, t, 2, 36, 1), STEEL)
     part = craig_bampton(solid, [Interface("back", solid.select("z", 0.0), np.zeros(3))],
@@ -285,7 +287,8 @@ def washer_bench(load: float, mu: float, spin: float, k_contact: float, n_modes:
     sp.add(Cylindrical("gear_bearing", "ground_g", "gear_g"))
     sp.add(JointDriver("gear_spin", "gear_bearing", spin, quantity="speed"))
     sp.add(Force("load", "gear_g", vector=(0, 0, -load)))
-    sp.add_marker("face", "gear", position=(0, 0, -0.01), axis=(0, 0, -1))
+    sp.add_marker("face", "gear", position=(0, 0, -0.01),
+                  axis=(0.0, math.sin(tilt), -math.cos(tilt)))
     fb = add_flexible_body(sp, "washer", part, "carrier_c")
     if quadrature is None:
         where = {"face": solid.select("z", t)}
