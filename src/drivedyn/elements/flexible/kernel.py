@@ -204,21 +204,21 @@ def _slot(k):
 
 
 @njit(cache=True, inline="always")
-def _force_scales(rabs, dofs, Mx, al, Kr, qv, mass, gvec, nq):
+def _force_scales(rabs, dofs, Mx, acc, Kr, qv, mass, gvec, nq):
     """Add the sizes of the terms of the floating-frame equations to ``rabs``: per row the
     sum of ``|M_ij a_j|`` (inertia), ``|K_kl q_l|`` (elastic, modal rows) and the weight
     ``mass |g|`` (frame translation rows). The kernel adds each equation's net residual
     only, so without them a body's equations had no force scale beyond that net: their
     residual scaled to 0.99 at any size, a free spinning part's hub equations could not
     converge on the round-off of their cancelling inertia terms (2e-10 N of about 1e3 N),
-    and a free flexible part did not take a step."""
+    and a free flexible part did not take a step. ``acc`` (6 + nq): the frame's and the
+    elastic coordinates' accelerations, in the order of ``Mx``."""
     g = np.sqrt(gvec[0] ** 2 + gvec[1] ** 2 + gvec[2] ** 2)
     for i in range(6 + nq):
         ii = i if i < 6 else _slot(i - 6)
         s = mass * g if i < 3 else 0.0
         for j in range(6 + nq):
-            jj = j if j < 6 else _slot(j - 6)
-            s += abs(Mx[i, j] * al[jj])
+            s += abs(Mx[i, j] * acc[j])
         if i >= 6:
             for m in range(nq):
                 s += abs(Kr[i - 6, m] * qv[m])
@@ -234,7 +234,8 @@ def work_size(nd: int, nqm: int) -> int:
     that the build takes ``work_size.py_func`` (a compiled call from Python compiles on a
     first run's critical path)."""
     nm = 6 + nqm
-    return (nd + 3 * nd * nd) + 2 * nd + 3 * nm * nm + 6 + 4 * nqm + 9 * nqm + 36 + 24 + 63
+    return (nd + 3 * nd * nd) + 2 * nd + 3 * nm * nm + 6 + 4 * nqm + 9 * nqm + 36 + 24 + 63 \
+        + 2 * nm
 
 
 @njit(cache=True, inline="always")
@@ -266,8 +267,11 @@ def _work(buf, nd, nqm):
     o += 36
     v3 = carve(buf, o, (8, 3))
     m3 = carve(buf, o + 24, (7, 3, 3))
+    o += 87
+    w13 = carve(buf, o, nm)
+    a13 = carve(buf, o + nm, nm)
     return (local_arrays_at(buf, 0, nd, 0), vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd,
-            Hdd, Bw, Kx, Cx, v3, m3)
+            Hdd, Bw, Kx, Cx, v3, m3, w13, a13)
 
 
 @njit(cache=True)
@@ -283,7 +287,7 @@ def flexible_body_kernel(
     W = _work(sc.work_buffer(work, work_size(nd, nqm)), nd, nqm)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
-    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, Kx, Cx, v3, m3) = W
+    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, Kx, Cx, v3, m3, w13, a13) = W
     full = sc.full_pass(want, mode)
     rqL, _, M, Cd, K, _ = L
     nnode = C[sc.LNODES].shape[1]
@@ -361,12 +365,14 @@ def flexible_body_kernel(
         # energies: T = 1/2 v^T M v (needs M: build it if not done)
         if not full:
             ffrf_mass(mass[e], S0[e], Phib[e], A[e], Qq, Mqq[e], nq, Re, qv, G, Mx)
+        # the velocities and accelerations in the order of Mx, once (not picked per entry)
+        for i in range(6 + nq):
+            w13[i] = vl[i] if i < 6 else qdv[i - 6]
+            a13[i] = al[i] if i < 6 else qddv[i - 6]
         kin = 0.0
         for i in range(6 + nq):
-            vi = vl[i] if i < 6 else qdv[i - 6]
             for j in range(6 + nq):
-                vj = vl[j] if j < 6 else qdv[j - 6]
-                kin += 0.5 * vi * Mx[i, j] * vj
+                kin += 0.5 * w13[i] * Mx[i, j] * w13[j]
         # Mx rows 0-2 use the global xdot, rows 3-5 the body Omega (as the residual)
         el = 0.0
         dis = 0.0
@@ -386,7 +392,7 @@ def flexible_body_kernel(
             rs = Re[i, 0] * s0 + Re[i, 1] * s1 + Re[i, 2] * s2
             grav -= gvec[i] * (mass[e] * x[n0, i] + rs)
         sc.energy(C, e, kin, el + grav, 0.0, dis)
-        _force_scales(C[sc.RABS], C[sc.DOFS][e], Mx, al, Kr[e], qv, mass[e], gvec, nq)
+        _force_scales(C[sc.RABS], C[sc.DOFS][e], Mx, a13, Kr[e], qv, mass[e], gvec, nq)
         aux[e, 0] = el
         for k in range(nq):
             aux[e, 1 + k] = qv[k]
