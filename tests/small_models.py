@@ -32,3 +32,18 @@ def rot_z(a: float) -> np.ndarray:
     """Rotation by ``a`` [rad] about the z axis."""
     c, s = np.cos(a), np.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def tet_box(L: float, a: float, n: int, nyz: int = 2):
+    """A box ``L x a x a`` [m] of tetrahedra (``SolidMesh``, kind ``"tet"``): ``n x nyz x nyz``
+    hexahedra, each split into six (Kuhn), every tetrahedron oriented positively."""
+    from drivedyn.fe import box
+    from drivedyn.fe.mesh import SolidMesh
+
+    m = box(L, a, a, n, nyz, nyz)
+    kuhn = ((0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6))
+    cells = np.concatenate([m.cells[:, list(k)] for k in kuhn])
+    p = m.points[cells]
+    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
+    cells[vol < 0] = cells[vol < 0][:, [0, 2, 1, 3]]
+    return SolidMesh(m.points, cells, "tet", "tet box")

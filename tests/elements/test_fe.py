@@ -33,6 +33,7 @@ from drivedyn.model.compile import compile_model
 from drivedyn.model.flexible import add_flexible_body
 from drivedyn.model.spec import Spec
 from drivedyn.validation import base
+from small_models import tet_box
 
 FE_CASES = ("fe_cantilever", "fe_annular_plate", "fe_modes", "ffrf_energy", "washer_pressure")
 STEEL = SolidMaterial()
@@ -114,21 +115,9 @@ def test_inverted_cells_are_refused():
         SolidModel(SolidMesh(m.points, cells, "hex"), STEEL)
 
 
-def _tet_box(L, a, n):
-    """A box of tetrahedra: every hexahedron split into six (Kuhn)."""
-    m = box(L, a, a, n, 2, 2)
-    kuhn = ((0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6))
-    cells = np.concatenate([m.cells[:, list(k)] for k in kuhn])
-    # orient every tetrahedron positively
-    p = m.points[cells]
-    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
-    cells[vol < 0] = cells[vol < 0][:, [0, 2, 1, 3]]
-    return SolidMesh(m.points, cells, "tet", "tet box")
-
-
 def test_ten_node_tetrahedra_cantilever_against_beam_theory():
     L, a, P = 1.0, 0.1, 1000.0
-    solid = SolidModel(_tet_box(L, a, 16), STEEL)
+    solid = SolidModel(tet_box(L, a, 16), STEEL)
     tip = solid.select("x", L)
     area = solid.face_areas(tip)
     assert area.sum() == pytest.approx(a * a, rel=1e-12)

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from drivedyn import settings
-from drivedyn.fe import SolidMaterial, SolidModel, annular_washer, annulus_quadrature, box
+from drivedyn.fe import SolidMaterial, SolidModel, annular_washer, annulus_quadrature
 from drivedyn.fe.mesh import SolidMesh
+from small_models import tet_box
 
 
 @pytest.fixture
@@ -21,17 +22,8 @@ def cache(tmp_path):
     settings._current = before
 
 
-def _tets() -> SolidMesh:
-    m = box(0.1, 0.02, 0.02, 3, 1, 1)
-    kuhn = ((0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6))
-    cells = np.concatenate([m.cells[:, list(k)] for k in kuhn])
-    p = m.points[cells]
-    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
-    cells[vol < 0] = cells[vol < 0][:, [0, 2, 1, 3]]
-    return SolidMesh(m.points, cells, "tet", "tets")
-
-
-@pytest.mark.parametrize("mesh", [annular_washer(0.02, 0.03, 0.002, 2, 12, 1), _tets()],
+@pytest.mark.parametrize("mesh", [annular_washer(0.02, 0.03, 0.002, 2, 12, 1),
+                                  tet_box(0.1, 0.02, 3, 1)],
                          ids=["hexahedra", "tetrahedra"])
 def test_the_scikit_fem_mesh_is_the_one_of_its_meshio_reader(mesh):
     """Vertices and cells (vertex order included) equal those of
