@@ -63,9 +63,9 @@ def test_interpolation_holds_quadratic_fields_at_any_point_of_the_mesh(mesh):
         inner = np.stack([r * np.cos(a), r * np.sin(a), rng.uniform(0, 0.002, 40)], 1)
         pts = np.vstack([pts, inner, s.nodes[::7]])
     else:
-        from test_fe import _tet_box
+        from small_models import tet_box
 
-        s = SolidModel(_tet_box(0.1, 0.04, 3), SolidMaterial())   # [0, 0.1] x [-0.02, 0.02]^2
+        s = SolidModel(tet_box(0.1, 0.04, 3), SolidMaterial())   # [0, 0.1] x [-0.02, 0.02]^2
         pts = np.vstack([rng.uniform((0, -0.02, -0.02), (0.1, 0.02, 0.02), (60, 3)),
                          np.column_stack([rng.uniform(0, 0.1, 10), rng.uniform(-0.02, 0.02, 10),
                                           np.full(10, 0.02)]), s.nodes[::5]])

@@ -106,12 +106,13 @@ class SolidModel:
     def __init__(self, mesh: SolidMesh, material: SolidMaterial) -> None:
         self.mesh = mesh
         self.material = material
+        self._mesh_key = mesh.digest()  # the cache entries' key (a SHA-1 of the whole mesh)
         # the nodes of a mesh seen before come from the cache folder, and the scikit-fem
         # mesh and bases are then built on first use: a flexible washer loaded from the
         # reduction cache needs none of them (0.1 s of the Type C's five washers with the
         # scikit-fem import, before a bench forks its second side). A mesh is cached only
         # once it has passed the orientation check of ``_checked_nodes``.
-        self.nodes = cached("nodes", (mesh.digest(),),
+        self.nodes = cached("nodes", (self._mesh_key,),
                             lambda: {"nodes": self._checked_nodes()})["nodes"]
 
     @cached_property
@@ -170,7 +171,7 @@ class SolidModel:
         return self.nodes.shape[0]
 
     def digest(self) -> str:
-        return self.mesh.digest() + "/" + self.mesh.kind + "/" + self.material.digest()
+        return self._mesh_key + "/" + self.mesh.kind + "/" + self.material.digest()
 
     @cached_property
     def K(self) -> sp.csr_matrix:
@@ -266,7 +267,7 @@ class SolidModel:
         belong to ``nodes``: the consistent load of a unit pressure, sum = face area.
         Kept in the cache folder (:mod:`drivedyn.fe.disk_cache`)."""
         nodes = np.asarray(nodes, np.int64).ravel()
-        return cached("face_areas", (self.mesh.digest(), nodes.tobytes()),
+        return cached("face_areas", (self._mesh_key, nodes.tobytes()),
                       lambda: {"areas": self._face_areas(nodes)})["areas"]
 
     def _face_areas(self, nodes: np.ndarray) -> np.ndarray:
@@ -311,7 +312,7 @@ class SolidModel:
             P = self._interpolation(pts, tol)
             return {"data": P.data, "indices": P.indices, "indptr": P.indptr}
 
-        z = cached("interpolation", (self.mesh.digest(), pts.tobytes(), repr(float(tol))),
+        z = cached("interpolation", (self._mesh_key, pts.tobytes(), repr(float(tol))),
                    compute)
         return sp.csr_matrix((z["data"], z["indices"], z["indptr"]), shape=(len(pts), self.n))
 
