@@ -92,3 +92,15 @@ def test_a_mesh_seen_before_builds_no_scikit_fem_object(cache):
     for _ in range(2):
         with pytest.raises(ModelError, match="inverted or degenerate"):
             SolidModel(bad, SolidMaterial())
+
+
+def test_another_scikit_fem_version_reads_other_entries(cache, monkeypatch):
+    """The entries' key holds scikit-fem's installed version (its node numbering could
+    change with it): the same computation under another version is another file. Fails if
+    the version is left out of the key."""
+    from drivedyn.fe import disk_cache
+
+    here = disk_cache.entry("nodes", (b"mesh",))
+    assert disk_cache._computed_by().startswith(f"{disk_cache.CACHE_VERSION}/scikit-fem ")
+    monkeypatch.setattr(disk_cache, "_computed_by", lambda: "1/scikit-fem 0.0.1")
+    assert disk_cache.entry("nodes", (b"mesh",)) != here

@@ -11,7 +11,9 @@ The Craig-Bampton reductions have their own entries (:mod:`drivedyn.fe.reduction
 
 from __future__ import annotations
 
+import functools
 import hashlib
+import importlib.metadata
 import os
 from collections.abc import Callable, Iterable
 
@@ -23,10 +25,22 @@ from drivedyn import settings
 CACHE_VERSION = 1
 
 
+@functools.lru_cache(maxsize=1)
+def _computed_by() -> str:
+    """What computes the entries: this cache's version and scikit-fem's (its numbering of a
+    mesh's nodes could change with it), read from the installed package's metadata (no
+    import of scikit-fem)."""
+    try:
+        skfem = importlib.metadata.version("scikit-fem")
+    except importlib.metadata.PackageNotFoundError:
+        skfem = "?"
+    return f"{CACHE_VERSION}/scikit-fem {skfem}"
+
+
 def entry(kind: str, key: Iterable[bytes | str]) -> os.PathLike:
     """The file of the entry ``kind`` (a computation's name) for ``key`` (the bytes or strings
     its result depends on, e.g. the solid's digest and the points)."""
-    h = hashlib.sha1(f"{CACHE_VERSION}/{kind}".encode())
+    h = hashlib.sha1(f"{_computed_by()}/{kind}".encode())
     for part in key:
         h.update(part if isinstance(part, bytes) else part.encode())
     return settings.cache_dir() / "fe" / f"{kind}-{h.hexdigest()}.npz"
