@@ -9,7 +9,8 @@ of them, and prints the product next to the measured wall time:
 * residual evaluation, all groups (``call_groups`` with ``want=False``), and per group;
 * residual with the iteration matrix (``want=True``), all groups and per group;
 * the factorisation of the assembled matrix and one solve, with the linear solver the run
-  uses (``default_linear_solver``): the dense LU (``dense_factor_csc``, ``dense_solve``),
+  settled on (``default_linear_solver``; ``AutoLU`` decides at the run's first
+  factorisation): the dense LU (``dense_factor_csc``, ``dense_solve``),
   or the sparse LU (``SparseLU.factor_csc``, called from Python as the run does, and the
   compiled ``sparse_lu_solve``);
 * the rest of the step (predictor, Lie updates, norms, the Python around each call):

@@ -268,10 +268,10 @@ def _work(buf, nd, nqm):
     v3 = carve(buf, o, (8, 3))
     m3 = carve(buf, o + 24, (7, 3, 3))
     o += 87
-    w13 = carve(buf, o, nm)
-    a13 = carve(buf, o + nm, nm)
+    vel_m = carve(buf, o, nm)
+    acc_m = carve(buf, o + nm, nm)
     return (local_arrays_at(buf, 0, nd, 0), vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd,
-            Hdd, Bw, Kx, Cx, v3, m3, w13, a13)
+            Hdd, Bw, Kx, Cx, v3, m3, vel_m, acc_m)
 
 
 @njit(cache=True)
@@ -287,7 +287,8 @@ def flexible_body_kernel(
     W = _work(sc.work_buffer(work, work_size(nd, nqm)), nd, nqm)
     C = (lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn, cM, cC, cK, mode, want,
          r, rabs, data, eout, aux)
-    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, Kx, Cx, v3, m3, w13, a13) = W
+    (L, vl, al, Mx, rx, rth, rq, qv, qdv, qddv, Qq, G, Hd, Hdd, Bw, Kx, Cx, v3, m3, vel_m,
+     acc_m) = W
     full = sc.full_pass(want, mode)
     rqL, _, M, Cd, K, _ = L
     nnode = C[sc.LNODES].shape[1]
@@ -367,12 +368,12 @@ def flexible_body_kernel(
             ffrf_mass(mass[e], S0[e], Phib[e], A[e], Qq, Mqq[e], nq, Re, qv, G, Mx)
         # the velocities and accelerations in the order of Mx, once (not picked per entry)
         for i in range(6 + nq):
-            w13[i] = vl[i] if i < 6 else qdv[i - 6]
-            a13[i] = al[i] if i < 6 else qddv[i - 6]
+            vel_m[i] = vl[i] if i < 6 else qdv[i - 6]
+            acc_m[i] = al[i] if i < 6 else qddv[i - 6]
         kin = 0.0
         for i in range(6 + nq):
             for j in range(6 + nq):
-                kin += 0.5 * w13[i] * Mx[i, j] * w13[j]
+                kin += 0.5 * vel_m[i] * Mx[i, j] * vel_m[j]
         # Mx rows 0-2 use the global xdot, rows 3-5 the body Omega (as the residual)
         el = 0.0
         dis = 0.0
@@ -392,7 +393,7 @@ def flexible_body_kernel(
             rs = Re[i, 0] * s0 + Re[i, 1] * s1 + Re[i, 2] * s2
             grav -= gvec[i] * (mass[e] * x[n0, i] + rs)
         sc.energy(C, e, kin, el + grav, 0.0, dis)
-        _force_scales(C[sc.RABS], C[sc.DOFS][e], Mx, a13, Kr[e], qv, mass[e], gvec, nq)
+        _force_scales(C[sc.RABS], C[sc.DOFS][e], Mx, acc_m, Kr[e], qv, mass[e], gvec, nq)
         aux[e, 0] = el
         for k in range(nq):
             aux[e, 1 + k] = qv[k]
