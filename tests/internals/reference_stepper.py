@@ -20,6 +20,7 @@ import numpy as np
 
 from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import State
+from drivedyn.solver.factor_frames import choose_frames, from_frames, to_frames
 from drivedyn.solver.newton_kernel import (
     EPS,
     EXCESS_MAX,
@@ -133,7 +134,18 @@ class ReferenceStepper(Stepper):
         self._istate[I_EXCESS] = 0
         self._fstate[F_LU_H] = h
         self._istate[I_NFAC] += 1
+        m = self.model
+        choose_frames(sys.data, m.indices, m.indptr, st.R, m.nn, self.frames)
         return None
+
+    def _solve(self, st: State) -> np.ndarray:
+        """The correction for the residual at ``st`` with the factorisation at hand, in the
+        node frames it was taken in (:mod:`~drivedyn.solver.factor_frames`)."""
+        b = -self.sys.r
+        to_frames(b, st.R, self.frames)
+        delta = self.lin.solve(b)
+        from_frames(delta, st.R, self.frames)
+        return delta
 
     def step(self, sn: State, h: float) -> StepOutcome:
         """Attempt the step from ``sn`` to ``sn.t + h``; the result is left in ``self.trial``
@@ -209,7 +221,7 @@ class ReferenceStepper(Stepper):
                     self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
                 if self.lu_h is not None:
                     # the closing correction (newton_kernel's note on it)
-                    delta = self.lin.solve(-sys.r)
+                    delta = self._solve(st)
                     newton_update(delta, nd, hdq, st.vd, st.a, st.v, st.lam, cM, ca, cC)
                     lie_update(sn.x, sn.R, hdq, m.nn, st.x, st.R, sys.Tn, False)
                 return StepOutcome(StepStatus.SUCCESS, it, self.factorizations - nfac0)
@@ -229,7 +241,7 @@ class ReferenceStepper(Stepper):
                 fresh = True
                 since_factor = 0
             since_factor += 1
-            delta = self.lin.solve(-sys.r)
+            delta = self._solve(st)
             nrm, finite = newton_update(delta, nd, hdq, st.vd, st.a, st.v, st.lam, cM, ca, cC)
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,

@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from drivedyn.elements.framework.contract import MODE_DYN
+from drivedyn.solver.factor_frames import choose_frames, from_frames, to_frames
 from drivedyn.solver.kernel_calls import call_groups
 from drivedyn.solver.lu_paths import FACTOR_OUTSIDE, FACTOR_SINGULAR, lu_factor, lu_solve
 from drivedyn.solver.redundancy import hold_multipliers, set_aside
@@ -339,7 +340,8 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         arrays = (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab,
                   indices, indptr, red)      # System's arrays, the time functions, CSC
                                              # pattern, the rows set aside (redundancy)
-        linear = (lu, piv, ib, tr, delta, roff, no_roff)   # lapack.workspace, scratch
+        linear = (lu, piv, ib, tr, delta, roff, no_roff, frames)  # lapack.workspace,
+                                             # scratch, factor_frames' arrays
         sparse = (Lp, Li, Lx, Up, Ui, Ux, perm_r, perm_c, tail, z, refactor)  # SparseLU's
                                              # factors and its refactor_arrays(), or None
                                              # for a dense LU only (lu_paths)
@@ -364,7 +366,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     x, R, v, vd, a, lam, es, hdq = trial
     (Tn, r, rabs, data, tfv, kscale, tf_kind, tf_par, tf_fstart, tf_tab, indices, indptr,
      red) = arrays
-    delta, roff, no_roff = linear[4], linear[5], linear[6]
+    delta, roff, no_roff, frames = linear[4], linear[5], linear[6], linear[7]
     am, af, gamma, beta, bp, gp = par[0], par[1], par[2], par[3], par[4], par[5]
     tol, phi_tol, contraction = par[6], par[7], par[8]
     max_iter = int(par[9])
@@ -384,6 +386,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         xmax = fstate[F_XMAX]
         assembled = True
         _factorised(istate, fstate, h)
+        choose_frames(data, indices, indptr, R, nn, frames)
         fresh = True
         since_factor = 0
         stale = False
@@ -448,7 +451,9 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     # the closing correction (the note above the outcome codes)
                     for i in range(r.shape[0]):
                         delta[i] = -r[i]
+                    to_frames(delta, R, frames)
                     lu_solve(linear, sparse, istate[I_DENSE] != 0, delta)
+                    from_frames(delta, R, frames)
                     newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
                     lie_update(x0, R0, hdq, nn, x, R, Tn, False)
                 return SUCCESS, it, istate[I_NFAC] - nfac0
@@ -479,13 +484,16 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     _forget(istate, roff)
                     return SINGULAR, it, istate[I_NFAC] - nfac0
                 _factorised(istate, fstate, h)
+                choose_frames(data, indices, indptr, R, nn, frames)
                 fresh = True
                 since_factor = 0
         resumed = False
         since_factor += 1
         for i in range(r.shape[0]):
             delta[i] = -r[i]
+        to_frames(delta, R, frames)
         lu_solve(linear, sparse, istate[I_DENSE] != 0, delta)
+        from_frames(delta, R, frames)
         nrm, finite = newton_update(delta, nd, hdq, vd, a, v, lam, cM, ca, cC)
         if not finite:
             return NONFINITE_CORRECTION, it, istate[I_NFAC] - nfac0

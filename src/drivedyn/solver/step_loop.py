@@ -346,7 +346,8 @@ def precompile_loop(stepper: Any, st: State, energy: EnergyAccount) -> None:
         control = (f, f, f, f, np.zeros(1, np.int64), f)
         lu, piv, ib, tr = stepper._no_dense
         args = (G, *_head(stepper, st, np.zeros(m.nd), np.zeros(m.nd), False),
-                (lu, piv, ib, tr, stepper._delta, stepper.roff, stepper._no_roff),
+                (lu, piv, ib, tr, stepper._delta, stepper.roff, stepper._no_roff,
+                 stepper.frames),
                 stepper._no_sparse, stepper._par, stepper._istate, stepper._fstate, control,
                 _energy_args(energy), (*commits, m.aux_all),
                 _snapshot_arrays(0, _NO_SELECTION, 5))

@@ -35,6 +35,7 @@ from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import Model, State
 from drivedyn.solver import lapack
 from drivedyn.solver import newton_kernel as nk
+from drivedyn.solver.factor_frames import frame_arrays
 from drivedyn.solver.linear import (
     AutoLU,
     DenseLU,
@@ -118,6 +119,9 @@ class Stepper:
                               1.0 if newton.strategy == "full" else 0.0, FLOOR_REL,
                               STALL_ULPS, ROUNDOFF_ULPS])
         self._delta = np.zeros(model.neq)
+        # the node frames of the factorisation, for its solves at later configurations
+        self.frames = frame_arrays(np.array([n.body is not None for n in model.nodes], bool),
+                                   model.nnz, model.neq)
         # stand-ins for the factors the active solver does not use (the dense ones 2 x 2: a
         # smaller array is C- as well as F-contiguous, numba would type it as C and compile
         # another overload)
@@ -195,7 +199,7 @@ class Stepper:
         self._istate[I_EXTERNAL] = 0 if dense is not None else 1
         self._istate[I_REFACTOR] = 0 if dense is not None or sparse._f is None else 1
         self._istate[I_DENSE] = 1 if dense is not None else 0
-        return (lu, piv, ib, tr, self._delta, self.roff, self._no_roff), sp_args
+        return (lu, piv, ib, tr, self._delta, self.roff, self._no_roff, self.frames), sp_args
 
     def outcome_of(self, code: int, it: int, nfac: int) -> StepOutcome:
         """The :class:`StepOutcome` of a compiled step's code (newton_kernel), with the
