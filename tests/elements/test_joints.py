@@ -168,3 +168,25 @@ def test_screw_stick_range_with_a_vanishing_load(n_c):
     assert (f, dfs) == (pytest.approx(mu * n, rel=1e-12), 0.0)
     assert k * (1.01 * width - z) == pytest.approx(f, rel=1e-9)
     assert width == pytest.approx(1.0e-10 if n_c else 1.118e-13, rel=2e-3)
+
+
+def test_a_hinges_angle_without_its_gradient_is_the_same_to_the_last_bit():
+    """The joint kernel takes a hinge's angle from ``angle_value`` when no row needs the
+    angle's gradient (no driver or screw row, no matrix): it must be ``prim_angle``'s value
+    bit for bit, or a hinge's reported and accumulated angle would depend on whether the
+    evaluation assembled the matrix. Random frames, angles in all four quadrants. Fails with
+    ``a1`` and ``a2`` swapped, or with a dot product summed in another order (seen)."""
+    from drivedyn.elements.framework.primitives import angle_value, prim_angle
+
+    rng = np.random.default_rng(5)
+    g, H = np.zeros(12), np.zeros((12, 12))
+    w = [np.zeros(12), np.zeros((12, 12)), np.zeros(12), np.zeros((12, 12))]
+    ws, wv = np.zeros((8, 3, 3)), np.zeros((6, 3))
+    seen = set()
+    for _ in range(200):
+        RA, RB, Rm = (frame_from_axis(rng.standard_normal(3)) @ rot_y(rng.uniform(-3, 3))
+                      for _ in range(3))
+        ref = prim_angle(RA, RB, Rm[:, 0], Rm[:, 1], Rm[:, 2], g, H, False, *w, ws, wv)
+        assert angle_value(RA, RB, Rm[:, 0], Rm[:, 1], Rm[:, 2], wv) == ref
+        seen.add(int(np.floor(ref / (np.pi / 2))))
+    assert seen == {-2, -1, 0, 1}

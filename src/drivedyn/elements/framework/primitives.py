@@ -336,6 +336,20 @@ def prim_angle(RA, RB, a1, a2, b1, g, H, want, gs, Hs, gc, Hc, ws, wv):
     return th
 
 
+@njit(cache=True, inline="always")
+def angle_value(RA, RB, a1, a2, b1, wv):
+    """:func:`prim_angle`'s angle alone (no gradient), with the same arithmetic (the same
+    value to the last bit); ``wv`` a work array of at least (2, 3)."""
+    a = wv[0]
+    b = wv[1]
+    mv(RB, b1, b)
+    mv(RA, a2, a)
+    s = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    mv(RA, a1, a)
+    c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    return np.arctan2(s, c)
+
+
 @njit(cache=True)
 def _hess_angle(s, c, r2, g, gs, gc, Hs, Hc, H):
     """Hessian of prim_angle from those of its two dot products."""
