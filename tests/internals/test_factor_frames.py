@@ -62,8 +62,9 @@ def test_the_nodes_whose_columns_turn_with_them_are_chosen() -> None:
     """A matrix whose node-0 rotation columns (outside the node's own block) have turned with
     the node since the last factorisation, ``A_new[:, c] = A_old[:, c] Q``: node 0 is chosen,
     node 1, whose columns did not change, is not, nor is node 0 when it is not a candidate.
-    The new matrix and rotations become the last factorisation's. Fails with ``Q^T`` in the
-    comparison, or with the node's own block counted."""
+    The candidates' columns of the new matrix and their rotations become the last
+    factorisation's. Fails with ``Q^T`` in the comparison, or with the node's own block
+    counted (both seen)."""
     rng = np.random.default_rng(7)
     nn, neq = 2, 14
     old = rng.standard_normal((neq, neq))
@@ -86,7 +87,14 @@ def test_the_nodes_whose_columns_turn_with_them_are_chosen() -> None:
         choose_frames(data, indices, indptr, R, nn, frames)
         assert tuple(frames[0]) == expected
         assert frames[3][1] == sum(expected)
-        assert np.array_equal(frames[2], data) and np.array_equal(frames[1], R)
+        cols = np.repeat(np.arange(neq), neq)  # the column of each entry
+        kept = np.zeros(neq * neq, bool)
+        for i in np.nonzero(candidates)[0]:
+            kept |= (cols >= 6 * i + 3) & (cols < 6 * i + 6)
+        assert np.array_equal(frames[2][kept], data[kept])
+        assert np.array_equal(frames[2][~kept], old.T.ravel()[~kept])
+        assert np.array_equal(frames[1][:nn][candidates], R[:nn][candidates])
+        assert np.array_equal(frames[1][:nn][~candidates], Rf[:nn][~candidates])
         # work arrays left zero for the next call
         assert not frames[4].any() and not frames[5].any() and not frames[7].any()
 

@@ -32,8 +32,9 @@ example and the beam race unchanged (the same counts).
 ``frames`` is a tuple ``(flags, Rf, prev, have, So, Sn, rows, mark, Q, candidates)``:
     flags (nn,) uint8: node turned (1) in the solves;
     candidates (nn,) uint8: a rigid body's node (1), which may be turned;
-    Rf (nn + 1, 3, 3): the node rotations at the last factorisation;
-    prev (nnz,): the matrix of the last factorisation (CSC data);
+    Rf (nn + 1, 3, 3): the candidates' rotations at the last factorisation;
+    prev (nnz,): the matrix of the last factorisation (CSC data; the candidates' rotation
+    columns only);
     have (2,) int64: ``prev`` and ``Rf`` hold a factorisation (1), and the number of nodes
     turned;
     So, Sn (neq, 3), rows (neq,) int64, mark (neq,) uint8, Q (3, 3): work arrays (``So``,
@@ -75,46 +76,49 @@ def _turn(Rf, R, i, Q):
 def choose_frames(data, indices, indptr, R, nn, frames):
     """After a factorisation of the matrix ``data`` (CSC, pattern ``indices, indptr``) at
     node rotations ``R`` (nn + 1, 3, 3): choose the nodes turned in its solves by comparing
-    each node's rotation columns with the last factorisation's (module docstring), then keep
-    this matrix and ``R`` as the last factorisation's."""
+    each candidate's rotation columns with the last factorisation's (module docstring), then
+    keep this matrix's columns and ``R`` of the candidates as the last factorisation's."""
     flags, Rf, prev, have, So, Sn, rows, mark, Q, candidates = frames
     have[1] = 0
     for i in range(nn):
         flags[i] = 0
-        if have[0] == 0 or candidates[i] == 0:
+        if candidates[i] == 0:
             continue
         c0 = 6 * i + 3
-        nr = 0
-        for j in range(3):
-            for k in range(indptr[c0 + j], indptr[c0 + j + 1]):
-                row = indices[k]
-                if row >= c0 and row < c0 + 3:
-                    continue  # the node's own rotation block turns on both sides
-                if mark[row] == 0:
-                    mark[row] = 1
-                    rows[nr] = row
-                    nr += 1
-                So[row, j] = prev[k]
-                Sn[row, j] = data[k]
-        _turn(Rf, R, i, Q)
-        e_body = 0.0
-        e_turned = 0.0
-        for m in range(nr):
-            row = rows[m]
+        if have[0] != 0:
+            nr = 0
             for j in range(3):
-                turned = So[row, 0] * Q[0, j] + So[row, 1] * Q[1, j] + So[row, 2] * Q[2, j]
-                e_body += abs(Sn[row, j] - So[row, j])
-                e_turned += abs(Sn[row, j] - turned)
-            for j in range(3):
-                So[row, j] = 0.0
-                Sn[row, j] = 0.0
-            mark[row] = 0
-        if e_turned < TURN_GAIN * e_body:
-            flags[i] = 1
-            have[1] += 1
-    for k in range(data.shape[0]):
-        prev[k] = data[k]
-    for i in range(R.shape[0]):
+                for k in range(indptr[c0 + j], indptr[c0 + j + 1]):
+                    row = indices[k]
+                    if row >= c0 and row < c0 + 3:
+                        continue  # the node's own rotation block turns on both sides
+                    if mark[row] == 0:
+                        mark[row] = 1
+                        rows[nr] = row
+                        nr += 1
+                    So[row, j] = prev[k]
+                    Sn[row, j] = data[k]
+            _turn(Rf, R, i, Q)
+            e_body = 0.0
+            e_turned = 0.0
+            for m in range(nr):
+                row = rows[m]
+                for j in range(3):
+                    turned = So[row, 0] * Q[0, j] + So[row, 1] * Q[1, j] + \
+                        So[row, 2] * Q[2, j]
+                    e_body += abs(Sn[row, j] - So[row, j])
+                    e_turned += abs(Sn[row, j] - turned)
+                for j in range(3):
+                    So[row, j] = 0.0
+                    Sn[row, j] = 0.0
+                mark[row] = 0
+            if e_turned < TURN_GAIN * e_body:
+                flags[i] = 1
+                have[1] += 1
+        # this factorisation's columns and rotation, for the solves and the next choice
+        # (a candidate's only: nothing else is read)
+        for k in range(indptr[c0], indptr[c0 + 3]):
+            prev[k] = data[k]
         for a in range(3):
             for b in range(3):
                 Rf[i, a, b] = R[i, a, b]
