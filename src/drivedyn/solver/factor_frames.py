@@ -126,9 +126,9 @@ def choose_frames(data, indices, indptr, R, nn, frames):
 
 
 @njit(cache=True)
-def to_frames(b, R, frames):
-    """Right-hand side ``b`` (neq,) into the frames of the factorisation: each turned node's
-    rotation entries multiplied by ``Q = R_fac^T R``, in place."""
+def _turn_entries(v, R, frames, back):
+    """Each turned node's rotation entries of ``v`` (neq,) multiplied by ``Q = R_fac^T R``,
+    or by ``Q^T`` if ``back``, in place."""
     flags, Rf, have, Q = frames[0], frames[1], frames[3], frames[8]
     if have[1] == 0:
         return
@@ -137,23 +137,23 @@ def to_frames(b, R, frames):
             continue
         _turn(Rf, R, i, Q)
         c0 = 6 * i + 3
-        b0, b1, b2 = b[c0], b[c0 + 1], b[c0 + 2]
+        v0, v1, v2 = v[c0], v[c0 + 1], v[c0 + 2]
         for a in range(3):
-            b[c0 + a] = Q[a, 0] * b0 + Q[a, 1] * b1 + Q[a, 2] * b2
+            if back:
+                v[c0 + a] = Q[0, a] * v0 + Q[1, a] * v1 + Q[2, a] * v2
+            else:
+                v[c0 + a] = Q[a, 0] * v0 + Q[a, 1] * v1 + Q[a, 2] * v2
+
+
+@njit(cache=True)
+def to_frames(b, R, frames):
+    """Right-hand side ``b`` (neq,) into the frames of the factorisation: each turned node's
+    rotation entries multiplied by ``Q = R_fac^T R``, in place."""
+    _turn_entries(b, R, frames, False)
 
 
 @njit(cache=True)
 def from_frames(d, R, frames):
     """Solution ``d`` (neq,) back from the frames of the factorisation: each turned node's
     rotation entries multiplied by ``Q^T``, in place."""
-    flags, Rf, have, Q = frames[0], frames[1], frames[3], frames[8]
-    if have[1] == 0:
-        return
-    for i in range(flags.shape[0]):
-        if flags[i] == 0:
-            continue
-        _turn(Rf, R, i, Q)
-        c0 = 6 * i + 3
-        d0, d1, d2 = d[c0], d[c0 + 1], d[c0 + 2]
-        for a in range(3):
-            d[c0 + a] = Q[0, a] * d0 + Q[1, a] * d1 + Q[2, a] * d2
+    _turn_entries(d, R, frames, True)

@@ -161,15 +161,21 @@ def _hess_dot(RA, RB, abar, bbar, RAb, RBa, H, ws):
 
 
 @njit(cache=True, inline="always")
+def _dot_value(RA, RB, abar, bbar, a, b):
+    """``(R_A abar) . (R_B bbar)``, leaving ``R_A abar`` in ``a`` and ``R_B bbar`` in ``b``."""
+    mv(RA, abar, a)
+    mv(RB, bbar, b)
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(cache=True, inline="always")
 def prim_dot(RA, RB, abar, bbar, g, H, want, ws, wv):
     """Phi = (R_A abar) . (R_B bbar); fills g (12,), H (12, 12) if ``want``; returns Phi."""
     a = wv[0]
     b = wv[1]
     RAb = wv[2]
     RBa = wv[3]
-    mv(RA, abar, a)
-    mv(RB, bbar, b)
-    val = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    val = _dot_value(RA, RB, abar, bbar, a, b)
     mtv(RA, b, RAb)
     mtv(RB, a, RBa)
     for i in range(12):
@@ -340,13 +346,8 @@ def prim_angle(RA, RB, a1, a2, b1, g, H, want, gs, Hs, gc, Hc, ws, wv):
 def angle_value(RA, RB, a1, a2, b1, wv):
     """:func:`prim_angle`'s angle alone (no gradient), with the same arithmetic (the same
     value to the last bit); ``wv`` a work array of at least (2, 3)."""
-    a = wv[0]
-    b = wv[1]
-    mv(RB, b1, b)
-    mv(RA, a2, a)
-    s = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-    mv(RA, a1, a)
-    c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    s = _dot_value(RA, RB, a2, b1, wv[0], wv[1])
+    c = _dot_value(RA, RB, a1, b1, wv[0], wv[1])
     return np.arctan2(s, c)
 
 
