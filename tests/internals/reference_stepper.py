@@ -135,7 +135,7 @@ class ReferenceStepper(Stepper):
         self._fstate[F_LU_H] = h
         self._istate[I_NFAC] += 1
         m = self.model
-        choose_frames(sys.data, m.indices, m.indptr, st.R, m.nn, self.frames)
+        choose_frames(sys.data, m.indices, m.indptr, st.R, self.frames)
         return None
 
     def _solve(self, st: State) -> np.ndarray:

@@ -41,7 +41,7 @@ def test_a_solve_in_the_frames_of_the_factorisation_is_the_similarity() -> None:
     frames = frame_arrays(np.ones(nn, bool), 1, neq)
     flags, Rf, have = frames[0], frames[1], frames[3]
     R = np.stack([_rotation(rng) for _ in range(nn + 1)])
-    Rf[:] = np.stack([_rotation(rng) for _ in range(nn + 1)])
+    Rf[:] = np.stack([_rotation(rng) for _ in range(nn)])
     flags[:] = (1, 0)
     have[:] = (1, 1)
     b = rng.standard_normal(neq)
@@ -68,7 +68,7 @@ def test_the_nodes_whose_columns_turn_with_them_are_chosen() -> None:
     rng = np.random.default_rng(7)
     nn, neq = 2, 14
     old = rng.standard_normal((neq, neq))
-    Rf = np.stack([_rotation(rng) for _ in range(nn + 1)])
+    Rf = np.stack([_rotation(rng) for _ in range(nn)])
     Q = _rotation(rng)
     R = Rf.copy()
     R[0] = Rf[0] @ Q
@@ -84,7 +84,7 @@ def test_the_nodes_whose_columns_turn_with_them_are_chosen() -> None:
         frames[1][:] = Rf
         frames[3][0] = 1
         data = new.T.ravel().copy()
-        choose_frames(data, indices, indptr, R, nn, frames)
+        choose_frames(data, indices, indptr, R, frames)
         assert tuple(frames[0]) == expected
         assert frames[3][1] == sum(expected)
         cols = np.repeat(np.arange(neq), neq)  # the column of each entry
@@ -93,8 +93,8 @@ def test_the_nodes_whose_columns_turn_with_them_are_chosen() -> None:
             kept |= (cols >= 6 * i + 3) & (cols < 6 * i + 6)
         assert np.array_equal(frames[2][kept], data[kept])
         assert np.array_equal(frames[2][~kept], old.T.ravel()[~kept])
-        assert np.array_equal(frames[1][:nn][candidates], R[:nn][candidates])
-        assert np.array_equal(frames[1][:nn][~candidates], Rf[:nn][~candidates])
+        assert np.array_equal(frames[1][candidates], R[candidates])
+        assert np.array_equal(frames[1][~candidates], Rf[~candidates])
         # work arrays left zero for the next call
         assert not frames[4].any() and not frames[5].any() and not frames[7].any()
 

@@ -32,7 +32,7 @@ example and the beam race unchanged (the same counts).
 ``frames`` is a tuple ``(flags, Rf, prev, have, So, Sn, rows, mark, Q, candidates)``:
     flags (nn,) uint8: node turned (1) in the solves;
     candidates (nn,) uint8: a rigid body's node (1), which may be turned;
-    Rf (nn + 1, 3, 3): the candidates' rotations at the last factorisation;
+    Rf (nn, 3, 3): the candidates' rotations at the last factorisation;
     prev (nnz,): the matrix of the last factorisation (CSC data; the candidates' rotation
     columns only);
     have (2,) int64: ``prev`` and ``Rf`` hold a factorisation (1), and the number of nodes
@@ -48,8 +48,8 @@ from numba import njit
 
 #: a node's rotation columns are compared with the last factorisation's in the turned frame
 #: and as they are; the node is turned if the first difference is below TURN_GAIN times the
-#: second (a clear gain, not noise between two nearly equal figures; 0.25 and 0.5 choose the
-#: same nodes at every factorisation of the RWD and 4WD launches)
+#: second (a clear gain, not noise between two nearly equal figures; 0.25 and 0.5 give the
+#: same steps, iterations and factorisations on the RWD and 4WD launches)
 TURN_GAIN = 0.25
 
 
@@ -57,7 +57,7 @@ def frame_arrays(candidates: np.ndarray, nnz: int, neq: int) -> tuple:
     """The ``frames`` arrays (module docstring) for the nodes that may be turned
     (``candidates``, bool (nn,)) and a matrix of ``nnz`` entries and ``neq`` rows."""
     nn = candidates.shape[0]
-    return (np.zeros(nn, np.uint8), np.zeros((nn + 1, 3, 3)), np.zeros(nnz),
+    return (np.zeros(nn, np.uint8), np.zeros((nn, 3, 3)), np.zeros(nnz),
             np.zeros(2, np.int64), np.zeros((neq, 3)), np.zeros((neq, 3)),
             np.zeros(neq, np.int64), np.zeros(neq, np.uint8), np.zeros((3, 3)),
             candidates.astype(np.uint8))
@@ -73,14 +73,14 @@ def _turn(Rf, R, i, Q):
 
 
 @njit(cache=True)
-def choose_frames(data, indices, indptr, R, nn, frames):
+def choose_frames(data, indices, indptr, R, frames):
     """After a factorisation of the matrix ``data`` (CSC, pattern ``indices, indptr``) at
     node rotations ``R`` (nn + 1, 3, 3): choose the nodes turned in its solves by comparing
     each candidate's rotation columns with the last factorisation's (module docstring), then
     keep this matrix's columns and ``R`` of the candidates as the last factorisation's."""
     flags, Rf, prev, have, So, Sn, rows, mark, Q, candidates = frames
     have[1] = 0
-    for i in range(nn):
+    for i in range(candidates.shape[0]):
         flags[i] = 0
         if candidates[i] == 0:
             continue

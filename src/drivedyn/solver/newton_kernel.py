@@ -386,7 +386,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
         xmax = fstate[F_XMAX]
         assembled = True
         _factorised(istate, fstate, h)
-        choose_frames(data, indices, indptr, R, nn, frames)
+        choose_frames(data, indices, indptr, R, frames)
         fresh = True
         since_factor = 0
         stale = False
@@ -484,7 +484,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                     _forget(istate, roff)
                     return SINGULAR, it, istate[I_NFAC] - nfac0
                 _factorised(istate, fstate, h)
-                choose_frames(data, indices, indptr, R, nn, frames)
+                choose_frames(data, indices, indptr, R, frames)
                 fresh = True
                 since_factor = 0
         resumed = False
