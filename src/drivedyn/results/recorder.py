@@ -7,6 +7,7 @@ the solver."""
 from __future__ import annotations
 
 import json
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -217,8 +218,11 @@ class Selection:
                     if kept(f"{en}.angular_momentum"):
                         aux.update(row + c for c in range(3))
                 else:
-                    aux.update(row + col for col, name, _u, _d in cols
-                               if kept(f"{en}.{name}"))
+                    wanted = [col for col, name, _u, _d in cols if kept(f"{en}.{name}")]
+                    derived = g.derived.cols if g.derived is not None else ()
+                    aux.update(row + col for col in wanted if col not in derived)
+                    if any(col in derived for col in wanted):  # computed from these
+                        aux.update(row + col for col in g.derived.inputs)
                 if ("parts" in g.extra or "fields" in g.extra) and any(
                         kept(n) for n in _fields(model, g, ei, en, np.zeros((1, naux)))):
                     aux.update(range(row, row + naux))
@@ -400,8 +404,9 @@ class Recorder:
             column = _ColumnReader(A, stacked, sel.aux_pos, off, naux)
             for ei, en in enumerate(g.names):
                 if g.family != "rigid_body":
+                    derived = _derived_columns(g, ei, column)
                     for col, name, unit, desc in g.outputs():
-                        c = column.output(ei, col)
+                        c = derived[col] if col in derived else column.output(ei, col)
                         if c is not None:
                             put(f"{en}.{name}", ("time",), c, unit, f"{desc} ({g.family})")
                 if g.dissipative:
@@ -457,6 +462,39 @@ class Recorder:
         attrs["scene"] = _scene_json(m)
         attrs["model_summary"] = json.dumps(model_summary(m))
         return data_vars, coords, attrs
+
+
+def _derived_columns(g, ei: int, column: _ColumnReader) -> dict[int, Any]:
+    """The derived outputs of element ``ei`` of group ``g``
+    (:class:`~drivedyn.elements.framework.group.DerivedOutputs`) as
+    :class:`~drivedyn.results.flexible_fields.Deferred` values computed on first use, by aux
+    column; None for each if their inputs were not recorded; {} for a group without."""
+    d = g.derived
+    if d is None:
+        return {}
+    inputs = [column.output(ei, c) for c in d.inputs]
+    if any(c is None for c in inputs):
+        return dict.fromkeys(d.cols)
+    from drivedyn.results.flexible_fields import Deferred
+
+    source = DerivedSource(d.fn, ei, np.stack(inputs, axis=1), d.cols)
+    return {c: Deferred(source, c) for c in d.cols}
+
+
+class DerivedSource:
+    """Derived outputs of one element over a run, computed on first use (a
+    :class:`~drivedyn.results.flexible_fields.Deferred`'s source). Picklable with its
+    function (a forked bench side returns its results to the parent)."""
+
+    def __init__(self, fn, ei: int, inputs: np.ndarray, cols: tuple[int, ...]) -> None:
+        self.fn, self.ei, self.inputs, self.cols = fn, ei, inputs, cols
+        self._values: np.ndarray | None = None
+
+    def field(self, col: int) -> np.ndarray:
+        """The values (nt,) of aux column ``col``."""
+        if self._values is None:
+            self._values = self.fn(self.ei, self.inputs)
+        return self._values[:, self.cols.index(col)]
 
 
 class _ColumnReader:

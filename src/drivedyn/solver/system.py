@@ -370,5 +370,8 @@ def element_outputs(model: Model, state: State) -> dict[str, dict[str, float]]:
     out: dict[str, dict[str, float]] = {}
     for g in model.groups:
         for ei, name in enumerate(g.names):
-            out[name] = {o: float(g.aux[ei, col]) for col, o, _u, _d in g.outputs()}
+            row = g.aux[ei].copy()
+            if g.derived is not None:  # outputs computed when read
+                row[list(g.derived.cols)] = g.derived.at(ei, row)
+            out[name] = {o: float(row[col]) for col, o, _u, _d in g.outputs()}
     return out

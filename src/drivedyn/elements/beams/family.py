@@ -9,16 +9,17 @@ nodes make shafts and frames; :func:`drivedyn.model.beams.add_straight_beam` bui
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, ClassVar
 
 import numpy as np
 
 from drivedyn.elements.beams.kernel import WORK_SIZE, beam_kernel
 from drivedyn.elements.beams.se3 import log_se3
-from drivedyn.elements.beams.section import Material, SectionProperties
+from drivedyn.elements.beams.section import Material, SectionProperties, section_stresses
 from drivedyn.elements.framework.building import make_group, node_dofs, what_of
 from drivedyn.elements.framework.checks import check_param
-from drivedyn.elements.framework.group import Group
+from drivedyn.elements.framework.group import DerivedOutputs, Group
 from drivedyn.elements.framework.registry import ElementSpec, Family, register
 from drivedyn.errors import ModelError, did_you_mean
 
@@ -41,6 +42,9 @@ OUTPUTS = (
     ("von_mises", "Pa", "largest von Mises stress on the outer fibre"),
     ("elastic_energy", "J", "strain energy of the element"),
 )
+#: the section forces, and the stresses computed from them when read (not by the kernel)
+FORCE_COLUMNS = (0, 1, 2, 3, 4, 5)
+STRESS_COLUMNS = (12, 13, 14)
 
 
 @dataclass(frozen=True)
@@ -183,11 +187,13 @@ class BeamFamily(Family):
             skind[e] = p.stress_kind
             spar[e] = p.stress_params
             beta[e] = float(s.damping)
-        params = (length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar,
+        params = (length, eps0, Ks, beta, CA, CB, mass, cmix, Jn,
                   np.asarray(ctx.gravity, float), np.zeros(WORK_SIZE))
         g = make_group(self.name, specs, beam_kernel, params, lnodes, node_dofs(ctx, lnodes),
                        OUTPUTS, dissipative=True)
         g.extra["section_rotation"] = (CA, CB)
+        g.derived = DerivedOutputs(cols=STRESS_COLUMNS, inputs=FORCE_COLUMNS,
+                                   fn=partial(section_stresses, skind, spar))
         return g
 
 

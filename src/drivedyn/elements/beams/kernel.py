@@ -48,7 +48,6 @@ from drivedyn.elements.beams.se3 import (
     tangent_inv_se3,
     tangent_inv_se3_rate,
 )
-from drivedyn.elements.beams.section import outer_fibre_stresses
 from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
 from drivedyn.elements.framework.primitives import mm, mtv, set_skew
 from drivedyn.elements.framework.work_arrays import carve
@@ -239,7 +238,7 @@ def _work(buf):
 
 @njit(cache=True)
 def beam_kernel(
-    length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, skind, spar, gravity, work,
+    length, eps0, Ks, beta, CA, CB, mass, cmix, Jn, gravity, work,
     lnodes, dofs, kmap, eoff, x, R, v, vd, lam, es, tfv, t, Tn,
     cM, cC, cK, mode, want, r, rabs, data, eout, aux,
 ):
@@ -376,13 +375,10 @@ def beam_kernel(
         for i in range(3):
             weight -= 0.5 * m * gravity[i] * (x[nA, i] + x[nB, i])
         sc.energy(C, e, kin, 0.5 * Le * el + weight, 0.0, be * Le * dis)
-        smax, tmax, vm = outer_fibre_stresses(skind[e], spar[e], sig[0], sig[1], sig[2],
-                                              sig[3], sig[4], sig[5])
+        # columns 12-14, the outer-fibre stresses, are computed when read, from the section
+        # forces (family.py: the group's derived outputs)
         aux = C[sc.AUX]
         for i in range(6):
             aux[e, i] = sig[i]
             aux[e, 6 + i] = eps[i]
-        aux[e, 12] = smax
-        aux[e, 13] = tmax
-        aux[e, 14] = vm
         aux[e, 15] = 0.5 * Le * el

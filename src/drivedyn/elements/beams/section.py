@@ -432,3 +432,22 @@ def outer_fibre_stresses(kind, p, N, Vy, Vz, T, My, Mz):
         tmax = abs(T) / p[5]
         vm = _vm(smax, tmax)
     return smax, tmax, vm
+
+
+@njit(cache=True)
+def _stress_rows(kind, p, F, out):
+    for k in range(F.shape[0]):
+        out[k, 0], out[k, 1], out[k, 2] = outer_fibre_stresses(
+            kind, p, F[k, 0], F[k, 1], F[k, 2], F[k, 3], F[k, 4], F[k, 5])
+
+
+def section_stresses(kind: np.ndarray, params: np.ndarray, ei: int,
+                     forces: np.ndarray) -> np.ndarray:
+    """Outer-fibre stresses (nt, 3) [Pa] (``|sigma_x|``, ``|tau|``, von Mises: see
+    :func:`outer_fibre_stresses`) of element ``ei`` of a beam group whose sections are
+    ``kind`` (nel,) and ``params`` (nel, 8), from its section forces ``forces`` (nt, 6)
+    ``N, V_y, V_z`` [N], ``T, M_y, M_z`` [N m]: the beam family's derived outputs."""
+    F = np.ascontiguousarray(forces, dtype=float)
+    out = np.empty((F.shape[0], 3))
+    _stress_rows(int(kind[ei]), np.ascontiguousarray(params[ei]), F, out)
+    return out
