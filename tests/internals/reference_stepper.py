@@ -22,7 +22,6 @@ from drivedyn.elements.framework.contract import MODE_DYN
 from drivedyn.model.model import State
 from drivedyn.solver.factor_frames import choose_frames, from_frames, to_frames
 from drivedyn.solver.newton_kernel import (
-    CLOSE_BELOW,
     EPS,
     EXCESS_MAX,
     F_FORCE,
@@ -220,8 +219,7 @@ class ReferenceStepper(Stepper):
                         self._forget()
                 if nd:
                     self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
-                if self.lu_h is not None and (rq_max > CLOSE_BELOW * nw.tol
-                                              or ph_max > CLOSE_BELOW * nw.phi_tol):
+                if self.lu_h is not None:
                     # the closing correction (newton_kernel's note on it)
                     delta = self._solve(st)
                     newton_update(delta, nd, hdq, st.vd, st.a, st.v, st.lam, cM, ca, cC)

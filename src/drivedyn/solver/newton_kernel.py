@@ -250,13 +250,6 @@ EXCESS_MAX = 8
 # only where the factorisation contracted, or below contraction x the last correction, the
 # correction gave back part of the bias (errors 1.33e-6, 2.9e-7, 7.7e-8: ratios 4.6, 3.8).
 
-# The correction is skipped where the residual is already below CLOSE_BELOW x the
-# tolerances: the error it would remove is then that fraction of the one above, below what
-# converging the step further changes (Andrews' squeezer converged to tol 1e-10 without it
-# had the errors of tol 1e-8 with it, order 2.00). A chain of hinged disks converges to 1e-7
-# of the tolerance in one iteration; the correction there was one solve of its two per step.
-CLOSE_BELOW = 1e-2
-
 # outcome codes of newton_iterations (mapped to StepStatus by the stepper)
 SUCCESS = 0
 NONFINITE_RESIDUAL = 1
@@ -454,8 +447,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                         _forget(istate, roff)
                 if nd:
                     fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
-                if istate[I_LU] != 0 and (rq_max > CLOSE_BELOW * tol
-                                          or ph_max > CLOSE_BELOW * phi_tol):
+                if istate[I_LU] != 0:
                     # the closing correction (the note above the outcome codes)
                     for i in range(r.shape[0]):
                         delta[i] = -r[i]
