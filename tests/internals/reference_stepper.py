@@ -26,7 +26,6 @@ from drivedyn.solver.newton_kernel import (
     EXCESS_MAX,
     F_FORCE,
     F_LU_H,
-    F_MOMENT,
     FLOOR_REL,
     H_REUSE,
     I_EXCESS,
@@ -41,7 +40,6 @@ from drivedyn.solver.newton_kernel import (
     absmax,
     correction_size,
     newton_update,
-    node_scales,
     predict,
     residual_norms,
     roundoff_levels,
@@ -80,14 +78,9 @@ class ReferenceStepper(Stepper):
 
     @property
     def force_scale(self) -> float:
-        """Largest sum of absolute contributions of a translation equation in an accepted
-        state [N] (the floor of the translation equations' residual scales)."""
+        """Largest sum of absolute contributions of the node equations of an accepted state
+        (the floor of the residual scales)."""
         return float(self._fstate[F_FORCE])
-
-    @property
-    def moment_scale(self) -> float:
-        """The same of the rotation equations [N m]."""
-        return float(self._fstate[F_MOMENT])
 
     def invalidate(self) -> None:
         """Forget the factorisation (after an event that changes the matrix a lot)."""
@@ -197,8 +190,7 @@ class ReferenceStepper(Stepper):
         worst = 0.0  # the largest contraction ratio of this step's corrections
         for it in range(nw.max_iter + 1):
             rq_max, ph_max, finite = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                    self._no_roff, self.force_scale,
-                                                    self.moment_scale)
+                                                    self._no_roff, self.force_scale)
             if not finite:
                 return StepOutcome(StepStatus.NONFINITE, it, self.factorizations - nfac0,
                                    message="non-finite residual")
@@ -211,7 +203,7 @@ class ReferenceStepper(Stepper):
                 roff, evaluated = self._roundoff(st, xmax)
                 assembled = assembled and not evaluated
                 rq_max, ph_max, _ = residual_norms(sys.r, sys.rabs, kscale, nd, FLOOR_REL,
-                                                   roff, self.force_scale, self.moment_scale)
+                                                   roff, self.force_scale)
             if rq_max <= nw.tol and ph_max <= nw.phi_tol:
                 if stale and self.factorizations != nfac0:
                     # no contraction on this step's own factorisation: an event (contact,
@@ -226,9 +218,7 @@ class ReferenceStepper(Stepper):
                             or self._istate[I_EXCESS] >= EXCESS_MAX):
                         self._forget()
                 if nd:
-                    ft, fr = node_scales(sys.rabs, nd)
-                    self._fstate[F_FORCE] = max(self.force_scale, ft)
-                    self._fstate[F_MOMENT] = max(self.moment_scale, fr)
+                    self._fstate[F_FORCE] = max(self.force_scale, float(sys.rabs[:nd].max()))
                 if self.lu_h is not None:
                     # the closing correction (newton_kernel's note on it)
                     delta = self._solve(st)

@@ -313,8 +313,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     constraint forces stalls at the round-off of the positions (|A| eps |x|). Each accepted
     step's residual, evaluated afresh, is within the tolerance beyond that level, computed
     here independently from the dense iteration matrix (the floor of each equation's scale
-    is FLOOR_REL of the largest sum of its kind, force or moment, carried so far). Run by
-    the oracle, one
+    is FLOOR_REL of the largest force sum carried so far). Run by the oracle, one
     ReferenceStepper.step per step (the engine takes the same steps: test_step_loop.py)."""
     from reference_stepper import ReferenceStepper, reference_runs
 
@@ -331,8 +330,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
     original = ReferenceStepper.step
 
     def step(self, sn, h):
-        # the largest force and moment sums of the steps before this one
-        carried = (self.force_scale, self.moment_scale)
+        carried = self.force_scale  # the largest force sum of the steps before this one
         out = original(self, sn, h)
         if out.ok and self.lu_h is not None:
             tr = self.trial
@@ -343,9 +341,7 @@ def test_accepted_steps_meet_the_residual_criterion_at_a_dead_centre(monkeypatch
             e = np.concatenate([np.full(nd, eps * max(1.0, np.abs(tr.x).max())),
                                 eps * np.abs(tr.lam)])
             r, ra = self.sys.r, self.sys.rabs
-            rot = np.arange(nd) % 6 >= 3
-            floor = FLOOR_REL * np.where(rot, max(ra[:nd][rot].max(), carried[1]),
-                                         max(ra[:nd][~rot].max(), carried[0]))
+            floor = FLOOR_REL * max(ra[:nd].max(), carried)
             # the matrix at the converged state, not at the factorisation: 2 x the level
             beyond = np.maximum(np.abs(r) - 2.0 * (A @ e), 0.0)
             checked.append(max((beyond[:nd] / (ra[:nd] + floor)).max() / newton.tol,
@@ -407,28 +403,6 @@ def test_residual_floor_is_the_largest_force_sum_carried() -> None:
     rq, _, _ = residual_norms(r, rabs, kscale, 2, FLOOR_REL, roff, 1e4)
     fl = FLOOR_REL * 1e4
     assert rq == pytest.approx(max(1e-9 / (1e-3 + fl), 2e-6 / (4.0 + fl)), rel=1e-15)
-
-
-def test_rotation_equations_have_the_floor_of_the_moment_sums() -> None:
-    """A node's rotation equations [N m] are scaled with a floor from the largest moment
-    sum, its translation equations [N] from the largest force sum: the same mechanism at
-    another length scale (forces and moments in another ratio) is converged alike. Fails
-    with one floor from the largest sum of either kind (the rotation equation's scale is
-    then 1 + 1e-2 x 1e4 instead of 1 + 1e-2 x 1)."""
-    from drivedyn.solver.newton_kernel import FLOOR_REL, node_scales, residual_norms
-
-    rabs = np.array([1e4, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])  # one node, one constraint row
-    r = np.array([0.0, 0.0, 0.0, 1e-9, 0.0, 0.0, 0.0])
-    assert node_scales(rabs, 6) == (1e4, 1.0)
-    rq, _, _ = residual_norms(r, rabs, np.ones(7), 6, FLOOR_REL, np.zeros(7))
-    assert rq == pytest.approx(1e-9 / (1.0 + FLOOR_REL * 1.0), rel=1e-15)
-    r = np.array([0.0, 2e-9, 0.0, 0.0, 0.0, 0.0, 0.0])  # a translation equation: force floor
-    rq, _, _ = residual_norms(r, rabs, np.ones(7), 6, FLOOR_REL, np.zeros(7))
-    assert rq == pytest.approx(2e-9 / (FLOOR_REL * 1e4), rel=1e-15)
-    # the carried scales, each for its own kind
-    r = np.array([0.0, 0.0, 0.0, 1e-9, 0.0, 0.0, 0.0])
-    rq, _, _ = residual_norms(r, rabs, np.ones(7), 6, FLOOR_REL, np.zeros(7), 1e6, 10.0)
-    assert rq == pytest.approx(1e-9 / (1.0 + FLOOR_REL * 10.0), rel=1e-15)
 
 
 def test_sparse_lu_refactorisation_is_the_fresh_factorisation() -> None:

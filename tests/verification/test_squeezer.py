@@ -116,11 +116,7 @@ def test_second_order_with_the_default_newton():
     errors 1.41e-6, 3.52e-7, 8.8e-8 rad (measured), 4 times smaller per halving of h
     (3.6-4.4). Fails without the closing correction of a converged step (newton_kernel):
     each step then keeps an error within the tolerance of one sign, the crank's error gets a
-    bias of +1e-7 rad whatever h, and the errors were 1.31e-6, 2.50e-7, 5.5e-9 (ratio 45).
-    Fails also with one residual floor for the force and the moment equations
-    (newton_kernel.FLOOR_REL from the largest sum of either kind): the 7 cm squeezer's
-    crank equation is then converged to 3e-7 of its own terms, and its error at
-    h = 1.25 us is 1.226e-6 against 1.404e-6 at 7 m."""
+    bias of +1e-7 rad whatever h, and the errors were 1.31e-6, 2.50e-7, 5.5e-9 (ratio 45)."""
     qref, _ = S.reference_solution()
     errs = []
     for scale in (1.0, 100.0):

@@ -18,8 +18,7 @@ Arrays shared with :class:`~drivedyn.solver.stepper.Stepper` (its Newton memory)
         factorisations so far, residual evaluations so far, and the fields of a
         factorisation done by the caller (see :func:`newton_iterations` and I_* below).
     ``fstate`` (float64, NFSTATE): step size of the factorisation [s], force scale (largest
-        sum of absolute contributions of a translation equation in an accepted state) [N],
-        saved loop state, moment scale (the same of the rotation equations) [N m].
+        sum of absolute contributions of an accepted state) [N or N m], saved loop state.
     ``par`` (float64, 14): alpha_m, alpha_f, gamma, beta, beta', gamma', tol, phi_tol,
         contraction, max_iter, full Newton (0/1), FLOOR_REL, STALL_ULPS, ROUNDOFF_ULPS.
 """
@@ -39,14 +38,7 @@ from drivedyn.timefunctions import eval_time_functions
 
 # Residual of an equation is measured against the sum of the absolute values of its terms;
 # for an equation with (nearly) no terms of its own, against FLOOR_REL x the largest such sum
-# in the model of its own kind: forces [N] for the translation equations, moments [N m] for
-# the rotation equations (the accuracy a solve can deliver there is set by the model's
-# force or moment scale). One floor from the largest sum of either kind compared moments
-# with forces: in Andrews' squeezer (7 cm) the crank's rotation equation (sums 3e-4 of the
-# largest force sum) was then converged to 3e-7 of its own terms, and with an iteration
-# matrix that stays valid for many steps the error it left added up, one-signed, to 13 %
-# of the integration error over 160 000 steps; the same mechanism at 7 m, whose moments are
-# 100 times larger against its forces, was converged to the tolerance.
+# in the model (the accuracy a solve can deliver there is set by the model's force scale).
 # 1e-2: such an equation is solved to 1e-10 of the model's largest force sum. With 1e-4 a
 # floating part (the Type C internal gear between its washers at zero torque, 1 kg, 5.8 kN
 # the largest sum) was iterated to 6e-9 N, a position change of 1e-16 m per step, below the
@@ -73,35 +65,21 @@ NOISE_FACTOR = 1024.0
 
 
 @njit(cache=True)
-def node_scales(rabs, nd):
-    """The largest sums of absolute contributions of the translation equations [N] and of
-    the rotation equations [N m] (node dofs ``6 i + 0..2`` and ``6 i + 3..5``)."""
-    ft = 0.0
-    fr = 0.0
-    for i in range(nd):
-        if i % 6 < 3:
-            if rabs[i] > ft:
-                ft = rabs[i]
-        elif rabs[i] > fr:
-            fr = rabs[i]
-    return ft, fr
-
-
-@njit(cache=True)
-def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0, amin_r=0.0):
+def residual_norms(r, rabs, kscale, nd, floor_rel, roff, amin=0.0):
     """Largest scaled node residual and constraint violation beyond the round-off level
     ``roff`` of each equation (see :func:`roundoff_levels`; zeros for none); returns
     (rq_max, phi_max, finite). Node equations are scaled as in
-    :func:`~drivedyn.solver.stepper.scaled_residual` (``amin``, ``amin_r``: the force and
-    moment scales carried from earlier states, at least), constraint rows are violations
-    [m or rad]."""
-    ft, fr = node_scales(rabs, nd)
-    floor_t = floor_rel * max(ft, amin, 1e-300)
-    floor_r = floor_rel * max(fr, amin_r, 1e-300)
+    :func:`~drivedyn.solver.stepper.scaled_residual`, constraint rows are violations [m or
+    rad]."""
+    amax = max(amin, 1e-300)
+    for i in range(nd):
+        if rabs[i] > amax:
+            amax = rabs[i]
+    floor = floor_rel * amax
     rq = 0.0
     finite = True
     for i in range(nd):
-        v = max(abs(r[i]) - roff[i], 0.0) / (rabs[i] + (floor_t if i % 6 < 3 else floor_r))
+        v = max(abs(r[i]) - roff[i], 0.0) / (rabs[i] + floor)
         if not np.isfinite(r[i]):
             finite = False
         if v > rq:
@@ -292,8 +270,8 @@ NEED_FACTOR = 6
 NISTATE = 11
 # fstate fields: step size of the factorisation, force scale, and the saved correction
 # sizes and largest coordinate of an iteration left for an outside factorisation
-F_LU_H, F_FORCE, F_PREV, F_LAST, F_XMAX, F_MOMENT = range(6)
-NFSTATE = 6
+F_LU_H, F_FORCE, F_PREV, F_LAST, F_XMAX = range(5)
+NFSTATE = 5
 
 
 @njit(cache=True)
@@ -436,7 +414,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
     while True:
         if not resumed:
             rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, no_roff,
-                                                    fstate[F_FORCE], fstate[F_MOMENT])
+                                                    fstate[F_FORCE])
             if not finite:
                 return NONFINITE_RESIDUAL, it, istate[I_NFAC] - nfac0
             if (rq_max > tol or ph_max > phi_tol) and last <= stall_ulps * EPS:
@@ -455,7 +433,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                                     roff)
                     istate[I_ROFF] = 1
                 rq_max, ph_max, finite = residual_norms(r, rabs, kscale, nd, floor_rel, roff,
-                                                        fstate[F_FORCE], fstate[F_MOMENT])
+                                                        fstate[F_FORCE])
             if rq_max <= tol and ph_max <= phi_tol:
                 if stale and istate[I_NFAC] != nfac0:
                     # no contraction on this step's own factorisation: an event (contact,
@@ -468,9 +446,7 @@ def newton_iterations(G, sizes, accepted, trial, arrays, linear, sparse, par, is
                             istate[I_EXCESS] >= EXCESS_MAX:
                         _forget(istate, roff)
                 if nd:
-                    ft, fr = node_scales(rabs, nd)
-                    fstate[F_FORCE] = max(fstate[F_FORCE], ft)
-                    fstate[F_MOMENT] = max(fstate[F_MOMENT], fr)
+                    fstate[F_FORCE] = max(fstate[F_FORCE], absmax(rabs[:nd]))
                 if istate[I_LU] != 0:
                     # the closing correction (the note above the outcome codes)
                     for i in range(r.shape[0]):

@@ -53,7 +53,6 @@ from drivedyn.solver.newton_kernel import (
     I_ROFF,
     ROUNDOFF_ULPS,
     STALL_ULPS,
-    node_scales,
 )
 from drivedyn.solver.redundancy import RESTORE_FACTOR
 from drivedyn.solver.settings import GeneralizedAlpha, Newton, StepOutcome, StepStatus
@@ -63,16 +62,13 @@ from drivedyn.solver.system import System
 
 def scaled_residual(sys: System, floor_rel: float = FLOOR_REL) -> tuple[np.ndarray, np.ndarray]:
     """Per-equation scaled residuals: node equations relative to the sum of absolute
-    contributions, with a floor of ``floor_rel`` x the largest sum of their kind
-    (translation equations [N], rotation equations [N m]; ``newton_kernel.FLOOR_REL``),
-    constraint rows as violations [m or rad]."""
+    contributions (with a floor of ``floor_rel`` x the largest), constraint rows as
+    violations [m or rad]."""
     nd = sys.model.nd
     r, ra = sys.r, sys.rabs
     rq = r[:nd]
     if nd:
-        ft, fr = node_scales(ra, nd)
-        rot = np.arange(nd) % 6 >= 3
-        floor = floor_rel * np.where(rot, max(fr, 1e-300), max(ft, 1e-300))
+        floor = floor_rel * max(float(ra[:nd].max()), 1e-300)
         sq = np.abs(rq) / (ra[:nd] + floor)
     else:
         sq = np.zeros(0)
