@@ -1,0 +1,124 @@
+"""A joint's geometric rows in a residual-only evaluation, in scalar arithmetic (numba).
+
+:func:`drivedyn.elements.joints.constraint_kernel` evaluates every row through the
+primitives of :mod:`drivedyn.elements.framework.primitives`, which write their gradients
+into work arrays, so that the same code serves the iteration matrix (their Hessians). A
+residual-only evaluation needs only ``g (k lam + p Phi)`` and ``k Phi`` of each row. For
+the rows that are pure geometry, ``d . a_i`` (``ROW_AXIAL``) and ``a_i . b_j``
+(``ROW_DOT``), :func:`geometric_rows` computes them here with the node rotations and the
+twelve local residual entries held in scalar variables, which the compiler keeps in
+registers (the work arrays are views of one buffer, so every store to a gradient entry
+forced the rotations to be loaded again).
+
+The arithmetic is that of ``prim_axial`` and ``prim_dot``, operation for operation, and the
+rows are added in the same order: the local residual is the same to the last bit
+(``tests/elements/test_joints.py::test_geometric_rows_equal_the_primitives_bit_for_bit``).
+Measured on the shaft chain's 200 hinges (residual only, one evaluation): 46 -> 20 us.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+
+@njit(cache=True, inline="always")
+def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, pA, pB, RmA,
+                   RmB, rq, rl):
+    """Rows ``0 .. nrow - 1`` of one joint, all ``ROW_AXIAL`` (0) or ``ROW_DOT`` (1), in
+    ``MODE_DYN``: ``rq`` (12,) gets ``sum_i g_i (k_i lam_i + p_i Phi_i)`` (node order
+    ``[x_A, theta_A, x_B, theta_B]``), ``rl[i]`` (nm,) gets ``k_i Phi_i``.
+
+    ``rtype, ai, bj, kk, pp`` are the element's rows of the group's row tables (row type,
+    A-axis column, B-axis column, scaling [N/m or N m/rad], penalty [same]); ``lam`` the
+    multipliers of the model, row i's at ``dofe[12 + i] - off`` (the element's row of the
+    group's dof table, the number of node dofs before the multipliers); ``xA, xB``
+    (3,) [m] and ``RA, RB`` (3, 3) the node positions and rotations (global); ``pA, pB``
+    (3,) [m] the marker origins and ``RmA, RmB`` (3, 3) the marker axes (columns), in the
+    node frames. Returns the last row's force ``k lam + p Phi``.
+    """
+    # w = R_B pB + (x_B - x_A), t = R_A pA: prim_axial's d + R_A pA and R_A pA
+    w0 = RB[0, 0] * pB[0] + RB[0, 1] * pB[1] + RB[0, 2] * pB[2]
+    w1 = RB[1, 0] * pB[0] + RB[1, 1] * pB[1] + RB[1, 2] * pB[2]
+    w2 = RB[2, 0] * pB[0] + RB[2, 1] * pB[1] + RB[2, 2] * pB[2]
+    w0 += xB[0] - xA[0]
+    w1 += xB[1] - xA[1]
+    w2 += xB[2] - xA[2]
+    t0 = RA[0, 0] * pA[0] + RA[0, 1] * pA[1] + RA[0, 2] * pA[2]
+    t1 = RA[1, 0] * pA[0] + RA[1, 1] * pA[1] + RA[1, 2] * pA[2]
+    t2 = RA[2, 0] * pA[0] + RA[2, 1] * pA[1] + RA[2, 2] * pA[2]
+    # R_A^T w
+    u0 = RA[0, 0] * w0 + RA[1, 0] * w1 + RA[2, 0] * w2
+    u1 = RA[0, 1] * w0 + RA[1, 1] * w1 + RA[2, 1] * w2
+    u2 = RA[0, 2] * w0 + RA[1, 2] * w1 + RA[2, 2] * w2
+    q0 = q1 = q2 = q3 = q4 = q5 = q6 = q7 = q8 = q9 = q10 = q11 = 0.0
+    sig = 0.0
+    for i in range(nrow):
+        c = ai[i]
+        e0 = RmA[0, c]
+        e1 = RmA[1, c]
+        e2 = RmA[2, c]
+        # a = R_A abar
+        a0 = RA[0, 0] * e0 + RA[0, 1] * e1 + RA[0, 2] * e2
+        a1 = RA[1, 0] * e0 + RA[1, 1] * e1 + RA[1, 2] * e2
+        a2 = RA[2, 0] * e0 + RA[2, 1] * e1 + RA[2, 2] * e2
+        if rtype[i] == 0:  # d . a
+            val = 0.0
+            val += (w0 - t0) * a0
+            val += (w1 - t1) * a1
+            val += (w2 - t2) * a2
+            # R_B^T a
+            s0 = RB[0, 0] * a0 + RB[1, 0] * a1 + RB[2, 0] * a2
+            s1 = RB[0, 1] * a0 + RB[1, 1] * a1 + RB[2, 1] * a2
+            s2 = RB[0, 2] * a0 + RB[1, 2] * a1 + RB[2, 2] * a2
+            sig = kk[i] * lam[dofe[12 + i] - off] + pp[i] * val
+            q0 += sig * -a0
+            q1 += sig * -a1
+            q2 += sig * -a2
+            q3 += sig * (e1 * u2 - e2 * u1)
+            q4 += sig * (e2 * u0 - e0 * u2)
+            q5 += sig * (e0 * u1 - e1 * u0)
+            q6 += sig * a0
+            q7 += sig * a1
+            q8 += sig * a2
+            q9 += sig * (pB[1] * s2 - pB[2] * s1)
+            q10 += sig * (pB[2] * s0 - pB[0] * s2)
+            q11 += sig * (pB[0] * s1 - pB[1] * s0)
+        else:  # a . b
+            cb = bj[i]
+            f0 = RmB[0, cb]
+            f1 = RmB[1, cb]
+            f2 = RmB[2, cb]
+            b0 = RB[0, 0] * f0 + RB[0, 1] * f1 + RB[0, 2] * f2
+            b1 = RB[1, 0] * f0 + RB[1, 1] * f1 + RB[1, 2] * f2
+            b2 = RB[2, 0] * f0 + RB[2, 1] * f1 + RB[2, 2] * f2
+            val = a0 * b0 + a1 * b1 + a2 * b2
+            # R_A^T b, R_B^T a
+            s0 = RA[0, 0] * b0 + RA[1, 0] * b1 + RA[2, 0] * b2
+            s1 = RA[0, 1] * b0 + RA[1, 1] * b1 + RA[2, 1] * b2
+            s2 = RA[0, 2] * b0 + RA[1, 2] * b1 + RA[2, 2] * b2
+            z0 = RB[0, 0] * a0 + RB[1, 0] * a1 + RB[2, 0] * a2
+            z1 = RB[0, 1] * a0 + RB[1, 1] * a1 + RB[2, 1] * a2
+            z2 = RB[0, 2] * a0 + RB[1, 2] * a1 + RB[2, 2] * a2
+            sig = kk[i] * lam[dofe[12 + i] - off] + pp[i] * val
+            # the translation entries of a dot row's gradient are zero: adding sig * 0
+            # changes no sum but the sign of a zero
+            q3 += sig * (e1 * s2 - e2 * s1)
+            q4 += sig * (e2 * s0 - e0 * s2)
+            q5 += sig * (e0 * s1 - e1 * s0)
+            q9 += sig * (f1 * z2 - f2 * z1)
+            q10 += sig * (f2 * z0 - f0 * z2)
+            q11 += sig * (f0 * z1 - f1 * z0)
+        rl[i] = kk[i] * val
+    rq[0] = q0
+    rq[1] = q1
+    rq[2] = q2
+    rq[3] = q3
+    rq[4] = q4
+    rq[5] = q5
+    rq[6] = q6
+    rq[7] = q7
+    rq[8] = q8
+    rq[9] = q9
+    rq[10] = q10
+    rq[11] = q11
+    return sig
