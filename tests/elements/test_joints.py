@@ -170,16 +170,19 @@ def test_screw_stick_range_with_a_vanishing_load(n_c):
     assert width == pytest.approx(1.0e-10 if n_c else 1.118e-13, rel=2e-3)
 
 
-def test_a_hinges_angle_without_its_gradient_is_the_same_to_the_last_bit():
-    """The joint kernel takes a hinge's angle from ``angle_value`` when no row needs the
-    angle's gradient (no driver or screw row, no matrix): it must be ``prim_angle``'s value
-    bit for bit, or a hinge's reported and accumulated angle would depend on whether the
-    evaluation assembled the matrix. Random frames, angles in all four quadrants. Fails with
-    ``a1`` and ``a2`` swapped, or with a dot product summed in another order (seen)."""
-    from drivedyn.elements.framework.primitives import angle_value, prim_angle
+def test_scalar_angles_are_prim_angles_to_the_last_bit():
+    """A residual-only evaluation takes a hinge's angle from ``joint_rows.angle_only``, and
+    a driver's, a screw's or a torsional spring's angle with its gradient from
+    ``joint_rows.angle_gradient``; a matrix evaluation from ``prim_angle``. They must agree
+    bit for bit, or a reported and accumulated angle would depend on whether the
+    evaluation assembled the matrix. Random frames, angles in all four quadrants. Fails
+    with ``a1`` and ``a2`` swapped, a dot product summed in another order, or a sign
+    changed in a gradient entry (seen)."""
+    from drivedyn.elements.framework.primitives import prim_angle
+    from drivedyn.elements.joint_rows import angle_gradient, angle_only
 
     rng = np.random.default_rng(5)
-    g, H = np.zeros(12), np.zeros((12, 12))
+    g, H, g2 = np.zeros(12), np.zeros((12, 12)), np.zeros(12)
     w = [np.zeros(12), np.zeros((12, 12)), np.zeros(12), np.zeros((12, 12))]
     ws, wv = np.zeros((8, 3, 3)), np.zeros((6, 3))
     seen = set()
@@ -187,17 +190,22 @@ def test_a_hinges_angle_without_its_gradient_is_the_same_to_the_last_bit():
         RA, RB, Rm = (frame_from_axis(rng.standard_normal(3)) @ rot_y(rng.uniform(-3, 3))
                       for _ in range(3))
         ref = prim_angle(RA, RB, Rm[:, 0], Rm[:, 1], Rm[:, 2], g, H, False, *w, ws, wv)
-        assert angle_value(RA, RB, Rm[:, 0], Rm[:, 1], Rm[:, 2], wv) == ref
+        assert angle_only(RA, RB, Rm[:, 0], Rm[:, 1], Rm[:, 2]) == ref
+        assert angle_gradient(RA, RB, Rm[:, 0], Rm[:, 1], Rm[:, 2], g2) == ref
+        assert np.all(g2 == g)
+        assert np.all(np.signbit(g2) == np.signbit(g))
         seen.add(int(np.floor(ref / (np.pi / 2))))
     assert seen == {-2, -1, 0, 1}
 
 
 def test_geometric_rows_equal_the_primitives_bit_for_bit():
     """A residual-only evaluation takes a joint's axial and dot rows from
-    ``joint_rows.geometric_rows`` (scalar arithmetic); a matrix evaluation from the
+    ``joint_rows.geometric_rows`` and the angles of drivers and torsional springs from
+    ``joint_rows.angle_gradient`` (scalar arithmetic); a matrix evaluation from the
     primitives. Both must give the same residual and term sums to the last bit, or a run's
     figures would depend on which evaluations assembled the matrix. Every joint type of the
-    tangent cases (one group of all types side by side included), at random states. Fails
+    tangent cases (one group of all types side by side included), the drivers and the
+    torsional spring, at random states. Fails
     with a sign or an index changed in ``geometric_rows`` (seen: ``e1 * u2 - e2 * u1`` as
     ``e1 * u2 - e1 * u1``; ``pB`` for ``f`` in a dot row), or with the rows added in
     another order."""
@@ -208,7 +216,8 @@ def test_geometric_rows_equal_the_primitives_bit_for_bit():
     from element_cases import TANGENT_CASES
 
     rng = np.random.default_rng(11)
-    for case in TANGENT_CASES["joint"]:
+    families = ("joint", "joint_driver", "torsional_spring_damper")
+    for case in (c for f in families for c in TANGENT_CASES[f]):
         model = compile_model(case())
         for _ in range(5):
             st = model.initial_state()
@@ -223,3 +232,4 @@ def test_geometric_rows_equal_the_primitives_bit_for_bit():
             assert np.all(sys_.r == r_full), case
             assert np.all(sys_.rabs == rabs_full), case
             assert np.count_nonzero(r_full[model.nd:]) == model.nm
+            assert np.count_nonzero(r_full[:model.nd]) > 0

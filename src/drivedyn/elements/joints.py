@@ -52,7 +52,6 @@ from drivedyn.elements.framework.contract import (
 from drivedyn.elements.framework.group import Group
 from drivedyn.elements.framework.primitives import (
     add_scaled,
-    angle_value,
     cross,
     mv,
     prim_angle,
@@ -63,7 +62,7 @@ from drivedyn.elements.framework.primitives import (
 )
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
-from drivedyn.elements.joint_rows import geometric_rows
+from drivedyn.elements.joint_rows import angle_gradient, angle_only, geometric_rows
 from drivedyn.elements.screw_friction import coulomb_return, helix_slide
 from drivedyn.errors import ModelError
 
@@ -145,16 +144,18 @@ def constraint_kernel(
         th = 0.0
         if has_angle[e]:
             # the angle's gradient serves a driver's or a screw's row and the matrix; a
-            # hinge's angle is otherwise an output (a hinge's residual: 250 -> 215 ns)
+            # hinge's angle is otherwise an output
             grad = full
             for i in range(nrow[e]):
                 if rtype[e, i] == ROW_DRIVE or rtype[e, i] == ROW_SCREW:
                     grad = True
-            if grad:
+            if full:
                 raw = prim_angle(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth, Hth,
                                  full, w1, w2, w3, w4, ws, wv)
+            elif grad:  # the same angle and gradient in scalar arithmetic (joint_rows)
+                raw = angle_gradient(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], gth)
             else:
-                raw = angle_value(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], wv)
+                raw = angle_only(RA, RB, RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0])
             th = unwrap(raw, es[sc.state_offset(C, e)])
         power = 0.0
         sig = 0.0

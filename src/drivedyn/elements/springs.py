@@ -32,6 +32,7 @@ from drivedyn.elements.framework.primitives import (
 )
 from drivedyn.elements.framework.registry import Family, TwoMarkerSpec, register
 from drivedyn.elements.framework.work_arrays import carve
+from drivedyn.elements.joint_rows import angle_gradient
 from drivedyn.elements.joints import relative_angle
 
 #: entries of the springs' work buffer (their last parameter, ``work``)
@@ -57,7 +58,11 @@ def scalar_spring_kernel(
     rq, _, _, Cd, K, _ = L
     for e in range(sc.count(C)):
         nA, nB = sc.pair(C, e)
-        if angular:
+        if angular and not full:
+            # the same angle and gradient in scalar arithmetic (200 springs: 17 -> 11 us)
+            raw = angle_gradient(R[nA], R[nB], RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0], g)
+            q = unwrap(raw, es[sc.state_offset(C, e)])
+        elif angular:
             raw = prim_angle(R[nA], R[nB], RmA[e, :, 0], RmA[e, :, 1], RmB[e, :, 0],
                              g, H, full, w1, w2, w3, w4, ws, wv)
             q = unwrap(raw, es[sc.state_offset(C, e)])

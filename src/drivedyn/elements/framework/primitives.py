@@ -342,15 +342,6 @@ def prim_angle(RA, RB, a1, a2, b1, g, H, want, gs, Hs, gc, Hc, ws, wv):
     return th
 
 
-@njit(cache=True, inline="always")
-def angle_value(RA, RB, a1, a2, b1, wv):
-    """:func:`prim_angle`'s angle alone (no gradient), with the same arithmetic (the same
-    value to the last bit); ``wv`` a work array of at least (2, 3)."""
-    s = _dot_value(RA, RB, a2, b1, wv[0], wv[1])
-    c = _dot_value(RA, RB, a1, b1, wv[0], wv[1])
-    return np.arctan2(s, c)
-
-
 @njit(cache=True)
 def _hess_angle(s, c, r2, g, gs, gc, Hs, Hc, H):
     """Hessian of prim_angle from those of its two dot products."""
