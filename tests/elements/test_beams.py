@@ -101,6 +101,30 @@ def test_complex_evaluation_matches_real():
     assert not Tc.imag.any()
 
 
+def test_the_pair_of_tangent_inverses_is_two_calls_to_the_last_bit():
+    """The beam's section forces take ``T_SE3^-1(d)`` and ``T_SE3^-1(-d)`` from
+    ``tangent_inv_se3_pair`` (one pass, shared terms); they must be
+    :func:`tangent_inv_se3`'s values bit for bit, real and complex (the complex step),
+    small and large angles (series and closed form of the coefficients). Fails with the
+    off-diagonal block's terms summed in another order, or a sign of ``S/2`` changed (seen)."""
+    from drivedyn.elements.beams.se3 import tangent_inv_se3_pair
+
+    rng = np.random.default_rng(2)
+    for _ in range(200):
+        d = rng.standard_normal(6) * 10 ** rng.uniform(-4, 0.7)
+        for dt in (float, complex):
+            dd = d.astype(dt)
+            if dt is complex:
+                dd[rng.integers(6)] += 1e-20j
+            ref = [np.zeros((6, 6), dt) for _ in range(2)]
+            pair = [np.zeros((6, 6), dt) for _ in range(2)]
+            S, U = np.zeros((3, 3), dt), np.zeros((3, 3), dt)
+            tangent_inv_se3(dd, 1.0, ref[0], S, U)
+            tangent_inv_se3(dd, -1.0, ref[1], S, U)
+            tangent_inv_se3_pair(dd, pair[0], pair[1], S, U)
+            assert np.array_equal(pair[0], ref[0]) and np.array_equal(pair[1], ref[1])
+
+
 @pytest.mark.parametrize("scale", [0.0, 1e-3, 0.4, 0.95, 1.1, 2.5])
 def test_tangent_inverse_rate_is_its_complex_step(scale):
     """The closed-form derivatives of T_SE3^-1(+-d) along each component of ``d`` and the

@@ -45,7 +45,7 @@ from drivedyn.elements.beams.se3 import (
     log_se3,
     tangent_inv_coeff_rate,
     tangent_inv_coeffs,
-    tangent_inv_se3,
+    tangent_inv_se3_pair,
     tangent_inv_se3_rate,
 )
 from drivedyn.elements.framework.contract import LOCAL_SIZE_12, local_arrays_at
@@ -64,11 +64,12 @@ def section_forces(d, etaA, etaB, L, eps0, Ks, beta, TiP, TiM, S, U, eps, epsd, 
     [s]. Writes ``TiP = Ti(d)``, ``TiM = Ti(-d)`` (6, 6), ``eps, epsd, sig`` (6,) and the
     forces ``fA, fB`` (6,) on the section frames (internal, the residual's sign). Real or
     complex (for the complex-step derivative): all arrays of one dtype."""
-    tangent_inv_se3(d, 1.0, TiP, S, U)
-    tangent_inv_se3(d, -1.0, TiM, S, U)
+    tangent_inv_se3_pair(d, TiP, TiM, S, U)
+    # the lower left blocks of TiP and TiM are zero: left out of the sums (the same values
+    # to the last bit)
     for i in range(6):
         r = 0.0 * d[0]
-        for j in range(6):
+        for j in range(0 if i < 3 else 3, 6):
             r += TiP[i, j] * etaB[j] - TiM[i, j] * etaA[j]
         epsd[i] = r / L
         eps[i] = d[i] / L - eps0[i]
@@ -76,7 +77,7 @@ def section_forces(d, etaA, etaB, L, eps0, Ks, beta, TiP, TiM, S, U, eps, epsd, 
     for i in range(6):
         a = 0.0 * d[0]
         b = 0.0 * d[0]
-        for j in range(6):
+        for j in range(3 if i < 3 else 6):
             a += TiM[j, i] * sig[j]
             b += TiP[j, i] * sig[j]
         fA[i] = -a
@@ -101,17 +102,42 @@ def section_tangent(d, etaA, etaB, L, Ks, beta, TiP, TiM, sig, dP, dM, ds, Dd):
     ep = tangent_inv_coeff_rate(t2)
     for j in range(6):
         tangent_inv_se3_rate(d, j, c, e, ep, dP, dM)
+        # the blocks that are zero (the lower left of every matrix; for a translational
+        # component j also both diagonal blocks of dP, dM) are left out of the sums: adding
+        # their zero products changes no sum (the same values to the last bit)
+        rot = j >= 3
         for i in range(6):
             acc = 0.0
-            for m in range(6):
-                acc += dP[i, m] * etaB[m] - dM[i, m] * etaA[m]
+            if i < 3:
+                for m in range(0 if rot else 3, 6):
+                    acc += dP[i, m] * etaB[m] - dM[i, m] * etaA[m]
+            elif rot:
+                for m in range(3, 6):
+                    acc += dP[i, m] * etaB[m] - dM[i, m] * etaA[m]
             ds[i] = Ks[i] * ((1.0 if i == j else 0.0) + beta * acc) / L
         for i in range(6):
             a = 0.0
             b = 0.0
-            for m in range(6):
-                a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
-                b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
+            if i < 3:
+                # column i: dP, dM nonzero in rows 0-2 for a rotational j; Ti in rows 0-2
+                for m in range(3):
+                    if rot:
+                        a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
+                        b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
+                    else:
+                        a += TiM[m, i] * ds[m]
+                        b += TiP[m, i] * ds[m]
+            else:
+                for m in range(3):
+                    a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
+                    b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
+                for m in range(3, 6):
+                    if rot:
+                        a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
+                        b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
+                    else:
+                        a += TiM[m, i] * ds[m]
+                        b += TiP[m, i] * ds[m]
             Dd[i, j] = -a
             Dd[6 + i, j] = b
 
@@ -181,7 +207,7 @@ def _term_scale(rabs, dofs, d, L, eps0, Ks, TiP, TiM, RsA, CA, RsB, CB, a, w):
         for blk in range(2):
             for k in range(3):
                 acc = 0.0
-                for j in range(6):
+                for j in range(3 if blk == 0 else 6):  # Ti's lower left block is zero
                     acc += abs(Ti[j, 3 * blk + k]) * a[j]
                 w[k] = acc
             A = Rs if blk == 0 else Cs
@@ -339,9 +365,20 @@ def beam_kernel(
                 for j in range(12):
                     a = 0.0
                     b = 0.0
-                    for k in range(6):
-                        a += Dd[i, k] * Q[k, j] + Fe[i, k] * Wv[k, j]
-                        b += Fe[i, k] * Q[k, j]
+                    # zero blocks left out (the same sums to the last bit): the rows 3-5 of
+                    # Q's translation columns and of Wv (Ti's lower left block), and Wv's
+                    # translation columns
+                    if j % 6 >= 3:
+                        for k in range(3):
+                            a += Dd[i, k] * Q[k, j] + Fe[i, k] * Wv[k, j]
+                            b += Fe[i, k] * Q[k, j]
+                        for k in range(3, 6):
+                            a += Dd[i, k] * Q[k, j]
+                            b += Fe[i, k] * Q[k, j]
+                    else:
+                        for k in range(3):
+                            a += Dd[i, k] * Q[k, j]
+                            b += Fe[i, k] * Q[k, j]
                     X[i, j] = a
                     X[12 + i, j] = b
             _to_nodes(X[0:12], 12, RsA, CA, RsB, CB, K)

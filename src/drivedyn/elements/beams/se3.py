@@ -85,6 +85,43 @@ def tangent_inv_se3(d, sign, out, S, U):
 
 
 @njit(cache=True)
+def tangent_inv_se3_pair(d, TiP, TiM, S, U):
+    """``TiP`` and ``TiM`` (6, 6) <- ``T_SE3^-1(d)`` and ``T_SE3^-1(-d)``: the two calls of
+    :func:`tangent_inv_se3` in one pass, sharing the coefficients and the products that do
+    not depend on the sign (the same values to the last bit; the beam's section forces
+    need both at every evaluation)."""
+    th = d[3:6]
+    u = d[0:3]
+    set_skew(th, S)
+    set_skew(u, U)
+    t2 = th[0] * th[0] + th[1] * th[1] + th[2] * th[2]
+    c, e = tangent_inv_coeffs(t2)
+    tu = 1.0 * (th[0] * u[0] + th[1] * u[1] + th[2] * u[2])
+    for i in range(3):
+        for j in range(3):
+            s2 = S[i, 0] * S[0, j] + S[i, 1] * S[1, j] + S[i, 2] * S[2, j]
+            us = (U[i, 0] * S[0, j] + U[i, 1] * S[1, j] + U[i, 2] * S[2, j]
+                  + S[i, 0] * U[0, j] + S[i, 1] * U[1, j] + S[i, 2] * U[2, j])
+            cs2 = c * s2
+            if i == j:
+                dP = 1.0 + 0.5 * S[i, j] + cs2
+                dM = 1.0 + -0.5 * S[i, j] + cs2
+            else:
+                dP = 0.5 * S[i, j] + cs2
+                dM = -0.5 * S[i, j] + cs2
+            TiP[i, j] = dP
+            TiP[3 + i, 3 + j] = dP
+            TiM[i, j] = dM
+            TiM[3 + i, 3 + j] = dM
+            rest = c * us
+            ets = e * tu * s2
+            TiP[i, 3 + j] = 0.5 * U[i, j] + rest + ets
+            TiM[i, 3 + j] = -0.5 * U[i, j] + rest + ets
+            TiP[3 + i, j] = 0.0
+            TiM[3 + i, j] = 0.0
+
+
+@njit(cache=True)
 def tangent_inv_coeff_rate(t2):
     """``e' = de/dt2`` of ``e = c'(t)/t`` (:func:`tangent_inv_coeffs`; ``e = 2 dc/dt2``, so
     ``e'`` is twice the second derivative of ``c`` in ``t2``) for real ``t2 = theta .
