@@ -67,6 +67,57 @@ def test_setting_aside_an_independent_row_is_seen(monkeypatch):
     assert (not res.success) or hinge_violations(res, model).max() > 1e-6
 
 
+def test_dependent_rows_by_groups_are_those_of_one_factorisation():
+    """``dependent_rows`` factorises each group of rows that share no dof alone; the rows it
+    finds must be those of one pivoted QR of the whole scaled Jacobian (written here as
+    the reference): as many, the rows kept independent and spanning all candidates. Random
+    Jacobians of 12 groups (single rows among them), each group with 0-3 rows that are
+    combinations of two of its others, rows shuffled. Fails with each group's rows set
+    aside in their stored order instead of the pivots' order, or with the pivot order
+    reversed (seen)."""
+    from scipy.linalg import qr
+
+    def one_factorisation(G, candidates, length, tol=redundancy.RANK_TOL):
+        idx = np.flatnonzero(candidates)
+        A = G[idx].copy()
+        A[:, (np.arange(A.shape[1]) % 6) >= 3] /= length
+        A /= np.sqrt((A * A).sum(axis=1))[:, None]
+        _q, Rf, piv = qr(A.T, mode="economic", pivoting=True)
+        d = np.abs(np.diag(Rf))
+        return np.sort(idx[piv[int((d > tol * d[0]).sum()):]])
+
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        blocks, nd = [], 0
+        for _g in range(12):
+            ncol = int(rng.integers(1, 9))
+            nind = int(rng.integers(1, ncol + 1))
+            base = rng.standard_normal((nind, ncol)) * 10.0 ** rng.uniform(-3, 3, (nind, 1))
+            ndep = int(rng.integers(0, 4)) if nind > 1 else 0
+            # combinations of two of the rows: the others are in no dependency and must
+            # be kept
+            dep = rng.standard_normal((ndep, 2)) @ base[:2] if ndep else base[:0]
+            blocks.append((nd, np.vstack([base, dep])))
+            nd += ncol
+        nd += (-nd) % 6
+        G = np.zeros((sum(b.shape[0] for _, b in blocks), nd))
+        r = 0
+        for c0, b in blocks:
+            G[r:r + b.shape[0], c0:c0 + b.shape[1]] = b
+            r += b.shape[0]
+        G = G[rng.permutation(G.shape[0])]
+        cand = rng.random(G.shape[0]) < 0.9
+        found = redundancy.dependent_rows(G, cand, 0.7)
+        # which rows of a dependent set are set aside is a tie between rows of equal
+        # (normalised) size, broken by round-off in either factorisation: the number is
+        # compared, and the rows kept must be independent and span all candidates
+        assert found.size == one_factorisation(G, cand, 0.7).size
+        kept = np.setdiff1d(np.flatnonzero(cand), found)
+        A = G / np.sqrt((G * G).sum(axis=1))[:, None]
+        assert np.linalg.matrix_rank(A[kept]) == kept.size
+        assert np.linalg.matrix_rank(A[cand]) == kept.size
+
+
 @pytest.mark.parametrize("scale", [0.01, 100.0])
 def test_redundant_rows_found_at_any_scale(scale):
     """The same three rows of a four-bar of hinges are found dependent when the mechanism
