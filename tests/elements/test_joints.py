@@ -8,6 +8,7 @@ from scipy.special import ellipk
 
 import drivedyn as dd
 from drivedyn.rotations import frame_from_axis
+from drivedyn.solver.simulation import Simulation
 from small_models import rot_y
 
 G = 9.81
@@ -233,3 +234,61 @@ def test_geometric_rows_equal_the_primitives_bit_for_bit():
             assert np.all(sys_.rabs == rabs_full), case
             assert np.count_nonzero(r_full[model.nd:]) == model.nm
             assert np.count_nonzero(r_full[:model.nd]) > 0
+
+
+def _unbalanced_rotor(speed: float = 300.0) -> dd.Spec:
+    """A rotor (2 kg) on a hinge about x turning at ``speed`` [rad/s], gravity -z, with a
+    0.1 kg unbalance welded on (Fixed) 50 mm off the axis; marker A of the weld on the rotor,
+    its axes turned off the rotor's."""
+    spec = dd.Spec(gravity=(0.0, 0.0, -G))
+    w = (speed, 0.0, 0.0)
+    r = np.array([0.0, 0.0, 0.05])
+    spec.add_rigid_body("rotor", 2.0, (4e-3, 2e-3, 2e-3), angular_velocity=w)
+    spec.add_rigid_body("mass", 0.1, (1e-6, 1e-6, 1e-6), position=r,
+                        velocity=np.cross(w, r), angular_velocity=w)
+    spec.add_marker("bearing", dd.GROUND, axis=(1, 0, 0))
+    spec.add_marker("journal", "rotor", axis=(1, 0, 0))
+    spec.add_marker("seat", "rotor", position=r, rotation=rot_y(0.4))
+    spec.add_marker("on_mass", "mass", rotation=rot_y(0.4))
+    spec.add(dd.Hinge("bearing", "bearing", "journal"))
+    spec.add(dd.Fixed("weld", "seat", "on_mass"))
+    spec.add(dd.JointDriver("motor", "bearing", speed, quantity="speed"))
+    return spec
+
+
+def test_the_position_rows_of_a_weld_are_global_components(monkeypatch):
+    """A Fixed joint writes its three position rows as global components (``ROW_GLOBAL``):
+    here a weld whose marker A turns with a rotor at 300 rad/s. Its first three multipliers
+    are then the reaction on B, global, ``force = -k lam`` (fails with the rows ``d . a_i``
+    of marker A: the multipliers are the components in A's turning axes). The same run with
+    the rows ``d . a_i`` (``Fixed.rows`` replaced) moves the same way within Newton's
+    tolerance, and refreshes its iteration matrix far more often, as the rows turn 0.03 rad
+    a step with the rotor (measured 56 -> 189 factorisations, 944 -> 2039 Newton
+    iterations over 0.05 s; fails if the global rows turn with marker A)."""
+    from drivedyn.elements import joints
+
+    def run():
+        model = dd.compile_model(_unbalanced_rotor())
+        sim = Simulation(model, step=dd.FixedStep(1e-4))
+        assert sim.advance(0.05, output_times=np.arange(1, 51) * 1e-3)
+        return model, sim
+
+    model, sim = run()
+    res = sim.results()
+    g, e = model.group("weld")
+    k = g.params[9][e, :3]
+    lam = sim.state.lam[g.dofs[e, 12:15] - model.nd]
+    force = np.stack([res[f"weld.force_{c}"].values for c in "xyz"], axis=1)
+    # centrifugal 0.1 kg x 0.05 m x 300^2 = 450 N turning with the rotor, and the weight
+    assert np.abs(force).max() > 400.0
+    np.testing.assert_allclose(force[-1], -k * lam, rtol=1e-6, atol=1e-9)
+    a = joints.ROW_AXIAL
+    monkeypatch.setattr(joints.Fixed, "rows", tuple((a, r[1], 0) if r[0] == joints.ROW_GLOBAL
+                                                    else r for r in joints.Fixed.rows))
+    _, sim_a = run()
+    res_a = sim_a.results()
+    assert res_a.stats.factorizations > 3 * res.stats.factorizations
+    np.testing.assert_allclose(res_a["mass.position"].values, res["mass.position"].values,
+                               atol=1e-9)
+    np.testing.assert_allclose(np.stack([res_a[f"weld.force_{c}"].values for c in "xyz"], 1),
+                               force, atol=1e-4 * 450.0)

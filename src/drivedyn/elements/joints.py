@@ -8,7 +8,7 @@ marker B (axes ``b1, b2, b3``), with ``d = x_mB - x_mA``:
 joint         rows                                                free motion
 ============  ==================================================  ==================
 Spherical     d.a1, d.a2, d.a3                                     3 rotations
-Fixed         d.a1, d.a2, d.a3, a2.b3, a3.b1, a1.b2                none
+Fixed         d.e1, d.e2, d.e3, a2.b3, a3.b1, a1.b2                none
 Hinge         d.a1, d.a2, d.a3, a3.b1, a3.b2                       rotation about a3
 Cylindrical   d.a1, d.a2, a3.b1, a3.b2                             rotation and slide along a3
 Prismatic     d.a1, d.a2, a3.b1, a3.b2, a1.b2                      slide along a3
@@ -19,6 +19,14 @@ Planar        d.a3, a3.b1, a3.b2                                   slide in the 
 ParallelAxes  a3.b1, a3.b2                                         3 translations,
                                                                    rotation about a3
 ============  ==================================================  ==================
+
+A fixed joint writes its three position rows as the global components ``d.e1, d.e2,
+d.e3`` (``e_i`` the global axes; the same constraint as ``d.a_i``, its first three
+multipliers the global components of the reaction): their gradients on the translations do
+not turn with marker A, so the iteration matrix of a part welded on a spinning body stays
+valid over many steps (the unbalance of ``benchmarks/flexible_shaft.py`` at 300 rad/s: its
+rows ``d.a_i`` turned 0.03 rad a step). The other joints keep ``d.a_i``: their axes are
+where their free motions are.
 
 The joint axis is the z axis of marker A (the markers must be assembled: B's axes as the
 row list requires, e.g. b3 along a3 for a hinge). ``theta`` is the rotation of B relative to A
@@ -57,6 +65,7 @@ from drivedyn.elements.framework.primitives import (
     prim_angle,
     prim_axial,
     prim_dot,
+    prim_global,
     quad_form,
     unwrap,
 )
@@ -71,6 +80,7 @@ ROW_DOT = 1  # a_i . b_j
 ROW_SCREW = 2  # d . a3 - pitch/(2 pi) theta - c0
 ROW_DRIVE = 3  # theta - theta0 - f(t)   (or the integral of f for a speed driver)
 ROW_TRAVEL = 4  # d.a3 - s0 - f(t)       (or the integral of f): a prescribed slide
+ROW_GLOBAL = 5  # d . e_i (global axis i)
 
 JOINT_OUTPUTS = (
     ("force_x", "N", "reaction force on body B, global x"),
@@ -201,6 +211,8 @@ def constraint_kernel(
                         val -= c0[e] + tfv[f, 3]
                         phit = -tfv[f, 0]
                         phitt = -tfv[f, 1]
+            elif typ == ROW_GLOBAL:
+                val = prim_global(xA, RA, xB, RB, pA[e], pB[e], ai[e, i], g, H, full, ws, wv)
             elif typ == ROW_DOT:
                 val = prim_dot(RA, RB, RmA[e, :, ai[e, i]], RmB[e, :, bj[e, i]], g, H, full,
                                ws, wv)
@@ -292,8 +304,10 @@ def constraint_kernel(
 def _row_value(typ: int, a: int, b: int, xA, RA, xB, RB, pA, pB, RmA, RmB) -> float:
     """Plain numpy value of a geometric row (for the assembly check at build time)."""
     d = xB + RB @ pB - xA - RA @ pA
-    if typ in (ROW_AXIAL,):
+    if typ == ROW_AXIAL:
         return float(d @ (RA @ RmA[:, a]))
+    if typ == ROW_GLOBAL:
+        return float(d[a])
     if typ == ROW_DOT:
         return float((RA @ RmA[:, a]) @ (RB @ RmB[:, b]))
     return 0.0
@@ -342,7 +356,7 @@ class Joint(TwoMarkerSpec):
         return (axes(self.marker_a, 0.0, label=self.name),)
 
 
-_A, _D, _S = ROW_AXIAL, ROW_DOT, ROW_SCREW
+_A, _D, _S, _G = ROW_AXIAL, ROW_DOT, ROW_SCREW, ROW_GLOBAL
 
 
 @dataclass(frozen=True)
@@ -359,7 +373,7 @@ class Fixed(Joint):
     """Rigid connection: marker frames coincide."""
 
     kind: ClassVar[str] = "fixed"
-    rows: ClassVar = ((_A, 0, 0), (_A, 1, 0), (_A, 2, 0), (_D, 1, 2), (_D, 2, 0), (_D, 0, 1))
+    rows: ClassVar = ((_G, 0, 0), (_G, 1, 0), (_G, 2, 0), (_D, 1, 2), (_D, 2, 0), (_D, 0, 1))
 
 
 @dataclass(frozen=True)
@@ -505,10 +519,10 @@ def build_constraint_group(family: str, specs, ctx, rows_of, angle_of,
             rt[e, i], ai[e, i], bj[e, i] = typ, a, b
             rot = typ == ROW_DOT or typ == ROW_DRIVE  # a travel row holds a position
             kk[e, i], pp[e, i] = ctx.scaling(getattr(s, "k", None), getattr(s, "p", None), rot)
-            if typ in (ROW_AXIAL, ROW_DOT):
+            if typ in (ROW_AXIAL, ROW_GLOBAL, ROW_DOT):
                 val = _row_value(typ, a, b, xA, RA, xB, RB, pA[e], pB[e], RmA[e], RmB[e])
                 if abs(val) > tol:
-                    kind = "position" if typ == ROW_AXIAL else "orientation"
+                    kind = "orientation" if typ == ROW_DOT else "position"
                     raise ModelError(
                         f"{what}: markers {ma!r} and {mb!r} are not assembled ({kind} "
                         f"constraint {i} = {val:.3g} exceeds {tol:g}); check positions and axes")

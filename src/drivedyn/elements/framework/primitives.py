@@ -254,6 +254,39 @@ def prim_axial(xA, RA, xB, RB, pA, pB, abar, g, H, want, ws, wv):
     return val
 
 
+@njit(cache=True, inline="always")
+def prim_global(xA, RA, xB, RB, pA, pB, i, g, H, want, ws, wv):
+    """Phi = d . e_i, the global component ``i`` of d = x_B + R_B pB - x_A - R_A pA. Its
+    gradient on the translations is constant; on the rotations (right perturbations)
+    ``(R_A^T e_i) x pA`` and ``pB x (R_B^T e_i)``, and its Hessian has their two diagonal
+    blocks only."""
+    uA = wv[0]
+    uB = wv[1]
+    w = wv[2]
+    t = wv[3]
+    mv(RB, pB, w)
+    mv(RA, pA, t)
+    val = (xB[i] + w[i]) - (xA[i] + t[i])
+    for k in range(3):
+        uA[k] = RA[i, k]  # R_A^T e_i
+        uB[k] = RB[i, k]
+        g[k] = 0.0
+        g[6 + k] = 0.0
+    g[i] = -1.0
+    g[6 + i] = 1.0
+    g[3] = uA[1] * pA[2] - uA[2] * pA[1]
+    g[4] = uA[2] * pA[0] - uA[0] * pA[2]
+    g[5] = uA[0] * pA[1] - uA[1] * pA[0]
+    g[9] = pB[1] * uB[2] - pB[2] * uB[1]
+    g[10] = pB[2] * uB[0] - pB[0] * uB[2]
+    g[11] = pB[0] * uB[1] - pB[1] * uB[0]
+    if want:
+        H[:, :] = 0.0
+        skew_skew(pA, uA, ws[1], -1.0, H, 3, 3)
+        skew_skew(pB, uB, ws[1], 1.0, H, 9, 9)
+    return val
+
+
 @njit(cache=True)
 def _hess_distance(RA, RB, pA, pB, n, RAn, RBn, L, H, ws):
     """Hessian of prim_distance (out of line, see _hess_dot). Its two (3, 12) work arrays
