@@ -30,6 +30,33 @@ from numba import njit
 
 
 @njit(cache=True, inline="always")
+def _rv(R, v0, v1, v2):
+    """R v for a (3, 3) array ``R`` and a vector given by its components (as ``mv``)."""
+    return (R[0, 0] * v0 + R[0, 1] * v1 + R[0, 2] * v2,
+            R[1, 0] * v0 + R[1, 1] * v1 + R[1, 2] * v2,
+            R[2, 0] * v0 + R[2, 1] * v1 + R[2, 2] * v2)
+
+
+@njit(cache=True, inline="always")
+def _rtv(R, v0, v1, v2):
+    """R^T v (as ``mtv``)."""
+    return (R[0, 0] * v0 + R[1, 0] * v1 + R[2, 0] * v2,
+            R[0, 1] * v0 + R[1, 1] * v1 + R[2, 1] * v2,
+            R[0, 2] * v0 + R[1, 2] * v1 + R[2, 2] * v2)
+
+
+@njit(cache=True, inline="always")
+def _dot_parts(RB, a0, a1, a2, b0, b1, b2, u0, u1, u2, e0, e1, e2, f0, f1, f2):
+    """``prim_dot``'s value and the rotation entries of its gradient: ``a . b`` with
+    ``a = R_A e``, ``b = R_B f`` and ``u = R_A^T b`` given (``e, f`` the axes in the node
+    frames); returns ``(a . b, e x u, f x R_B^T a)``, the last two as components."""
+    z0, z1, z2 = _rtv(RB, a0, a1, a2)
+    return (a0 * b0 + a1 * b1 + a2 * b2,
+            e1 * u2 - e2 * u1, e2 * u0 - e0 * u2, e0 * u1 - e1 * u0,
+            f1 * z2 - f2 * z1, f2 * z0 - f0 * z2, f0 * z1 - f1 * z0)
+
+
+@njit(cache=True, inline="always")
 def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, pA, pB, RmA,
                    RmB, rq, rl):
     """Rows ``0 .. nrow - 1`` of one joint, all ``ROW_AXIAL`` (0) or ``ROW_DOT`` (1), in
@@ -45,19 +72,12 @@ def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, 
     node frames. Returns the last row's force ``k lam + p Phi``.
     """
     # w = R_B pB + (x_B - x_A), t = R_A pA: prim_axial's d + R_A pA and R_A pA
-    w0 = RB[0, 0] * pB[0] + RB[0, 1] * pB[1] + RB[0, 2] * pB[2]
-    w1 = RB[1, 0] * pB[0] + RB[1, 1] * pB[1] + RB[1, 2] * pB[2]
-    w2 = RB[2, 0] * pB[0] + RB[2, 1] * pB[1] + RB[2, 2] * pB[2]
+    w0, w1, w2 = _rv(RB, pB[0], pB[1], pB[2])
     w0 += xB[0] - xA[0]
     w1 += xB[1] - xA[1]
     w2 += xB[2] - xA[2]
-    t0 = RA[0, 0] * pA[0] + RA[0, 1] * pA[1] + RA[0, 2] * pA[2]
-    t1 = RA[1, 0] * pA[0] + RA[1, 1] * pA[1] + RA[1, 2] * pA[2]
-    t2 = RA[2, 0] * pA[0] + RA[2, 1] * pA[1] + RA[2, 2] * pA[2]
-    # R_A^T w
-    u0 = RA[0, 0] * w0 + RA[1, 0] * w1 + RA[2, 0] * w2
-    u1 = RA[0, 1] * w0 + RA[1, 1] * w1 + RA[2, 1] * w2
-    u2 = RA[0, 2] * w0 + RA[1, 2] * w1 + RA[2, 2] * w2
+    t0, t1, t2 = _rv(RA, pA[0], pA[1], pA[2])
+    u0, u1, u2 = _rtv(RA, w0, w1, w2)
     q0 = q1 = q2 = q3 = q4 = q5 = q6 = q7 = q8 = q9 = q10 = q11 = 0.0
     sig = 0.0
     for i in range(nrow):
@@ -65,19 +85,13 @@ def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, 
         e0 = RmA[0, c]
         e1 = RmA[1, c]
         e2 = RmA[2, c]
-        # a = R_A abar
-        a0 = RA[0, 0] * e0 + RA[0, 1] * e1 + RA[0, 2] * e2
-        a1 = RA[1, 0] * e0 + RA[1, 1] * e1 + RA[1, 2] * e2
-        a2 = RA[2, 0] * e0 + RA[2, 1] * e1 + RA[2, 2] * e2
+        a0, a1, a2 = _rv(RA, e0, e1, e2)
         if rtype[i] == 0:  # d . a
             val = 0.0
             val += (w0 - t0) * a0
             val += (w1 - t1) * a1
             val += (w2 - t2) * a2
-            # R_B^T a
-            s0 = RB[0, 0] * a0 + RB[1, 0] * a1 + RB[2, 0] * a2
-            s1 = RB[0, 1] * a0 + RB[1, 1] * a1 + RB[2, 1] * a2
-            s2 = RB[0, 2] * a0 + RB[1, 2] * a1 + RB[2, 2] * a2
+            s0, s1, s2 = _rtv(RB, a0, a1, a2)
             sig = kk[i] * lam[dofe[12 + i] - off] + pp[i] * val
             q0 += sig * -a0
             q1 += sig * -a1
@@ -96,26 +110,19 @@ def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, 
             f0 = RmB[0, cb]
             f1 = RmB[1, cb]
             f2 = RmB[2, cb]
-            b0 = RB[0, 0] * f0 + RB[0, 1] * f1 + RB[0, 2] * f2
-            b1 = RB[1, 0] * f0 + RB[1, 1] * f1 + RB[1, 2] * f2
-            b2 = RB[2, 0] * f0 + RB[2, 1] * f1 + RB[2, 2] * f2
-            val = a0 * b0 + a1 * b1 + a2 * b2
-            # R_A^T b, R_B^T a
-            s0 = RA[0, 0] * b0 + RA[1, 0] * b1 + RA[2, 0] * b2
-            s1 = RA[0, 1] * b0 + RA[1, 1] * b1 + RA[2, 1] * b2
-            s2 = RA[0, 2] * b0 + RA[1, 2] * b1 + RA[2, 2] * b2
-            z0 = RB[0, 0] * a0 + RB[1, 0] * a1 + RB[2, 0] * a2
-            z1 = RB[0, 1] * a0 + RB[1, 1] * a1 + RB[2, 1] * a2
-            z2 = RB[0, 2] * a0 + RB[1, 2] * a1 + RB[2, 2] * a2
+            b0, b1, b2 = _rv(RB, f0, f1, f2)
+            v0, v1, v2 = _rtv(RA, b0, b1, b2)
+            val, g3, g4, g5, g9, g10, g11 = _dot_parts(RB, a0, a1, a2, b0, b1, b2, v0, v1, v2,
+                                                       e0, e1, e2, f0, f1, f2)
             sig = kk[i] * lam[dofe[12 + i] - off] + pp[i] * val
             # the translation entries of a dot row's gradient are zero: adding sig * 0
             # changes no sum but the sign of a zero
-            q3 += sig * (e1 * s2 - e2 * s1)
-            q4 += sig * (e2 * s0 - e0 * s2)
-            q5 += sig * (e0 * s1 - e1 * s0)
-            q9 += sig * (f1 * z2 - f2 * z1)
-            q10 += sig * (f2 * z0 - f0 * z2)
-            q11 += sig * (f0 * z1 - f1 * z0)
+            q3 += sig * g3
+            q4 += sig * g4
+            q5 += sig * g5
+            q9 += sig * g9
+            q10 += sig * g10
+            q11 += sig * g11
         rl[i] = kk[i] * val
     rq[0] = q0
     rq[1] = q1
@@ -140,40 +147,14 @@ def angle_gradient(RA, RB, a1, a2, b1, g):
     ``prim_dot`` computes them). ``a1, a2`` (3,) are marker A's first two axes and ``b1``
     (3,) marker B's first axis, in the node frames."""
     # b = R_B b1 and u = R_A^T b, shared by both dot products
-    b0 = RB[0, 0] * b1[0] + RB[0, 1] * b1[1] + RB[0, 2] * b1[2]
-    b1_ = RB[1, 0] * b1[0] + RB[1, 1] * b1[1] + RB[1, 2] * b1[2]
-    b2 = RB[2, 0] * b1[0] + RB[2, 1] * b1[1] + RB[2, 2] * b1[2]
-    u0 = RA[0, 0] * b0 + RA[1, 0] * b1_ + RA[2, 0] * b2
-    u1 = RA[0, 1] * b0 + RA[1, 1] * b1_ + RA[2, 1] * b2
-    u2 = RA[0, 2] * b0 + RA[1, 2] * b1_ + RA[2, 2] * b2
-    # s: a = R_A a2, z = R_B^T a
-    a0 = RA[0, 0] * a2[0] + RA[0, 1] * a2[1] + RA[0, 2] * a2[2]
-    a1_ = RA[1, 0] * a2[0] + RA[1, 1] * a2[1] + RA[1, 2] * a2[2]
-    a2_ = RA[2, 0] * a2[0] + RA[2, 1] * a2[1] + RA[2, 2] * a2[2]
-    s = a0 * b0 + a1_ * b1_ + a2_ * b2
-    z0 = RB[0, 0] * a0 + RB[1, 0] * a1_ + RB[2, 0] * a2_
-    z1 = RB[0, 1] * a0 + RB[1, 1] * a1_ + RB[2, 1] * a2_
-    z2 = RB[0, 2] * a0 + RB[1, 2] * a1_ + RB[2, 2] * a2_
-    s3 = a2[1] * u2 - a2[2] * u1
-    s4 = a2[2] * u0 - a2[0] * u2
-    s5 = a2[0] * u1 - a2[1] * u0
-    s9 = b1[1] * z2 - b1[2] * z1
-    s10 = b1[2] * z0 - b1[0] * z2
-    s11 = b1[0] * z1 - b1[1] * z0
-    # c: a = R_A a1
-    a0 = RA[0, 0] * a1[0] + RA[0, 1] * a1[1] + RA[0, 2] * a1[2]
-    a1_ = RA[1, 0] * a1[0] + RA[1, 1] * a1[1] + RA[1, 2] * a1[2]
-    a2_ = RA[2, 0] * a1[0] + RA[2, 1] * a1[1] + RA[2, 2] * a1[2]
-    c = a0 * b0 + a1_ * b1_ + a2_ * b2
-    z0 = RB[0, 0] * a0 + RB[1, 0] * a1_ + RB[2, 0] * a2_
-    z1 = RB[0, 1] * a0 + RB[1, 1] * a1_ + RB[2, 1] * a2_
-    z2 = RB[0, 2] * a0 + RB[1, 2] * a1_ + RB[2, 2] * a2_
-    c3 = a1[1] * u2 - a1[2] * u1
-    c4 = a1[2] * u0 - a1[0] * u2
-    c5 = a1[0] * u1 - a1[1] * u0
-    c9 = b1[1] * z2 - b1[2] * z1
-    c10 = b1[2] * z0 - b1[0] * z2
-    c11 = b1[0] * z1 - b1[1] * z0
+    b0, b1_, b2 = _rv(RB, b1[0], b1[1], b1[2])
+    u0, u1, u2 = _rtv(RA, b0, b1_, b2)
+    x0, x1, x2 = _rv(RA, a2[0], a2[1], a2[2])
+    s, s3, s4, s5, s9, s10, s11 = _dot_parts(RB, x0, x1, x2, b0, b1_, b2, u0, u1, u2,
+                                             a2[0], a2[1], a2[2], b1[0], b1[1], b1[2])
+    x0, x1, x2 = _rv(RA, a1[0], a1[1], a1[2])
+    c, c3, c4, c5, c9, c10, c11 = _dot_parts(RB, x0, x1, x2, b0, b1_, b2, u0, u1, u2,
+                                             a1[0], a1[1], a1[2], b1[0], b1[1], b1[2])
     r2 = s * s + c * c
     zero = (c * 0.0 - s * 0.0) / r2  # the translation entries, as prim_angle's loop has them
     for i in range(3):
@@ -191,13 +172,9 @@ def angle_gradient(RA, RB, a1, a2, b1, g):
 @njit(cache=True, inline="always")
 def angle_only(RA, RB, a1, a2, b1):
     """:func:`angle_gradient`'s angle [rad] alone, the same value to the last bit."""
-    b0 = RB[0, 0] * b1[0] + RB[0, 1] * b1[1] + RB[0, 2] * b1[2]
-    b1_ = RB[1, 0] * b1[0] + RB[1, 1] * b1[1] + RB[1, 2] * b1[2]
-    b2 = RB[2, 0] * b1[0] + RB[2, 1] * b1[1] + RB[2, 2] * b1[2]
-    s = ((RA[0, 0] * a2[0] + RA[0, 1] * a2[1] + RA[0, 2] * a2[2]) * b0
-         + (RA[1, 0] * a2[0] + RA[1, 1] * a2[1] + RA[1, 2] * a2[2]) * b1_
-         + (RA[2, 0] * a2[0] + RA[2, 1] * a2[1] + RA[2, 2] * a2[2]) * b2)
-    c = ((RA[0, 0] * a1[0] + RA[0, 1] * a1[1] + RA[0, 2] * a1[2]) * b0
-         + (RA[1, 0] * a1[0] + RA[1, 1] * a1[1] + RA[1, 2] * a1[2]) * b1_
-         + (RA[2, 0] * a1[0] + RA[2, 1] * a1[1] + RA[2, 2] * a1[2]) * b2)
+    b0, b1_, b2 = _rv(RB, b1[0], b1[1], b1[2])
+    x0, x1, x2 = _rv(RA, a2[0], a2[1], a2[2])
+    s = x0 * b0 + x1 * b1_ + x2 * b2
+    x0, x1, x2 = _rv(RA, a1[0], a1[1], a1[2])
+    c = x0 * b0 + x1 * b1_ + x2 * b2
     return np.arctan2(s, c)

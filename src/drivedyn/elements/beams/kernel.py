@@ -118,26 +118,15 @@ def section_tangent(d, etaA, etaB, L, Ks, beta, TiP, TiM, sig, dP, dM, ds, Dd):
         for i in range(6):
             a = 0.0
             b = 0.0
-            if i < 3:
-                # column i: dP, dM nonzero in rows 0-2 for a rotational j; Ti in rows 0-2
-                for m in range(3):
-                    if rot:
-                        a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
-                        b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
-                    else:
-                        a += TiM[m, i] * ds[m]
-                        b += TiP[m, i] * ds[m]
-            else:
-                for m in range(3):
+            # column i of Ti: rows 0-2 (i < 3) or all; of dTi: also the upper right block
+            # (i >= 3, rows 0-2) for a translational j
+            for m in range(3 if i < 3 else 6):
+                if rot or (i >= 3 and m < 3):
                     a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
                     b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
-                for m in range(3, 6):
-                    if rot:
-                        a += dM[m, i] * sig[m] + TiM[m, i] * ds[m]
-                        b += dP[m, i] * sig[m] + TiP[m, i] * ds[m]
-                    else:
-                        a += TiM[m, i] * ds[m]
-                        b += TiP[m, i] * ds[m]
+                else:
+                    a += TiM[m, i] * ds[m]
+                    b += TiP[m, i] * ds[m]
             Dd[i, j] = -a
             Dd[6 + i, j] = b
 
