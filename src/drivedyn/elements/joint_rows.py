@@ -29,7 +29,10 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True, inline="always")
+# The three helpers below are plain njit functions, which LLVM inlines (the same cost per
+# evaluation); inlined at numba's IR level instead, they made the first compilation of a
+# Type C bench command 1.4 s longer (17.2 -> 18.6 s, benchmarks/cold_start.py).
+@njit(cache=True)
 def _rv(R, v0, v1, v2):
     """R v for a (3, 3) array ``R`` and a vector given by its components (as ``mv``)."""
     return (R[0, 0] * v0 + R[0, 1] * v1 + R[0, 2] * v2,
@@ -37,7 +40,7 @@ def _rv(R, v0, v1, v2):
             R[2, 0] * v0 + R[2, 1] * v1 + R[2, 2] * v2)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _rtv(R, v0, v1, v2):
     """R^T v (as ``mtv``)."""
     return (R[0, 0] * v0 + R[1, 0] * v1 + R[2, 0] * v2,
@@ -45,7 +48,7 @@ def _rtv(R, v0, v1, v2):
             R[0, 2] * v0 + R[1, 2] * v1 + R[2, 2] * v2)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _dot_parts(RB, a0, a1, a2, b0, b1, b2, u0, u1, u2, e0, e1, e2, f0, f1, f2):
     """``prim_dot``'s value and the rotation entries of its gradient: ``a . b`` with
     ``a = R_A e``, ``b = R_B f`` and ``u = R_A^T b`` given (``e, f`` the axes in the node
