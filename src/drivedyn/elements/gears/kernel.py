@@ -22,7 +22,9 @@ deflection, about 10 um under the benches' torques).
 Speed: the loop over parallel pairs is a separate copy with the kind a compile-time
 constant (fixed loop lengths: 1.5x faster), in the residual and the matrix pass alike; only
 bevel and crossed pairs run the copy with their code, and the assembly of the matrices is
-compiled out of line.
+compiled out of line. A residual-only pass over parallel pairs takes their primitives, rates
+and generalised force from :mod:`~drivedyn.elements.gears.parallel_rows` (scalar arithmetic,
+the same bits; 199 spur pairs 35 -> 28 us).
 """
 
 from __future__ import annotations
@@ -44,6 +46,11 @@ from drivedyn.elements.gears.kinematics import (
     parallel_coords,
     projections,
     skew_coords,
+)
+from drivedyn.elements.gears.parallel_rows import (
+    parallel_chain,
+    parallel_projections,
+    parallel_rates,
 )
 from drivedyn.elements.gears.stiffness import mesh_stiffness
 
@@ -125,12 +132,18 @@ def _gear_kernel(skew: bool, name: str) -> Any:
                 par = True  # constant in this copy: fixed loop trip counts (nprim = 5)
             nA, nB = sc.pair(C, e)
             nprim = 5 if par else 7
-            Sj[:, :] = 0.0
+            fast = par and not full  # parallel_rows: reads only Sj's non-zero entries
+            if not fast:
+                Sj[:, :] = 0.0
             if full:
                 Spp[:, :, :] = 0.0
             # -- kinematic primitives p (gradients gp, Hessians Hp) ------------------------------
-            projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e], par, p, gp, Hp,
-                        Ht, full, wk, ws)
+            if fast:
+                parallel_projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e],
+                                     p, gp, wk)
+            else:
+                projections(x[nA], R[nA], x[nB], R[nB], pA[e], pB[e], RmA[e], RmB[e], par, p,
+                            gp, Hp, Ht, full, wk, ws)
             # -- mesh coordinates s(p) with Jacobian Sj and second derivatives Spp ---------------
             off = sc.state_offset(C, e)
             ac = 1.0
@@ -143,16 +156,19 @@ def _gear_kernel(skew: bool, name: str) -> Any:
                                            es[off], es[off + 1], full, ws, wv)
             # -- rates --------------------------------------------------------------------------
             sc.velocities(C, e, 12, vl)
-            for i in range(nprim):
-                acc = 0.0
-                for a in range(12):
-                    acc += gp[i, a] * vl[a]
-                pd[i] = acc
-            for j in range(NS):
-                acc = 0.0
+            if fast:
+                parallel_rates(Sj, gp, vl, pd, sd)
+            else:
                 for i in range(nprim):
-                    acc += Sj[j, i] * pd[i]
-                sd[j] = acc
+                    acc = 0.0
+                    for a in range(12):
+                        acc += gp[i, a] * vl[a]
+                    pd[i] = acc
+                for j in range(NS):
+                    acc = 0.0
+                    for i in range(nprim):
+                        acc += Sj[j, i] * pd[i]
+                    sd[j] = acc
             # -- mesh law in s ----------------------------------------------------------------
             dphi = s[0] - s0[e, 0]
             k, k1, k2 = mesh_stiffness(dphi, kst[e])
@@ -294,16 +310,19 @@ def _gear_kernel(skew: bool, name: str) -> Any:
                                           + dv * WTv[i] * WTv[j] + ph * WTv[i] * dFNd[j])
                             dQs[i, j] += ph * WTv[i] * dFN[j]
             # -- chain to the primitives and to the node coordinates ---------------------------
-            for i in range(nprim):
-                acc = 0.0
-                for j in range(NS):
-                    acc += Sj[j, i] * Qs[j]
-                Qp[i] = acc
-            for a in range(12):
-                acc = 0.0
+            if fast:
+                parallel_chain(Sj, Qs, gp, Qp, rq)
+            else:
                 for i in range(nprim):
-                    acc += gp[i, a] * Qp[i]
-                rq[a] = acc
+                    acc = 0.0
+                    for j in range(NS):
+                        acc += Sj[j, i] * Qs[j]
+                    Qp[i] = acc
+                for a in range(12):
+                    acc = 0.0
+                    for i in range(nprim):
+                        acc += gp[i, a] * Qp[i]
+                    rq[a] = acc
             if full:
                 chain_matrices(nprim, Sj, Spp, Qs, dQs, dQd, pd, gp, Hp, vl, Qp, Tm, Ap, Bp, AG, K,
                                Cd)
