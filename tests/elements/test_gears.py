@@ -668,6 +668,20 @@ def test_adaptive_step_stays_below_a_size_that_failed_newton(caplog):
     assert failures >= 1 and checked >= 5
 
 
+def _perturbed_state(model, rng, turn: float):
+    """The model's initial state with the nodes moved by ~1e-3 m, turned by ~``turn`` rad and
+    given random velocities and accelerations (draws from ``rng``)."""
+    from drivedyn.rotations import exp_so3
+
+    st = model.initial_state()
+    st.x[: model.nn] += 1e-3 * rng.standard_normal((model.nn, 3))
+    for i in range(model.nn):
+        st.R[i] = st.R[i] @ exp_so3(turn * rng.standard_normal(3))
+    st.v[:] = rng.standard_normal(model.nd)
+    st.vd[:] = rng.standard_normal(model.nd)
+    return st
+
+
 @pytest.mark.parametrize("internal", [None, "a", "b"])
 def test_parallel_only_kernel_equals_the_general_kernel(internal):
     """A group without bevel or crossed pairs runs ``parallel_gear_kernel`` (two copies of the
@@ -678,7 +692,6 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     from drivedyn.elements.framework.contract import MODE_ACC, MODE_DYN, MODE_VEL
     from drivedyn.elements.gears.kernel import gear_kernel, parallel_gear_kernel
     from drivedyn.model.compile import compile_model
-    from drivedyn.rotations import exp_so3
     from drivedyn.solver.system import System
     from element_cases.gears import parallel_case
 
@@ -687,13 +700,7 @@ def test_parallel_only_kernel_equals_the_general_kernel(internal):
     (g,) = [g for g in model.groups if g.family == "gear_pair"]
     assert g.kernel is parallel_gear_kernel
     general = dataclasses.replace(g, kernel=gear_kernel, eout=g.eout.copy(), aux=g.aux.copy())
-    rng = np.random.default_rng(7)
-    st = model.initial_state()
-    st.x[: model.nn] += 1e-3 * rng.standard_normal((model.nn, 3))
-    for i in range(model.nn):
-        st.R[i] = st.R[i] @ exp_so3(0.02 * rng.standard_normal(3))
-    st.v[:] = rng.standard_normal(model.nd)
-    st.vd[:] = rng.standard_normal(model.nd)
+    st = _perturbed_state(model, np.random.default_rng(7), 0.02)
     st.t = 0.37
     sys.time_functions(st.t)
     for mode, want in ((MODE_DYN, True), (MODE_DYN, False), (MODE_ACC, True),
@@ -739,7 +746,6 @@ def test_residual_only_parallel_pairs_equal_the_matrix_pass(case):
     sign turned) or with the chain's terms summed in another order (seen)."""
     from drivedyn.elements.framework.contract import MODE_DYN
     from drivedyn.model.compile import compile_model
-    from drivedyn.rotations import exp_so3
     from drivedyn.solver.system import System
     from element_cases.gears import parallel_case
 
@@ -754,12 +760,7 @@ def test_residual_only_parallel_pairs_equal_the_matrix_pass(case):
     rng = np.random.default_rng(5)
     loaded = 0
     for _ in range(6):
-        st = model.initial_state()
-        st.x[: model.nn] += 1e-3 * rng.standard_normal((model.nn, 3))
-        for i in range(model.nn):
-            st.R[i] = st.R[i] @ exp_so3(0.05 * rng.standard_normal(3))
-        st.v[:] = rng.standard_normal(model.nd)
-        st.vd[:] = rng.standard_normal(model.nd)
+        st = _perturbed_state(model, rng, 0.05)
         out = []
         for want in (True, False):
             sys_.evaluate(st, 1.3e6, 0.7e3, 1.0, MODE_DYN, want)
