@@ -28,32 +28,18 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-
-# The three helpers below are plain njit functions, which LLVM inlines (the same cost per
-# evaluation); inlined at numba's IR level instead, they made the first compilation of a
-# Type C bench command 1.4 s longer (17.2 -> 18.6 s, benchmarks/cold_start.py).
-@njit(cache=True)
-def _rv(R, v0, v1, v2):
-    """R v for a (3, 3) array ``R`` and a vector given by its components (as ``mv``)."""
-    return (R[0, 0] * v0 + R[0, 1] * v1 + R[0, 2] * v2,
-            R[1, 0] * v0 + R[1, 1] * v1 + R[1, 2] * v2,
-            R[2, 0] * v0 + R[2, 1] * v1 + R[2, 2] * v2)
+from drivedyn.elements.framework.primitives import mtv_scalar, mv_scalar
 
 
-@njit(cache=True)
-def _rtv(R, v0, v1, v2):
-    """R^T v (as ``mtv``)."""
-    return (R[0, 0] * v0 + R[1, 0] * v1 + R[2, 0] * v2,
-            R[0, 1] * v0 + R[1, 1] * v1 + R[2, 1] * v2,
-            R[0, 2] * v0 + R[1, 2] * v1 + R[2, 2] * v2)
-
-
+# _dot_parts is a plain njit function, which LLVM inlines (the same cost per evaluation);
+# inlined at numba's IR level instead, it and the scalar mv / mtv made the first compilation
+# of a Type C bench command 1.4 s longer (17.2 -> 18.6 s, benchmarks/cold_start.py).
 @njit(cache=True)
 def _dot_parts(RB, a0, a1, a2, b0, b1, b2, u0, u1, u2, e0, e1, e2, f0, f1, f2):
     """``prim_dot``'s value and the rotation entries of its gradient: ``a . b`` with
     ``a = R_A e``, ``b = R_B f`` and ``u = R_A^T b`` given (``e, f`` the axes in the node
     frames); returns ``(a . b, e x u, f x R_B^T a)``, the last two as components."""
-    z0, z1, z2 = _rtv(RB, a0, a1, a2)
+    z0, z1, z2 = mtv_scalar(RB, a0, a1, a2)
     return (a0 * b0 + a1 * b1 + a2 * b2,
             e1 * u2 - e2 * u1, e2 * u0 - e0 * u2, e0 * u1 - e1 * u0,
             f1 * z2 - f2 * z1, f2 * z0 - f0 * z2, f0 * z1 - f1 * z0)
@@ -75,12 +61,12 @@ def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, 
     node frames. Returns the last row's force ``k lam + p Phi``.
     """
     # w = R_B pB + (x_B - x_A), t = R_A pA: prim_axial's d + R_A pA and R_A pA
-    w0, w1, w2 = _rv(RB, pB[0], pB[1], pB[2])
+    w0, w1, w2 = mv_scalar(RB, pB[0], pB[1], pB[2])
     w0 += xB[0] - xA[0]
     w1 += xB[1] - xA[1]
     w2 += xB[2] - xA[2]
-    t0, t1, t2 = _rv(RA, pA[0], pA[1], pA[2])
-    u0, u1, u2 = _rtv(RA, w0, w1, w2)
+    t0, t1, t2 = mv_scalar(RA, pA[0], pA[1], pA[2])
+    u0, u1, u2 = mtv_scalar(RA, w0, w1, w2)
     q0 = q1 = q2 = q3 = q4 = q5 = q6 = q7 = q8 = q9 = q10 = q11 = 0.0
     sig = 0.0
     for i in range(nrow):
@@ -88,13 +74,13 @@ def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, 
         e0 = RmA[0, c]
         e1 = RmA[1, c]
         e2 = RmA[2, c]
-        a0, a1, a2 = _rv(RA, e0, e1, e2)
+        a0, a1, a2 = mv_scalar(RA, e0, e1, e2)
         if rtype[i] == 0:  # d . a
             val = 0.0
             val += (w0 - t0) * a0
             val += (w1 - t1) * a1
             val += (w2 - t2) * a2
-            s0, s1, s2 = _rtv(RB, a0, a1, a2)
+            s0, s1, s2 = mtv_scalar(RB, a0, a1, a2)
             sig = kk[i] * lam[dofe[12 + i] - off] + pp[i] * val
             q0 += sig * -a0
             q1 += sig * -a1
@@ -113,8 +99,8 @@ def geometric_rows(nrow, rtype, ai, bj, kk, pp, lam, dofe, off, xA, RA, xB, RB, 
             f0 = RmB[0, cb]
             f1 = RmB[1, cb]
             f2 = RmB[2, cb]
-            b0, b1, b2 = _rv(RB, f0, f1, f2)
-            v0, v1, v2 = _rtv(RA, b0, b1, b2)
+            b0, b1, b2 = mv_scalar(RB, f0, f1, f2)
+            v0, v1, v2 = mtv_scalar(RA, b0, b1, b2)
             val, g3, g4, g5, g9, g10, g11 = _dot_parts(RB, a0, a1, a2, b0, b1, b2, v0, v1, v2,
                                                        e0, e1, e2, f0, f1, f2)
             sig = kk[i] * lam[dofe[12 + i] - off] + pp[i] * val
@@ -150,12 +136,12 @@ def angle_gradient(RA, RB, a1, a2, b1, g):
     ``prim_dot`` computes them). ``a1, a2`` (3,) are marker A's first two axes and ``b1``
     (3,) marker B's first axis, in the node frames."""
     # b = R_B b1 and u = R_A^T b, shared by both dot products
-    b0, b1_, b2 = _rv(RB, b1[0], b1[1], b1[2])
-    u0, u1, u2 = _rtv(RA, b0, b1_, b2)
-    x0, x1, x2 = _rv(RA, a2[0], a2[1], a2[2])
+    b0, b1_, b2 = mv_scalar(RB, b1[0], b1[1], b1[2])
+    u0, u1, u2 = mtv_scalar(RA, b0, b1_, b2)
+    x0, x1, x2 = mv_scalar(RA, a2[0], a2[1], a2[2])
     s, s3, s4, s5, s9, s10, s11 = _dot_parts(RB, x0, x1, x2, b0, b1_, b2, u0, u1, u2,
                                              a2[0], a2[1], a2[2], b1[0], b1[1], b1[2])
-    x0, x1, x2 = _rv(RA, a1[0], a1[1], a1[2])
+    x0, x1, x2 = mv_scalar(RA, a1[0], a1[1], a1[2])
     c, c3, c4, c5, c9, c10, c11 = _dot_parts(RB, x0, x1, x2, b0, b1_, b2, u0, u1, u2,
                                              a1[0], a1[1], a1[2], b1[0], b1[1], b1[2])
     r2 = s * s + c * c
@@ -175,9 +161,9 @@ def angle_gradient(RA, RB, a1, a2, b1, g):
 @njit(cache=True, inline="always")
 def angle_only(RA, RB, a1, a2, b1):
     """:func:`angle_gradient`'s angle [rad] alone, the same value to the last bit."""
-    b0, b1_, b2 = _rv(RB, b1[0], b1[1], b1[2])
-    x0, x1, x2 = _rv(RA, a2[0], a2[1], a2[2])
+    b0, b1_, b2 = mv_scalar(RB, b1[0], b1[1], b1[2])
+    x0, x1, x2 = mv_scalar(RA, a2[0], a2[1], a2[2])
     s = x0 * b0 + x1 * b1_ + x2 * b2
-    x0, x1, x2 = _rv(RA, a1[0], a1[1], a1[2])
+    x0, x1, x2 = mv_scalar(RA, a1[0], a1[1], a1[2])
     c = x0 * b0 + x1 * b1_ + x2 * b2
     return np.arctan2(s, c)

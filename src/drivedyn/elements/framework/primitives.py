@@ -66,6 +66,28 @@ def mtv(R, w, out):
         out[i] = R[0, i] * w[0] + R[1, i] * w[1] + R[2, i] * w[2]
 
 
+# The scalar forms below serve the residual-only paths (elements/joint_rows.py,
+# elements/gears/parallel_rows.py), which hold their vectors in scalar variables. They are
+# plain njit functions, which LLVM inlines (the same cost per evaluation); inlined at numba's
+# IR level instead, they made the first compilation of a Type C bench command 1.4 s longer
+# (17.2 -> 18.6 s, benchmarks/cold_start.py).
+@njit(cache=True)
+def mv_scalar(R, v0, v1, v2):
+    """R v for a (3, 3) array ``R`` and a vector given by its components, returned as three
+    components (the arithmetic of ``mv``)."""
+    return (R[0, 0] * v0 + R[0, 1] * v1 + R[0, 2] * v2,
+            R[1, 0] * v0 + R[1, 1] * v1 + R[1, 2] * v2,
+            R[2, 0] * v0 + R[2, 1] * v1 + R[2, 2] * v2)
+
+
+@njit(cache=True)
+def mtv_scalar(R, v0, v1, v2):
+    """R^T v on and to components (the arithmetic of ``mtv``)."""
+    return (R[0, 0] * v0 + R[1, 0] * v1 + R[2, 0] * v2,
+            R[0, 1] * v0 + R[1, 1] * v1 + R[2, 1] * v2,
+            R[0, 2] * v0 + R[1, 2] * v1 + R[2, 2] * v2)
+
+
 @njit(cache=True, inline="always")
 def mm(A, B, out):
     """out = A B (3x3)."""

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from drivedyn.elements.joint_rows import _rtv, _rv
+from drivedyn.elements.framework.primitives import mtv_scalar, mv_scalar
 
 
 @njit(cache=True)
@@ -37,7 +37,7 @@ def _axis_a(RA, RB, RmA, i, d0, d1, d2, w0, w1, w2, pB, levB, g):
     m0 = RmA[0, i]
     m1 = RmA[1, i]
     m2 = RmA[2, i]
-    u0, u1, u2 = _rv(RA, m0, m1, m2)
+    u0, u1, u2 = mv_scalar(RA, m0, m1, m2)
     g[0] = -u0
     g[1] = -u1
     g[2] = -u2
@@ -48,7 +48,7 @@ def _axis_a(RA, RB, RmA, i, d0, d1, d2, w0, w1, w2, pB, levB, g):
     g[7] = u1
     g[8] = u2
     if levB:
-        t0, t1, t2 = _rtv(RB, u0, u1, u2)
+        t0, t1, t2 = mtv_scalar(RB, u0, u1, u2)
         g[9] = pB[1] * t2 - pB[2] * t1
         g[10] = pB[2] * t0 - pB[0] * t2
         g[11] = pB[0] * t1 - pB[1] * t0
@@ -67,7 +67,7 @@ def _axis_b(RA, RB, RmB, j, d0, d1, d2, w0, w1, w2, pA, levA, g):
     m0 = RmB[0, j]
     m1 = RmB[1, j]
     m2 = RmB[2, j]
-    v0, v1, v2 = _rv(RB, m0, m1, m2)
+    v0, v1, v2 = mv_scalar(RB, m0, m1, m2)
     g[0] = -v0
     g[1] = -v1
     g[2] = -v2
@@ -78,7 +78,7 @@ def _axis_b(RA, RB, RmB, j, d0, d1, d2, w0, w1, w2, pA, levA, g):
     g[10] = m2 * w0 - m0 * w2
     g[11] = m0 * w1 - m1 * w0
     if levA:
-        t0, t1, t2 = _rtv(RA, v0, v1, v2)
+        t0, t1, t2 = mtv_scalar(RA, v0, v1, v2)
         g[3] = t1 * pA[2] - t2 * pA[1]
         g[4] = t2 * pA[0] - t0 * pA[2]
         g[5] = t0 * pA[1] - t1 * pA[0]
@@ -100,11 +100,11 @@ def parallel_projections(xA, RA, xB, RB, pA, pB, RmA, RmB, p, gp, wk):
     levA = pA[0] != 0.0 or pA[1] != 0.0 or pA[2] != 0.0
     levB = pB[0] != 0.0 or pB[1] != 0.0 or pB[2] != 0.0
     if levA:
-        a0, a1, a2 = _rv(RA, pA[0], pA[1], pA[2])
+        a0, a1, a2 = mv_scalar(RA, pA[0], pA[1], pA[2])
     else:
         a0 = a1 = a2 = 0.0
     if levB:
-        b0, b1, b2 = _rv(RB, pB[0], pB[1], pB[2])
+        b0, b1, b2 = mv_scalar(RB, pB[0], pB[1], pB[2])
     else:
         b0 = b1 = b2 = 0.0
     # w = x_B + R_B pB - x_A = d + R_A pA;  w_B = d - R_B pB
@@ -117,8 +117,8 @@ def parallel_projections(xA, RA, xB, RB, pA, pB, RmA, RmB, p, gp, wk):
     e0 = d0 - b0
     e1 = d1 - b1
     e2 = d2 - b2
-    c0, c1, c2 = _rtv(RA, w0, w1, w2)
-    f0, f1, f2 = _rtv(RB, e0, e1, e2)
+    c0, c1, c2 = mtv_scalar(RA, w0, w1, w2)
+    f0, f1, f2 = mtv_scalar(RB, e0, e1, e2)
     q0, u0, u1, u2 = _axis_a(RA, RB, RmA, 0, d0, d1, d2, c0, c1, c2, pB, levB, gp[0])
     q1, v0, v1, v2 = _axis_a(RA, RB, RmA, 1, d0, d1, d2, c0, c1, c2, pB, levB, gp[1])
     q2, z0, z1, z2 = _axis_a(RA, RB, RmA, 2, d0, d1, d2, c0, c1, c2, pB, levB, gp[2])
