@@ -87,20 +87,25 @@ def test_selection_of_everything_is_every_exported_output() -> None:
 
 def test_results_read_the_arrays_before_the_dataset_exists() -> None:
     """A run's results keep the recorded arrays and build the ``xarray.Dataset`` on first
-    use: before it, ``values``, ``time``, ``in``, ``variables()`` and ``attrs`` give what the
-    dataset then holds (every variable bit for bit, units included), and attributes written
-    before (provenance) are the dataset's (fails if ``attrs`` handed out a copy, or if the
-    arrays and the dataset named or ordered variables differently)."""
+    use: before it, ``values``, ``time``, ``in``, ``names()``, ``variables()`` and ``attrs``
+    give what the dataset then holds (every variable bit for bit, units included; the names
+    in the dataset's order, which the vehicle analyses' sums follow), and attributes written
+    before (provenance) are the dataset's (fails if ``attrs`` handed out a copy, if
+    ``names()`` built the dataset or listed the coordinates, or if the arrays and the
+    dataset named or ordered variables differently)."""
     from drivedyn.results.provenance import record_provenance
 
     res = _run(contact.journal_case(), None)
     assert res._dataset is None
     early = {name: (dict(attrs), np.array(values)) for name, attrs, values in res.variables()}
+    names = res.names()
     t = res.time.copy()
     assert "j.normal_force" in res and "time" in res and "nothing" not in res
+    assert res._dataset is None
     record_provenance(res, model_file="{}", source="journal case")
     ds = res.dataset
     assert set(early) == set(ds.data_vars)
+    assert names == [str(n) for n in ds.data_vars] == res.names()
     for name, (attrs, values) in early.items():
         np.testing.assert_array_equal(values, ds[name].values, err_msg=name)
         assert attrs["units"] == ds[name].attrs["units"], name

@@ -146,7 +146,7 @@ def level_stats(p: Any, res, index: int, window: tuple[float, float],
     w1 = _window_mean(res, f"{first.body}.angular_velocity", k, 2)
     w2 = _window_mean(res, f"{second.body}.angular_velocity", k, 2)
     mode, fav = mode_of(diff, th, w1, w2, wh)
-    names = [str(n) for n in res.dataset.data_vars if str(n).endswith(".dissipated_power")]
+    names = [n for n in res.names() if n.endswith(".dissipated_power")]
     out: dict[str, Any] = {
         "level": index, "direction": "backward" if backward else "forward",
         "t0": float(window[0]), "t1": float(window[1]),

@@ -211,8 +211,7 @@ def summarize(res, lay: Layout, window: tuple[float, float]) -> Summary:
             res.values(f"{lay.wheels[w]}.angular_velocity")[:, 1] - wb)
         w_wheels += float(np.trapezoid(p_w[i0:i1 + 1], t[i0:i1 + 1]))
     d_dl = 0.0
-    for name in res.dataset.data_vars:
-        n = str(name)
+    for n in res.names():
         if n.endswith(".dissipated_energy") and not n.startswith(("tyre_", "energy.")):
             d = res.values(n)
             d_dl += float(d[i1] - d[i0])

@@ -243,8 +243,8 @@ def body_motion(res: Any) -> dict[str, np.ndarray]:
     positive to the left) and lateral ``drift`` [m] (y displacement from the start, positive
     to the left), each the mean over the body's carriers (``frame.body.*``, one at each body
     mount on each rail: the sprung mass, not a frame node's vibration)."""
-    names = sorted({str(n).rsplit(".", 1)[0] for n in res.dataset.data_vars
-                    if str(n).startswith("frame.body.") and str(n).endswith(".velocity")})
+    names = sorted({n.rsplit(".", 1)[0] for n in res.names()
+                    if n.startswith("frame.body.") and n.endswith(".velocity")})
     v = np.mean([res.values(f"{n}.velocity")[:, 0] for n in names], axis=0)
     r = np.mean([res.values(f"{n}.angular_velocity")[:, 2] for n in names], axis=0)
     y = np.mean([res.values(f"{n}.position")[:, 1] for n in names], axis=0)
@@ -263,7 +263,7 @@ def power_balance(res: Any, lay: Layout, i0: int, i1: int) -> tuple[float, float
     """The driveline's power balance between samples ``i0`` and ``i1`` (see the module
     docstring): (|W_engine - W_wheels - D_driveline - dK_driveline| / |W_engine|, W_engine
     [J])."""
-    names = [str(n) for n in res.dataset.data_vars]
+    names = res.names()
     w_eng = _integral(res, res.values(f"{lay.engine}.power"), i0, i1)
     w_wheels = 0.0
     for w, joint in lay.drives.items():
