@@ -126,7 +126,7 @@ def washers_figure(res: Any, diff: Differential) -> Figure:
 def dissipation_figure(res: Any, diff: Differential) -> Figure:
     """Dissipated power [W]: each washer, the pockets, the meshes and the total."""
     t = res["time"].values
-    names = [str(n) for n in res.dataset.data_vars if str(n).endswith("." + _DP)]
+    names = [n for n in res.names() if n.endswith("." + _DP)]
     element = [n[: -len(_DP) - 1] for n in names]
     pockets = [n for n, e in zip(names, element, strict=True) if diff.pocket_elements(e)]
     meshes = [n for n, e in zip(names, element, strict=True) if diff.mesh_elements(e)]
